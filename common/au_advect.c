@@ -1,0 +1,1 @@
+/* au_advect.c - (being written) */

@@ -1,0 +1,60 @@
+/* au_advect.h - the generic Lie-advection loop (Zou et al. 2011, eq. 19-20), shared by the sphere
+ * and the planar domains. A domain supplies two callbacks: one that removes forbidden velocity
+ * components (sphere: the normal; disk: the boundary's radial part), one that puts points back on
+ * the domain (normalize; radial projection of boundary vertices). */
+#ifndef AU_ADVECT_H
+#define AU_ADVECT_H
+
+#include "au_mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define AU_ADVECT_MAX_STEPS 512
+
+typedef struct au_advect_domain {
+  /* Constrain the displacement D (nv x 3, in place) at positions P. Required. */
+  void (*constrain)(void *ctx, int nv, const double *P, double *D);
+  /* Put the positions P (nv x 3, in place) back onto the domain. Required. */
+  void (*retract)(void *ctx, int nv, double *P);
+  int spherical; /* 1: faces oriented by the triple product p0.(p1 x p2); 0: planar, by the z of the cross product */
+  void *ctx;     /* passed to the callbacks */
+} au_advect_domain;
+
+typedef struct au_advect_opts {
+  int max_steps;        /* most advection steps, 1..AU_ADVECT_MAX_STEPS (default 60) */
+  int schedule_steps;   /* K of eq. 19: the remaining excess is spread over K-k+1 steps (default 12) */
+  double tol;           /* stop when the vertex-level mean |ln(area ratio)| is below this (default 1e-3) */
+  double max_move;      /* a vertex moves at most this fraction of the inradius of its triangles per
+                           step, which keeps every triangle positively oriented (0 < x < 0.5, default 0.3) */
+  const double *weight; /* per-vertex target density [0..nv-1] (> 0): domain area proportional to
+                           weight x surface area; NULL for equal area (default) */
+  /* Progress: called once per step with the step number, max_steps and the current error. May be NULL. */
+  void (*progress)(void *user, int step, int max_steps, double err);
+  void *user;
+} au_advect_opts;
+
+au_advect_opts au_advect_opts_default(void);
+
+typedef struct au_advect_report {
+  int steps;                            /* steps taken */
+  int converged;                        /* 1 if err <= tol at the end */
+  double err[AU_ADVECT_MAX_STEPS + 1];  /* vertex-level mean |ln ratio| before each step and at the end */
+  double frac[AU_ADVECT_MAX_STEPS];     /* mean fraction of the wanted displacement taken per step */
+  double t_solve;                       /* seconds in the sparse solves (factor + solve) */
+} au_advect_report;
+
+/* Advect the domain positions P (nv x 3, in/out: on the domain on entry, and on exit) until the
+ * barycentric vertex areas of the domain mesh are proportional to those of the surface m (times
+ * weight). Every step is fold-free if the entry map is: triangles never change orientation.
+ * opts may be NULL for defaults; rep may be NULL.
+ * Returns AU_OK, AU_W_NOT_CONVERGED, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC, AU_E_FOLD
+ * (the entry map was folded). */
+au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_domain *dom,
+                        const au_advect_opts *opts, double *P, au_advect_report *rep, au_msg *msg);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

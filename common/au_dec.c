@@ -1,0 +1,1 @@
+/* au_dec.c - (being written) */

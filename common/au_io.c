@@ -1,0 +1,1 @@
+/* au_io.c - (being written) */

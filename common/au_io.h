@@ -1,0 +1,49 @@
+/* au_io.h - reading and writing meshes (OBJ, OFF, PLY, STL) through the OpenMesh bridge.
+ *
+ * The reader keeps the file's vertex order and face order exactly and checks that it did
+ * (OpenMesh may drop or reorder on load): the bridge counts the file's own vertices and faces and
+ * fails with AU_E_FORMAT if OpenMesh disagrees. Writers go to a temporary file beside the target
+ * and rename it into place, so a failed run never leaves a partial or clobbered file. */
+#ifndef AU_IO_H
+#define AU_IO_H
+
+#include "au_mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Read a triangle mesh from path; the format follows the extension (.obj .off .ply .stl, any case).
+ * Polygons with more than three corners are rejected (AU_E_FACE), not silently triangulated.
+ * On success *out owns the mesh (free with au_mesh_free).
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO (missing, unreadable, a directory),
+ * AU_E_FORMAT (unknown extension, malformed or truncated file, vertices dropped by the reader),
+ * AU_E_EMPTY, AU_E_INDEX, AU_E_FACE. */
+au_status au_io_read(const char *path, au_mesh **out, au_msg *msg);
+
+/* Options for writing. */
+typedef struct au_io_write_opts {
+  const double *uv; /* uv [0..2*nv-1]: per-vertex texture coordinates written as OBJ `vt`; may be NULL (default) */
+  int precision;    /* significant digits for coordinates, 1..17 (default 17: exact round trip) */
+} au_io_write_opts;
+
+au_io_write_opts au_io_write_opts_default(void);
+
+/* Write vertices P (nv x 3, row-major) with the faces of m to path; the format follows the
+ * extension (.obj .off .ply). ASCII, input vertex order and faces. Written to a temporary file in
+ * the target's directory and renamed over path only when complete.
+ * opts may be NULL for defaults. Returns AU_OK, AU_E_ARG, AU_E_IO, AU_E_FORMAT (unknown extension). */
+au_status au_io_write(const char *path, const au_mesh *m, const double *P, const au_io_write_opts *opts,
+                      au_msg *msg);
+
+/* Write a text file atomically: the whole of buf (len bytes) to a temporary file beside path,
+ * then rename. Used by the JSON report writer. Returns AU_OK, AU_E_ARG, AU_E_IO. */
+au_status au_io_write_text(const char *path, const char *buf, size_t len, au_msg *msg);
+
+/* 1 if the extension of path is one au_io_write can produce, else 0. */
+int au_io_can_write(const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,1 @@
+// au_io_openmesh.cpp - (being written)

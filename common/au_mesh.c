@@ -1,0 +1,1 @@
+/* au_mesh.c - (being written) */

@@ -1,0 +1,1 @@
+/* au_metrics.c - (being written) */

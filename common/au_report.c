@@ -1,0 +1,1 @@
+/* au_report.c - (being written) */

@@ -1,0 +1,44 @@
+/* au_report.h - the machine-readable JSON report of a run (cJSON behind this header). */
+#ifndef AU_REPORT_H
+#define AU_REPORT_H
+
+#include "au_metrics.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One named stage time ("read", "validate", "init", "flow", "metrics", "write"). */
+typedef struct au_report_stage {
+  const char *name;
+  double seconds;
+} au_report_stage;
+
+/* What a run reports. All pointers are borrowed for the duration of au_report_write. */
+typedef struct au_report_info {
+  const char *tool_version;   /* e.g. "0.1.0" */
+  const char *command;        /* "sphere", "disk", ... */
+  const char *input, *output; /* paths as given */
+  int nv, nf;
+  int steps;                  /* advection steps taken */
+  int converged;              /* 1 if the tolerance was met */
+  const au_metrics *init;     /* metrics of the initial (conformal) map; may be NULL */
+  const au_metrics *final;    /* metrics of the result; required */
+  const au_report_stage *stages; int nstages;
+  const double *step_err;     /* per-step vertex mean |log ratio| [0..steps]; may be NULL */
+  const double *step_frac;    /* per-step fraction of the step taken [0..steps-1]; may be NULL */
+  const char **warnings; int nwarnings;
+} au_report_info;
+
+/* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.
+ * Keys of the metrics use param-eval's names (upsilon_mean_abs, r_mean_abs_dev, r_cv, folds, ...).
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
+au_status au_report_json(const au_report_info *info, char **json, au_msg *msg);
+
+/* Render and write the report atomically to path. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */
+au_status au_report_write(const char *path, const au_report_info *info, au_msg *msg);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

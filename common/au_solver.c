@@ -1,0 +1,1 @@
+/* au_solver.c - (being written) */

@@ -1,0 +1,54 @@
+/* au_sphere.h - equal-area (authalic) maps of closed genus-0 meshes onto the unit sphere.
+ *
+ * Pipeline: a fold-free spherical conformal map (Choi, Lam & Lui 2015: harmonic map of the
+ * punctured mesh, inverse stereographic projection, re-solve near the puncture), a Moebius
+ * normalization that centres the area-weighted image, then Lie advection in the tangent planes of
+ * the sphere with reprojection (Zou et al. 2011, sec. 4.5.2) and local step control that never
+ * folds a triangle. */
+#ifndef AU_SPHERE_H
+#define AU_SPHERE_H
+
+#include "au_advect.h"
+#include "au_mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct au_sphere_opts {
+  au_advect_opts flow; /* the advection's options; defaults from au_advect_opts_default() */
+  int balance;         /* 1: Moebius-balance the conformal map before the flow (default 1) */
+} au_sphere_opts;
+
+au_sphere_opts au_sphere_opts_default(void);
+
+typedef struct au_sphere_report {
+  double t_init;          /* seconds spent in the conformal initialization and balancing */
+  double t_flow;          /* seconds spent in the advection */
+  int init_folds;         /* folded triangles of the conformal map (must be 0) */
+  au_advect_report flow;  /* steps, errors, step fractions */
+} au_sphere_report;
+
+/* Fold-free spherical conformal map of a closed genus-0 mesh.
+ * m, t: a mesh that passed au_mesh_validate with loops 0 and genus 0, and its topology.
+ * P: out, nv x 3 row-major (caller-allocated, 3*nv doubles), unit vectors.
+ * Unreferenced vertices get (0,0,1). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD,
+ * AU_E_NUMERIC, AU_E_FOLD (the map folded: msg says how many triangles). */
+au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_msg *msg);
+
+/* Moebius-normalize a sphere map in place so the surface-area-weighted centroid of the image
+ * is the origin (the conformal map stays conformal). P: nv x 3 unit vectors, in/out.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
+au_status au_sphere_balance(const au_mesh *m, const au_topo *t, double *P, au_msg *msg);
+
+/* The whole map: conformal start, balancing, advection.
+ * opts may be NULL for defaults; rep may be NULL. P: out, nv x 3 (caller-allocated), |p| = 1.
+ * Returns AU_OK, AU_W_NOT_CONVERGED (the map is valid and fold-free but the tolerance was not met
+ * in max_steps), or an error as au_sphere_conformal / au_advect_run. */
+au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P,
+                        au_sphere_report *rep, au_msg *msg);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,1 @@
+/* au_sphere_init.c - (being written) */

@@ -1,0 +1,1 @@
+/* au_sphere_map.c - (being written) */

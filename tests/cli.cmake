@@ -1,0 +1,1 @@
+# tests for cli (owned by the cli module)

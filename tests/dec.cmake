@@ -1,0 +1,1 @@
+# tests for dec (owned by the dec module)

@@ -1,0 +1,1 @@
+# tests for io (owned by the io module)

@@ -1,0 +1,1 @@
+# tests for mesh (owned by the mesh module)

@@ -1,0 +1,1 @@
+# tests for metrics (owned by the metrics module)

@@ -1,0 +1,1 @@
+# tests for sphere (owned by the sphere module)

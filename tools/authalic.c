@@ -1,0 +1,1 @@
+/* authalic.c - (being written) */
