@@ -1,1 +1,391 @@
-/* au_advect.c - (being written) */
+/* au_advect.c - the Lie-advection loop (Zou, Hu, Gu & Hua 2011, sec. 4.2-4.4, eq. 19-20) with local
+ * step control.
+ *
+ * Each step asks every vertex cell for a share of its remaining area excess, solves the Poisson
+ * problem C g = -dA on the current domain mesh (C: cotan stiffness, one vertex pinned, so the flux of
+ * grad g out of cell i is dA_i), moves the vertices along the angle-weighted vertex gradient and puts
+ * them back on the domain. Two departures from the paper keep the flow fold-free on hard meshes:
+ *  - the per-step target is geometric, a cell's area ratio moves by the factor rho^(1/(K-k)), so a
+ *    cell squeezed by e^8 is never asked to grow 60x in one step (the linear eq. 19 is);
+ *  - the step is limited locally: a vertex moves at most max_move times the smallest inradius of its
+ *    triangles. With max_move < 1/2 no triangle can invert in the plane (each edge vector changes by
+ *    less than twice that, which cannot overturn the triangle); the rest of the excess is taken by
+ *    later steps. A final orientation check backtracks any vertex whose triangle still flipped
+ *    (possible only through the curvature of the sphere's retraction). */
+#include "au_advect.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "au_advect_internal.h"
+#include "au_dec.h"
+#include "au_solver.h"
+
+au_advect_opts au_advect_opts_default(void) {
+  au_advect_opts o;
+  memset(&o, 0, sizeof o);
+  o.max_steps = 60;
+  o.schedule_steps = 12;
+  o.tol = 1e-3;
+  o.max_move = 0.3;
+  o.newton_below = 0.05;
+  return o;
+}
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Orientation of face f at positions P: spherical domains use the triple product, planar ones the
+ * z component of the cross product. Positive means correctly oriented. */
+static double face_orient(const double *P, const int *F, int f, int spherical) {
+  const double *a = P + 3 * F[3 * f], *b = P + 3 * F[3 * f + 1], *c = P + 3 * F[3 * f + 2];
+  if (spherical) {
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/* Number of faces with orientation <= 0. */
+static int count_folds(const double *P, const int *F, int nf, int spherical) {
+  int n = 0;
+  for (int f = 0; f < nf; f++) n += face_orient(P, F, f, spherical) <= 0;
+  return n;
+}
+
+/* Mean |ln(target/current)| over referenced vertices. */
+static double vertex_error(int nv, const unsigned char *used, const double *T, const double *A) {
+  double s = 0;
+  int n = 0;
+  for (int i = 0; i < nv; i++) {
+    if (!used[i]) continue;
+    s += fabs(log(T[i] / A[i]));
+    n++;
+  }
+  return n ? s / n : 0;
+}
+
+/* Smallest t in (0, 1] at which the triangle (a, b, c) moved by t*(da, db, dc) keeps only `keep` of its
+ * area, measured in the plane of the triangle; 1 if it never gets there. */
+static double face_safe_t(const double *a, const double *b, const double *c, const double *da, const double *db,
+                          const double *dc, double keep) {
+  double e1[3], e2[3], d1[3], d2[3], n[3];
+  for (int d = 0; d < 3; d++) e1[d] = b[d] - a[d], e2[d] = c[d] - a[d], d1[d] = db[d] - da[d], d2[d] = dc[d] - da[d];
+  n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(nn > 0)) return 0;
+  for (int d = 0; d < 3; d++) n[d] /= nn;
+#define AU_TRI(u, v) (n[0] * ((u)[1] * (v)[2] - (u)[2] * (v)[1]) + n[1] * ((u)[2] * (v)[0] - (u)[0] * (v)[2]) + n[2] * ((u)[0] * (v)[1] - (u)[1] * (v)[0]))
+  /* Twice the area along the way: c0 + c1 t + c2 t^2, with c0 = nn. */
+  double c0 = nn, c1 = AU_TRI(e1, d2) + AU_TRI(d1, e2), c2 = AU_TRI(d1, d2);
+#undef AU_TRI
+  double q0 = c0 * (1 - keep); /* solve c2 t^2 + c1 t + q0 = 0 for the first t > 0 */
+  double tmin = 1;
+  if (fabs(c2) < 1e-300) {
+    if (c1 < 0) tmin = -q0 / c1;
+  } else {
+    double disc = c1 * c1 - 4 * c2 * q0;
+    if (disc >= 0) {
+      double sq = sqrt(disc), r1 = (-c1 - sq) / (2 * c2), r2 = (-c1 + sq) / (2 * c2);
+      if (r1 > 0 && r1 < tmin) tmin = r1;
+      if (r2 > 0 && r2 < tmin) tmin = r2;
+    }
+  }
+  return tmin < 1 ? tmin : 1;
+}
+
+/* Heap of vertices keyed by s (smallest first) for the envelope propagation. */
+static void heap_up(int *heap, int *pos, const double *s, int k) {
+  while (k > 0) {
+    int p = (k - 1) / 2;
+    if (s[heap[p]] <= s[heap[k]]) break;
+    int tmp = heap[p];
+    heap[p] = heap[k], heap[k] = tmp;
+    pos[heap[p]] = p, pos[heap[k]] = k;
+    k = p;
+  }
+}
+static void heap_down(int *heap, int *pos, const double *s, int n, int k) {
+  for (;;) {
+    int l = 2 * k + 1, r = l + 1, m = k;
+    if (l < n && s[heap[l]] < s[heap[m]]) m = l;
+    if (r < n && s[heap[r]] < s[heap[m]]) m = r;
+    if (m == k) break;
+    int tmp = heap[m];
+    heap[m] = heap[k], heap[k] = tmp;
+    pos[heap[m]] = m, pos[heap[k]] = k;
+    k = m;
+  }
+}
+
+/* Vertex-to-edge adjacency in compressed rows: the edges of vertex i are adj_e[adj_start[i]..adj_start[i+1]-1]. */
+typedef struct adjacency {
+  int *start; /* [0..nv] */
+  int *e;     /* [0..2*ne-1] */
+} adjacency;
+
+static int adjacency_build(const au_topo *t, adjacency *a) {
+  a->start = calloc((size_t)t->nv + 1, sizeof(int));
+  a->e = malloc(sizeof(int) * 2 * (size_t)(t->ne > 0 ? t->ne : 1));
+  if (!a->start || !a->e) return 0;
+  for (int e = 0; e < t->ne; e++) a->start[t->E[2 * e] + 1]++, a->start[t->E[2 * e + 1] + 1]++;
+  for (int i = 0; i < t->nv; i++) a->start[i + 1] += a->start[i];
+  int *fill = malloc(sizeof(int) * (size_t)(t->nv > 0 ? t->nv : 1));
+  if (!fill) return 0;
+  memcpy(fill, a->start, sizeof(int) * (size_t)t->nv);
+  for (int e = 0; e < t->ne; e++) a->e[fill[t->E[2 * e]]++] = e, a->e[fill[t->E[2 * e + 1]]++] = e;
+  free(fill);
+  return 1;
+}
+
+static void adjacency_free(adjacency *a) {
+  free(a->start);
+  free(a->e);
+  a->start = a->e = NULL;
+}
+
+/* Per-vertex step fractions s [0..nv-1] in (0, 1] for the displacement D.
+ * 1. Each face allows the fraction at which it would keep only a quarter of its area; a vertex takes
+ *    the smallest fraction of its faces. That alone is not safe: where neighbours take different
+ *    fractions of a large common translation, the difference itself deforms the triangles.
+ * 2. So s is made Lipschitz along edges: s_i <= s_j + c * r_ij / max(|D_i|, |D_j|), with r_ij the
+ *    smaller inradius of the edge's triangles, which bounds the extra relative motion by c inradii.
+ *    This is a shortest-path envelope, computed with Dijkstra's algorithm from every vertex at once.
+ * inr [0..nf-1] holds the faces' inradii; heap and pos are scratch of nv ints. */
+static void step_control(const au_topo *t, const adjacency *adj, const int *F, int nf, int nv, const double *P,
+                         const double *inr, const double *D, double c, double *s, int *heap, int *pos) {
+  for (int i = 0; i < nv; i++) s[i] = 1;
+  for (int f = 0; f < nf; f++) {
+    const int *v = F + 3 * f;
+    double tf = face_safe_t(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2], D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], 0.25);
+    for (int k = 0; k < 3; k++)
+      if (tf < s[v[k]]) s[v[k]] = tf;
+  }
+  int n = nv;
+  for (int i = 0; i < nv; i++) heap[i] = i, pos[i] = i;
+  for (int k = n / 2 - 1; k >= 0; k--) heap_down(heap, pos, s, n, k);
+  while (n > 0) {
+    int i = heap[0];
+    heap[0] = heap[--n];
+    pos[heap[0]] = 0;
+    pos[i] = -1;
+    heap_down(heap, pos, s, n, 0);
+    double di = sqrt(D[3 * i] * D[3 * i] + D[3 * i + 1] * D[3 * i + 1] + D[3 * i + 2] * D[3 * i + 2]);
+    for (int a = adj->start[i]; a < adj->start[i + 1]; a++) {
+      int e = adj->e[a], j = t->E[2 * e] == i ? t->E[2 * e + 1] : t->E[2 * e];
+      if (pos[j] < 0) continue;
+      double dj = sqrt(D[3 * j] * D[3 * j] + D[3 * j + 1] * D[3 * j + 1] + D[3 * j + 2] * D[3 * j + 2]);
+      double r = INFINITY;
+      for (int k = 0; k < 2; k++)
+        if (t->EF[2 * e + k] >= 0 && inr[t->EF[2 * e + k]] < r) r = inr[t->EF[2 * e + k]];
+      double dm = di > dj ? di : dj;
+      if (!(dm > 0)) continue;
+      double cand = s[i] + c * r / dm;
+      if (cand < s[j]) {
+        s[j] = cand;
+        heap_up(heap, pos, s, pos[j]);
+      }
+    }
+  }
+}
+
+au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
+                        double *P, au_advect_report *rep, au_msg *msg) {
+  if (!m || !t || !dom || !dom->constrain || !dom->retract || !P || m->nv <= 0 || m->nf <= 0 || t->nv != m->nv)
+    return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
+  au_advect_opts o = opts ? *opts : au_advect_opts_default();
+  if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
+      !(o.tol >= 0))
+    return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
+  au_advect_report local_rep;
+  if (!rep) rep = &local_rep;
+  memset(rep, 0, sizeof *rep);
+
+  const int nv = m->nv, nf = m->nf, *F = m->F;
+  const int sph = dom->spherical;
+  au_status st = AU_OK;
+  au_solver *solver = NULL;
+  au_gn *gn = NULL;
+  double *AM = malloc(sizeof(double) * nv), *AO = malloc(sizeof(double) * nv), *b = malloc(sizeof(double) * nv);
+  double *g = malloc(sizeof(double) * nv), *lim = malloc(sizeof(double) * nv), *af = malloc(sizeof(double) * nf);
+  double *Gf = malloc(sizeof(double) * 3 * nf), *D = malloc(sizeof(double) * 3 * nv);
+  double *Pold = malloc(sizeof(double) * 3 * nv), *w = malloc(sizeof(double) * (t->ne > 0 ? t->ne : 1));
+  unsigned char *fixed = calloc((size_t)nv, 1), *bad = calloc((size_t)nv, 1);
+  int *heap = malloc(sizeof(int) * nv), *hpos = malloc(sizeof(int) * nv);
+  double *inr = malloc(sizeof(double) * nf);
+  adjacency adj = {NULL, NULL};
+  if (!AM || !AO || !b || !g || !lim || !af || !Gf || !D || !Pold || !w || !fixed || !bad || !heap || !hpos || !inr ||
+      !adjacency_build(t, &adj)) {
+    st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
+    goto done;
+  }
+
+  /* Target areas: the surface's barycentric vertex areas, times the density weight. */
+  au_dec_vertex_areas(nv, nf, F, m->X, NULL, AM);
+  double SM = 0;
+  for (int i = 0; i < nv; i++) {
+    if (o.weight) {
+      if (!(o.weight[i] > 0) && t->vused[i]) {
+        st = au_msg_set(msg, AU_E_DENSITY, "density of vertex %d is %g; it must be positive", i, o.weight[i]);
+        goto done;
+      }
+      if (t->vused[i]) AM[i] *= o.weight[i];
+    }
+    SM += AM[i];
+  }
+  if (!(SM > 0)) {
+    st = au_msg_set(msg, AU_E_ARG, "advect: the surface has no area");
+    goto done;
+  }
+
+  int folds = count_folds(P, F, nf, sph);
+  if (folds) {
+    st = au_msg_set(msg, AU_E_FOLD, "advect: the initial map has %d folded triangles", folds);
+    goto done;
+  }
+
+  /* The Poisson problem is a pure Neumann problem (closed sphere, or a boundary that only slides):
+   * pin the first referenced vertex; unreferenced vertices have empty rows and are fixed too. */
+  int pinned = -1;
+  for (int i = 0; i < nv; i++) {
+    if (!t->vused[i]) fixed[i] = 1;
+    else if (pinned < 0) pinned = i, fixed[i] = 1;
+  }
+  double t0 = now_s();
+  st = au_solver_create(nv, t->ne, t->E, fixed, &solver, msg);
+  rep->t_solve += now_s() - t0;
+  if (st != AU_OK) goto done;
+
+  int k;
+  for (k = 0;; k++) {
+    au_dec_face_areas(nf, F, P, af);
+    au_dec_vertex_areas(nv, nf, F, P, af, AO);
+    double SO = 0;
+    for (int f = 0; f < nf; f++) SO += af[f];
+    double scale = SO / SM;
+    /* b temporarily holds the target areas of this domain's total. */
+    for (int i = 0; i < nv; i++) b[i] = AM[i] * scale;
+    double err = vertex_error(nv, t->vused, b, AO);
+    rep->err[k] = err;
+    if (!(err == err)) {
+      st = au_msg_set(msg, AU_E_NUMERIC, "advect: area error is not a number at step %d", k);
+      goto done;
+    }
+    if (o.progress) o.progress(o.user, k, o.max_steps, err);
+    if (err <= o.tol) {
+      rep->converged = 1;
+      break;
+    }
+    if (k == o.max_steps) break;
+
+    /* Geometric schedule: the area ratio of each cell moves by rho^s; renormalize so the wanted
+     * changes sum to zero (the Poisson problem is then consistent). */
+    double s = k < o.schedule_steps ? 1.0 / (double)(o.schedule_steps - k) : 1.0;
+    double sum_new = 0;
+    for (int i = 0; i < nv; i++) {
+      if (!t->vused[i]) {
+        b[i] = 0;
+        continue;
+      }
+      b[i] = AO[i] * exp(s * log(b[i] / AO[i]));
+      sum_new += b[i];
+    }
+    double renorm = SO / sum_new;
+    for (int i = 0; i < nv; i++) b[i] = t->vused[i] ? -(b[i] * renorm - AO[i]) : 0; /* b = -dA */
+
+    t0 = now_s();
+    if (err < o.newton_below) {
+      /* Polish: the exact Gauss-Newton step (au_gn.c), weights 1/(domain vertex area). */
+      if (!gn) {
+        st = au__gn_create(m, t, &gn, msg);
+        if (st != AU_OK) goto done;
+      }
+      for (int i = 0; i < nv; i++) {
+        g[i] = AO[i] > 0 ? 1.0 / AO[i] : 0;
+        b[i] = -b[i];
+      }
+      st = au__gn_step(gn, dom, P, g, b, D, msg);
+      rep->t_solve += now_s() - t0;
+      if (st != AU_OK) goto done;
+    } else {
+      au_dec_cotan(t, F, P, w);
+      st = au_solver_factor(solver, w, NULL, msg);
+      if (st == AU_OK) {
+        memset(g, 0, sizeof(double) * nv);
+        st = au_solver_solve(solver, 1, b, g, msg);
+      }
+      rep->t_solve += now_s() - t0;
+      if (st != AU_OK) goto done;
+      au_dec_face_grad(nf, F, P, g, Gf);
+      st = au_dec_vertex_grad(nv, nf, F, P, Gf, D);
+      if (st != AU_OK) goto done;
+      for (int i = 0; i < nv; i++) dom->constrain(dom->ctx, i, P + 3 * i, D + 3 * i);
+    }
+
+    /* Local step control (see the banner): per-face safe fractions, then a Lipschitz envelope. */
+    for (int f = 0; f < nf; f++) {
+      const int *c = F + 3 * f;
+      double per = 0;
+      for (int e = 0; e < 3; e++) {
+        const double *p = P + 3 * c[e], *q = P + 3 * c[(e + 1) % 3];
+        per += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+      }
+      inr[f] = per > 0 ? 2.0 * af[f] / per : 0;
+    }
+    step_control(t, &adj, F, nf, nv, P, inr, D, o.max_move, lim, heap, hpos);
+    double frac_sum = 0;
+    int nused = 0;
+    for (int i = 0; i < nv; i++) {
+      double *d = D + 3 * i;
+      if (!t->vused[i]) {
+        d[0] = d[1] = d[2] = 0;
+        continue;
+      }
+      d[0] *= lim[i], d[1] *= lim[i], d[2] *= lim[i];
+      frac_sum += lim[i];
+      nused++;
+    }
+    rep->frac[k] = nused ? frac_sum / nused : 0;
+
+    memcpy(Pold, P, sizeof(double) * 3 * nv);
+    for (int tries = 0;; tries++) {
+      for (int i = 0; i < 3 * nv; i++) P[i] = Pold[i] + D[i];
+      for (int i = 0; i < nv; i++) dom->retract(dom->ctx, i, P + 3 * i);
+      int nbad = 0;
+      memset(bad, 0, (size_t)nv);
+      for (int f = 0; f < nf; f++) {
+        if (face_orient(P, F, f, sph) > 0) continue;
+        nbad++;
+        for (int e = 0; e < 3; e++) bad[F[3 * f + e]] = 1;
+      }
+      if (!nbad) break;
+      /* Backtrack locally: halve the move of the vertices of flipped triangles; after enough halvings
+       * they stay where they were, which is fold-free. */
+      for (int i = 0; i < nv; i++)
+        if (bad[i]) {
+          double h = tries < 20 ? 0.5 : 0.0;
+          D[3 * i] *= h, D[3 * i + 1] *= h, D[3 * i + 2] *= h;
+        }
+      if (tries > 21) {
+        memcpy(P, Pold, sizeof(double) * 3 * nv);
+        break;
+      }
+    }
+  }
+  rep->steps = k;
+  if (!rep->converged) st = AU_W_NOT_CONVERGED;
+  if (st == AU_W_NOT_CONVERGED)
+    au_msg_set(msg, st, "area error %.3g after %d steps (tolerance %.3g)", rep->err[k], k, o.tol);
+
+done:
+  au_solver_free(&solver);
+  au__gn_free(&gn);
+  free(AM), free(AO), free(b), free(g), free(lim), free(af), free(Gf), free(D), free(Pold), free(w), free(fixed), free(bad);
+  free(heap), free(hpos), free(inr);
+  adjacency_free(&adj);
+  return st;
+}

@@ -14,10 +14,10 @@ extern "C" {
 #define AU_ADVECT_MAX_STEPS 512
 
 typedef struct au_advect_domain {
-  /* Constrain the displacement D (nv x 3, in place) at positions P. Required. */
-  void (*constrain)(void *ctx, int nv, const double *P, double *D);
-  /* Put the positions P (nv x 3, in place) back onto the domain. Required. */
-  void (*retract)(void *ctx, int nv, double *P);
+  /* Constrain the displacement d[3] of vertex i at position p[3], in place. Required. */
+  void (*constrain)(void *ctx, int i, const double *p, double *d);
+  /* Put vertex i's position p[3] back onto the domain, in place. Required. */
+  void (*retract)(void *ctx, int i, double *p);
   int spherical; /* 1: faces oriented by the triple product p0.(p1 x p2); 0: planar, by the z of the cross product */
   void *ctx;     /* passed to the callbacks */
 } au_advect_domain;
@@ -26,6 +26,8 @@ typedef struct au_advect_opts {
   int max_steps;        /* most advection steps, 1..AU_ADVECT_MAX_STEPS (default 60) */
   int schedule_steps;   /* K of eq. 19: the remaining excess is spread over K-k+1 steps (default 12) */
   double tol;           /* stop when the vertex-level mean |ln(area ratio)| is below this (default 1e-3) */
+  double newton_below;  /* switch from the paper's Poisson step to the exact Gauss-Newton step on the
+                           vertex areas once the error is below this (default 0.05; 0: never, inf: always) */
   double max_move;      /* a vertex moves at most this fraction of the inradius of its triangles per
                            step, which keeps every triangle positively oriented (0 < x < 0.5, default 0.3) */
   const double *weight; /* per-vertex target density [0..nv-1] (> 0): domain area proportional to

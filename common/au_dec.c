@@ -1,1 +1,126 @@
-/* au_dec.c - (being written) */
+/* au_dec.c - DEC operators: areas, cotan weights, gradients (Zou et al. 2011, eq. 11-16). */
+#include "au_dec.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static inline void sub3(const double *a, const double *b, double *r) {
+  r[0] = a[0] - b[0];
+  r[1] = a[1] - b[1];
+  r[2] = a[2] - b[2];
+}
+static inline void cross3(const double *a, const double *b, double *r) {
+  r[0] = a[1] * b[2] - a[2] * b[1];
+  r[1] = a[2] * b[0] - a[0] * b[2];
+  r[2] = a[0] * b[1] - a[1] * b[0];
+}
+static inline double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static inline double norm3(const double *a) { return sqrt(dot3(a, a)); }
+
+void au_dec_face_areas(int nf, const int *F, const double *V, double *area) {
+  for (int f = 0; f < nf; f++) {
+    const double *a = V + 3 * F[3 * f], *b = V + 3 * F[3 * f + 1], *c = V + 3 * F[3 * f + 2];
+    double e1[3], e2[3], n[3];
+    sub3(b, a, e1);
+    sub3(c, a, e2);
+    cross3(e1, e2, n);
+    area[f] = 0.5 * norm3(n);
+  }
+}
+
+void au_dec_vertex_areas(int nv, int nf, const int *F, const double *V, const double *area, double *A) {
+  memset(A, 0, sizeof(double) * (size_t)nv);
+  for (int f = 0; f < nf; f++) {
+    double af;
+    if (area) {
+      af = area[f];
+    } else {
+      au_dec_face_areas(1, F + 3 * f, V, &af);
+    }
+    for (int k = 0; k < 3; k++) A[F[3 * f + k]] += af / 3.0;
+  }
+}
+
+/* cot of the angle at corner k of face f: dot/|cross| of the two edges leaving that corner. */
+static double corner_cot(const int *F, const double *V, int f, int k) {
+  const double *p = V + 3 * F[3 * f + k], *q = V + 3 * F[3 * f + (k + 1) % 3], *r = V + 3 * F[3 * f + (k + 2) % 3];
+  double e1[3], e2[3], n[3];
+  sub3(q, p, e1);
+  sub3(r, p, e2);
+  cross3(e1, e2, n);
+  double s = norm3(n);
+  /* A degenerate triangle has no meaningful angle; a tiny floor keeps the weight finite. */
+  if (s < 1e-300) s = 1e-300;
+  return dot3(e1, e2) / s;
+}
+
+void au_dec_cotan(const au_topo *t, const int *F, const double *V, double *w) {
+  for (int e = 0; e < t->ne; e++) {
+    double s = 0;
+    for (int j = 0; j < 2; j++) {
+      int f = t->EF[2 * e + j];
+      if (f >= 0) s += 0.5 * corner_cot(F, V, f, t->EC[2 * e + j]);
+    }
+    w[e] = s;
+  }
+}
+
+void au_dec_stiffness_apply(const au_topo *t, const double *w, const double *x, double *y) {
+  memset(y, 0, sizeof(double) * (size_t)t->nv);
+  for (int e = 0; e < t->ne; e++) {
+    int i = t->E[2 * e], j = t->E[2 * e + 1];
+    double d = w[e] * (x[i] - x[j]);
+    y[i] += d;
+    y[j] -= d;
+  }
+}
+
+void au_dec_face_grad(int nf, const int *F, const double *V, const double *g, double *G) {
+  for (int f = 0; f < nf; f++) {
+    int i = F[3 * f], j = F[3 * f + 1], k = F[3 * f + 2];
+    const double *a = V + 3 * i, *b = V + 3 * j, *c = V + 3 * k;
+    double e1[3], e2[3], n[3];
+    sub3(b, a, e1);
+    sub3(c, a, e2);
+    cross3(e1, e2, n);
+    double n2 = dot3(n, n);
+    double *out = G + 3 * f;
+    if (n2 < 1e-300) {
+      out[0] = out[1] = out[2] = 0;
+      continue;
+    }
+    /* grad g = ((g_j - g_i) (e2 x n) + (g_k - g_i) (n x e1)) / |n|^2: the unique vector in the
+     * triangle's plane whose dot products with e1 and e2 are the value differences. */
+    double u[3], v[3];
+    cross3(e2, n, u);
+    cross3(n, e1, v);
+    double dj = g[j] - g[i], dk = g[k] - g[i];
+    for (int d = 0; d < 3; d++) out[d] = (dj * u[d] + dk * v[d]) / n2;
+  }
+}
+
+au_status au_dec_vertex_grad(int nv, int nf, const int *F, const double *V, const double *Gf, double *Gv) {
+  double *wsum = calloc((size_t)nv, sizeof(double));
+  if (!wsum) return AU_E_NOMEM;
+  memset(Gv, 0, sizeof(double) * 3 * (size_t)nv);
+  for (int f = 0; f < nf; f++) {
+    for (int k = 0; k < 3; k++) {
+      int i = F[3 * f + k];
+      const double *p = V + 3 * i, *q = V + 3 * F[3 * f + (k + 1) % 3], *r = V + 3 * F[3 * f + (k + 2) % 3];
+      double e1[3], e2[3], n[3];
+      sub3(q, p, e1);
+      sub3(r, p, e2);
+      cross3(e1, e2, n);
+      double ang = atan2(norm3(n), dot3(e1, e2));
+      wsum[i] += ang;
+      for (int d = 0; d < 3; d++) Gv[3 * i + d] += ang * Gf[3 * f + d];
+    }
+  }
+  for (int i = 0; i < nv; i++) {
+    if (wsum[i] > 0)
+      for (int d = 0; d < 3; d++) Gv[3 * i + d] /= wsum[i];
+  }
+  free(wsum);
+  return AU_OK;
+}

@@ -1,1 +1,888 @@
-/* au_io.c - (being written) */
+/* au_io.c - mesh files: OBJ, OFF and PLY parsed here, STL through the OpenMesh bridge; atomic writers. */
+#define _POSIX_C_SOURCE 200809L
+
+#include "au_io.h"
+#include "au_io_internal.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* Why OBJ, OFF and PLY are parsed here and not by OpenMesh: OpenMesh's importer silently repairs
+ * what it cannot represent (it drops faces with a repeated corner or a bad index, and splits the
+ * vertices of faces that would make an edge non-manifold), and its PLY reader rounds every
+ * coordinate to float. Users need the file's vertices and faces exactly, and a broken mesh must
+ * reach au_mesh_validate, which names the broken edge. STL stores float positions and no shared
+ * vertices anyway, so OpenMesh reads it (merging equal positions, which is what STL means), and
+ * we check that it kept every facet. */
+
+typedef enum au_fmt { AU_FMT_NONE, AU_FMT_OBJ, AU_FMT_OFF, AU_FMT_PLY, AU_FMT_STL } au_fmt;
+
+static au_fmt fmt_of(const char *path) {
+  const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+  if (!dot || (slash && dot < slash)) return AU_FMT_NONE;
+  if (!strcasecmp(dot, ".obj")) return AU_FMT_OBJ;
+  if (!strcasecmp(dot, ".off")) return AU_FMT_OFF;
+  if (!strcasecmp(dot, ".ply")) return AU_FMT_PLY;
+  if (!strcasecmp(dot, ".stl")) return AU_FMT_STL;
+  return AU_FMT_NONE;
+}
+
+/* ---------- reading the whole file ---------- */
+
+/* Read path into a NUL-terminated buffer (*out, *len bytes before the NUL); the caller frees *out. */
+static au_status slurp(const char *path, char **out, size_t *len, au_msg *msg) {
+  *out = NULL;
+  *len = 0;
+  FILE *fp = fopen(path, "rb");
+  if (!fp) return au_msg_set(msg, AU_E_IO, "cannot open '%s': %s", path, strerror(errno));
+  struct stat st;
+  if (fstat(fileno(fp), &st) != 0) {
+    int err = errno;
+    fclose(fp);
+    return au_msg_set(msg, AU_E_IO, "cannot read '%s': %s", path, strerror(err));
+  }
+  if (S_ISDIR(st.st_mode)) {
+    fclose(fp);
+    return au_msg_set(msg, AU_E_IO, "'%s' is a directory, not a mesh file", path);
+  }
+  size_t cap = S_ISREG(st.st_mode) && st.st_size > 0 ? (size_t)st.st_size + 1 : 65536, n = 0;
+  char *buf = malloc(cap);
+  while (buf) {
+    n += fread(buf + n, 1, cap - 1 - n, fp);
+    if (n < cap - 1) break;
+    /* Full: grow only if there is more to read, so a regular file is read into one exact buffer. */
+    int c = fgetc(fp);
+    if (c == EOF) break;
+    char *grown = realloc(buf, 2 * cap);
+    if (!grown) {
+      free(buf);
+      buf = NULL;
+    } else {
+      buf = grown;
+      cap *= 2;
+      buf[n++] = (char)c;
+    }
+  }
+  if (!buf) {
+    fclose(fp);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+  }
+  if (ferror(fp)) {
+    int err = errno;
+    fclose(fp);
+    free(buf);
+    return au_msg_set(msg, AU_E_IO, "cannot read '%s': %s", path, strerror(err));
+  }
+  fclose(fp);
+  buf[n] = '\0';
+  *out = buf;
+  *len = n;
+  return AU_OK;
+}
+
+/* ---------- text lines and tokens ---------- */
+
+typedef struct au_text {
+  const char *p, *end; /* the unread part of the buffer */
+  int line;            /* 1-based number of the line last returned */
+} au_text;
+
+static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+/* The next line that has content, as [*s, *e): leading blanks skipped, a '#' comment and trailing
+ * blanks cut. Returns 1, 0 at the end of the buffer, or -1 if the line holds bytes no text file
+ * has (NUL or control characters), which is how binary garbage under a text extension is caught. */
+static int text_next(au_text *t, const char **s, const char **e) {
+  while (t->p < t->end) {
+    const char *a = t->p, *b = memchr(a, '\n', (size_t)(t->end - a));
+    if (!b) b = t->end;
+    t->p = b < t->end ? b + 1 : b;
+    t->line++;
+    for (const char *c = a; c < b; c++) {
+      unsigned char u = (unsigned char)*c;
+      if (u == 0 || (u < 0x20 && !is_space(*c)) || u == 0x7f) return -1;
+    }
+    const char *h = memchr(a, '#', (size_t)(b - a));
+    if (h) b = h;
+    while (a < b && is_space(*a)) a++;
+    while (b > a && is_space(b[-1])) b--;
+    if (a < b) {
+      *s = a;
+      *e = b;
+      return 1;
+    }
+  }
+  return 0;
+}
+
+/* The next blank-separated token of [*p, e) as [*ts, *te); 0 when none is left. */
+static int tok_next(const char **p, const char *e, const char **ts, const char **te) {
+  const char *a = *p;
+  while (a < e && is_space(*a)) a++;
+  if (a >= e) return 0;
+  const char *b = a;
+  while (b < e && !is_space(*b)) b++;
+  *ts = a;
+  *te = b;
+  *p = b;
+  return 1;
+}
+
+static int tok_is(const char *s, const char *e, const char *word) {
+  size_t n = strlen(word);
+  return (size_t)(e - s) == n && memcmp(s, word, n) == 0;
+}
+
+/* A whole token as a double. strtod also accepts "nan", "inf" and "infinity": non-finite
+ * coordinates are read here so that validation can name the vertex. The character after a
+ * token is a blank, '#', or the buffer's NUL, none of which strtod would take into a number. */
+static int tok_double(const char *s, const char *e, double *v) {
+  char *end;
+  *v = strtod(s, &end);
+  return e > s && end == e;
+}
+
+/* A whole token as an integer in [lo, hi]. */
+static int tok_int(const char *s, const char *e, long long lo, long long hi, long long *v) {
+  char *end;
+  errno = 0;
+  long long x = strtoll(s, &end, 10);
+  if (e == s || end != e || errno == ERANGE || x < lo || x > hi) return 0;
+  *v = x;
+  return 1;
+}
+
+/* Remaining tokens of a record must be numbers (OBJ's w, OFF's colours); anything else is garbage. */
+static int rest_numeric(const char *p, const char *e) {
+  const char *ts, *te;
+  double d;
+  while (tok_next(&p, e, &ts, &te))
+    if (!tok_double(ts, te, &d)) return 0;
+  return 1;
+}
+
+static au_status mesh_new(const char *path, long long nv, long long nf, au_mesh **out, au_msg *msg) {
+  if (nv <= 0 || nf <= 0)
+    return au_msg_set(msg, AU_E_EMPTY, "%s: %lld vertices and %lld faces; a mesh needs both", path, nv, nf);
+  if (nv > INT_MAX / 3 || nf > INT_MAX / 3)
+    return au_msg_set(msg, AU_E_FORMAT, "%s: too many vertices or faces (%lld, %lld)", path, nv, nf);
+  au_status s = au_mesh_alloc((int)nv, (int)nf, out);
+  if (s != AU_OK) return au_msg_set(msg, s, "%s: cannot allocate %lld vertices and %lld faces", path, nv, nf);
+  return AU_OK;
+}
+
+/* ---------- OBJ ---------- */
+
+/* One corner token of an OBJ face ("7", "7/2", "7//3", "-1/-1/-1"): the vertex index as written. */
+static int obj_corner(const char *s, const char *e, long long *v) {
+  const char *slash = memchr(s, '/', (size_t)(e - s));
+  if (!slash) slash = e;
+  if (!tok_int(s, slash, LLONG_MIN, LLONG_MAX, v)) return 0;
+  for (const char *c = slash; c < e; c++)
+    if (*c != '/' && *c != '-' && (*c < '0' || *c > '9')) return 0;
+  return 1;
+}
+
+static au_status read_obj(const char *path, const char *buf, size_t len, au_mesh **out, au_msg *msg) {
+  /* First pass: count the records, so that positive indices may refer forward and the arrays are
+   * allocated once. */
+  long long nv = 0, nf = 0;
+  au_text t = {buf, buf + len, 0};
+  const char *s, *e, *ts, *te;
+  int r;
+  while ((r = text_next(&t, &s, &e)) != 0) {
+    if (r < 0) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: binary data in an OBJ file", path, t.line);
+    const char *p = s;
+    tok_next(&p, e, &ts, &te);
+    if (tok_is(ts, te, "v")) nv++;
+    if (tok_is(ts, te, "f")) nf++;
+  }
+  au_status st = mesh_new(path, nv, nf, out, msg);
+  if (st != AU_OK) return st;
+  au_mesh *m = *out;
+  int iv = 0, jf = 0;
+  t = (au_text){buf, buf + len, 0};
+  while (text_next(&t, &s, &e) > 0) {
+    const char *p = s;
+    tok_next(&p, e, &ts, &te);
+    if (tok_is(ts, te, "v")) {
+      for (int k = 0; k < 3; k++) {
+        if (!tok_next(&p, e, &ts, &te) || !tok_double(ts, te, &m->X[3 * iv + k])) {
+          st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: vertex %d: expected three numbers after 'v'", path, t.line, iv);
+          goto fail;
+        }
+      }
+      if (!rest_numeric(p, e)) {
+        st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: vertex %d: unexpected text after the coordinates", path, t.line, iv);
+        goto fail;
+      }
+      iv++;
+    } else if (tok_is(ts, te, "f")) {
+      long long idx[3];
+      int n = 0;
+      while (tok_next(&p, e, &ts, &te)) {
+        long long v;
+        if (!obj_corner(ts, te, &v)) {
+          st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: face %d: bad corner '%.*s'", path, t.line, jf, (int)(te - ts), ts);
+          goto fail;
+        }
+        if (n < 3) idx[n] = v;
+        n++;
+      }
+      if (n != 3) {
+        st = au_msg_set(msg, AU_E_FACE, "%s:%d: face %d has %d corners; only triangles are supported (triangulate first)",
+                        path, t.line, jf, n);
+        goto fail;
+      }
+      for (int k = 0; k < 3; k++) {
+        /* OBJ counts from 1; a negative index counts back from the last vertex defined so far. */
+        long long v = idx[k] > 0 ? idx[k] - 1 : idx[k] < 0 ? iv + idx[k] : -1;
+        if (v < 0 || v >= nv) {
+          st = au_msg_set(msg, AU_E_INDEX, "%s:%d: face %d: index %lld is out of range (%lld vertices%s)", path,
+                          t.line, jf, idx[k], idx[k] < 0 ? (long long)iv : nv, idx[k] < 0 ? " defined before it" : "");
+          goto fail;
+        }
+        m->F[3 * jf + k] = (int)v;
+      }
+      jf++;
+    }
+  }
+  return AU_OK;
+fail:
+  au_mesh_free(out);
+  return st;
+}
+
+/* ---------- OFF ---------- */
+
+static au_status read_off(const char *path, const char *buf, size_t len, au_mesh **out, au_msg *msg) {
+  au_text t = {buf, buf + len, 0};
+  const char *s, *e, *ts, *te, *p;
+  int r = text_next(&t, &s, &e);
+  if (r < 0) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: binary data in an OFF file", path, t.line);
+  if (r == 0) return au_msg_set(msg, AU_E_EMPTY, "%s: no OFF header", path);
+  p = s;
+  tok_next(&p, e, &ts, &te);
+  /* The keyword may carry the prefixes ST (texture), C (colour), N (normal): those add values to
+   * each vertex line, which we skip. 4OFF/nOFF (other dimensions) and binary OFF are not meshes we read. */
+  const char *k = ts;
+  if (te - k >= 2 && k[0] == 'S' && k[1] == 'T') k += 2;
+  if (k < te && *k == 'C') k++;
+  if (k < te && *k == 'N') k++;
+  if (!tok_is(k, te, "OFF"))
+    return au_msg_set(msg, AU_E_FORMAT, "%s:%d: not an OFF file (header '%.*s', expected OFF)", path, t.line,
+                      (int)(te - ts), ts);
+  long long cnt[3] = {0, 0, 0};
+  int nc = 0, hline = t.line;
+  const char *q = p;
+  if (!tok_next(&q, e, &ts, &te)) { /* the counts are on the next line, as usual */
+    r = text_next(&t, &s, &e);
+    if (r <= 0) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: the OFF header has no counts", path, t.line);
+    p = s;
+    hline = t.line;
+  }
+  while (tok_next(&p, e, &ts, &te)) {
+    if (nc == 3 || !tok_int(ts, te, 0, LLONG_MAX, &cnt[nc]))
+      return au_msg_set(msg, AU_E_FORMAT, "%s:%d: bad OFF counts (expected: vertices faces [edges])", path, hline);
+    nc++;
+  }
+  if (nc < 2) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: bad OFF counts (expected: vertices faces [edges])", path, hline);
+  long long nv = cnt[0], nf = cnt[1];
+  /* Each record takes a few bytes, so counts far beyond the file's size are a broken header, not
+   * a reason to allocate gigabytes. */
+  if ((unsigned long long)nv > len / 4 + 1 || (unsigned long long)nf > len / 6 + 1)
+    return au_msg_set(msg, AU_E_FORMAT, "%s:%d: the header says %lld vertices and %lld faces, more than a %zu-byte file holds",
+                      path, hline, nv, nf, len);
+  au_status st = mesh_new(path, nv, nf, out, msg);
+  if (st != AU_OK) return st;
+  au_mesh *m = *out;
+  for (int i = 0; i < (int)nv; i++) {
+    r = text_next(&t, &s, &e);
+    if (r <= 0) {
+      st = r < 0 ? au_msg_set(msg, AU_E_FORMAT, "%s:%d: binary data in an OFF file", path, t.line)
+                 : au_msg_set(msg, AU_E_FORMAT, "%s: the file ends after %d of %lld vertices (header, line %d)", path, i, nv, hline);
+      goto fail;
+    }
+    p = s;
+    for (int c = 0; c < 3; c++) {
+      if (!tok_next(&p, e, &ts, &te) || !tok_double(ts, te, &m->X[3 * i + c])) {
+        st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: vertex %d: expected three numbers (header counts wrong?)", path, t.line, i);
+        goto fail;
+      }
+    }
+    if (!rest_numeric(p, e)) {
+      st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: vertex %d: unexpected text after the coordinates", path, t.line, i);
+      goto fail;
+    }
+  }
+  for (int f = 0; f < (int)nf; f++) {
+    r = text_next(&t, &s, &e);
+    if (r <= 0) {
+      st = r < 0 ? au_msg_set(msg, AU_E_FORMAT, "%s:%d: binary data in an OFF file", path, t.line)
+                 : au_msg_set(msg, AU_E_FORMAT, "%s: the file ends after %d of %lld faces (header, line %d)", path, f, nf, hline);
+      goto fail;
+    }
+    p = s;
+    long long n, v[3];
+    if (!tok_next(&p, e, &ts, &te) || !tok_int(ts, te, 0, INT_MAX, &n)) {
+      st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: face %d: expected a corner count (header counts wrong?)", path, t.line, f);
+      goto fail;
+    }
+    if (n != 3) {
+      st = au_msg_set(msg, AU_E_FACE, "%s:%d: face %d has %lld corners; only triangles are supported (triangulate first)",
+                      path, t.line, f, n);
+      goto fail;
+    }
+    for (int c = 0; c < 3; c++) {
+      if (!tok_next(&p, e, &ts, &te) || !tok_int(ts, te, LLONG_MIN, LLONG_MAX, &v[c])) {
+        st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: face %d: expected three vertex indices", path, t.line, f);
+        goto fail;
+      }
+    }
+    if (!rest_numeric(p, e)) {
+      st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: face %d: unexpected text after the indices", path, t.line, f);
+      goto fail;
+    }
+    for (int c = 0; c < 3; c++) {
+      if (v[c] < 0 || v[c] >= nv) {
+        st = au_msg_set(msg, AU_E_INDEX, "%s:%d: face %d: index %lld is out of range (%lld vertices, counted from 0)",
+                        path, t.line, f, v[c], nv);
+        goto fail;
+      }
+      m->F[3 * f + c] = (int)v[c];
+    }
+  }
+  r = text_next(&t, &s, &e);
+  if (r != 0) {
+    st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: data after the last of the %lld faces the header (line %d) announced",
+                    path, t.line, nf, hline);
+    goto fail;
+  }
+  return AU_OK;
+fail:
+  au_mesh_free(out);
+  return st;
+}
+
+/* ---------- PLY ---------- */
+
+typedef enum ply_type { PT_NONE, PT_I8, PT_U8, PT_I16, PT_U16, PT_I32, PT_U32, PT_F32, PT_F64 } ply_type;
+
+#define PLY_MAX_PROPS 64
+#define PLY_MAX_ELEMS 16
+
+typedef struct ply_prop {
+  ply_type type;  /* scalar type, or the item type of a list */
+  ply_type count; /* PT_NONE for a scalar, else the type of the list's length */
+  char name[40];
+} ply_prop;
+
+typedef struct ply_elem {
+  char name[40];
+  long long n;
+  int nprops;
+  ply_prop props[PLY_MAX_PROPS];
+} ply_elem;
+
+typedef struct ply_in {
+  int ascii, swap;                  /* ascii body; binary with the other byte order than this machine */
+  const unsigned char *p, *end;     /* unread part of the body */
+  int line;                         /* current line of an ascii body */
+} ply_in;
+
+static ply_type ply_type_of(const char *s, const char *e) {
+  static const struct { const char *name; ply_type t; } names[] = {
+      {"char", PT_I8},    {"int8", PT_I8},     {"uchar", PT_U8},   {"uint8", PT_U8},     {"short", PT_I16},
+      {"int16", PT_I16},  {"ushort", PT_U16},  {"uint16", PT_U16}, {"int", PT_I32},      {"int32", PT_I32},
+      {"uint", PT_U32},   {"uint32", PT_U32},  {"float", PT_F32},  {"float32", PT_F32},  {"double", PT_F64},
+      {"float64", PT_F64}};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+    if (tok_is(s, e, names[i].name)) return names[i].t;
+  return PT_NONE;
+}
+
+static int ply_size(ply_type t) {
+  switch (t) {
+    case PT_I8: case PT_U8: return 1;
+    case PT_I16: case PT_U16: return 2;
+    case PT_I32: case PT_U32: case PT_F32: return 4;
+    case PT_F64: return 8;
+    default: return 0;
+  }
+}
+
+/* Read one value of type ty into *d (and, exactly, into *i for integer types). 0 on truncation
+ * or a malformed token. */
+static int ply_value(ply_in *in, ply_type ty, double *d, long long *i) {
+  int isint = ty != PT_F32 && ty != PT_F64;
+  if (in->ascii) {
+    while (in->p < in->end && (is_space((char)*in->p) || *in->p == '\n')) {
+      if (*in->p == '\n') in->line++;
+      in->p++;
+    }
+    const char *s = (const char *)in->p, *e = s;
+    while ((const unsigned char *)e < in->end && !is_space(*e) && *e != '\n') e++;
+    in->p = (const unsigned char *)e;
+    if (isint) {
+      if (!tok_int(s, e, LLONG_MIN, LLONG_MAX, i)) return 0;
+      *d = (double)*i;
+      return 1;
+    }
+    return tok_double(s, e, d);
+  }
+  int n = ply_size(ty);
+  unsigned char b[8];
+  if (in->end - in->p < n) return 0;
+  for (int k = 0; k < n; k++) b[k] = in->p[in->swap ? n - 1 - k : k];
+  in->p += n;
+  switch (ty) {
+    case PT_I8: { int8_t v; memcpy(&v, b, 1); *i = v; break; }
+    case PT_U8: *i = b[0]; break;
+    case PT_I16: { int16_t v; memcpy(&v, b, 2); *i = v; break; }
+    case PT_U16: { uint16_t v; memcpy(&v, b, 2); *i = v; break; }
+    case PT_I32: { int32_t v; memcpy(&v, b, 4); *i = v; break; }
+    case PT_U32: { uint32_t v; memcpy(&v, b, 4); *i = v; break; }
+    case PT_F32: { float v; memcpy(&v, b, 4); *d = v; return 1; }
+    case PT_F64: { double v; memcpy(&v, b, 8); *d = v; return 1; }
+    default: return 0;
+  }
+  *d = (double)*i;
+  return 1;
+}
+
+/* Parse the header into elems (at most PLY_MAX_ELEMS); in receives the format and where the data starts. */
+static au_status ply_header(const char *path, const char *buf, size_t len, ply_elem *elems, int *nelems, ply_in *in,
+                            au_msg *msg) {
+  au_text t = {buf, buf + len, 0};
+  const char *s, *e, *ts, *te, *p;
+  int r, fmt_seen = 0;
+  *nelems = 0;
+  r = text_next(&t, &s, &e);
+  if (r <= 0 || t.line != 1 || !tok_is(s, e, "ply")) return au_msg_set(msg, AU_E_FORMAT, "%s:1: not a PLY file (no 'ply' line)", path);
+  for (;;) {
+    /* Header lines are read raw: '#' is not a comment character in PLY, but text_next's binary
+     * check and blank skipping are still what we want, and no keyword contains '#'. */
+    r = text_next(&t, &s, &e);
+    if (r < 0) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: binary data in the PLY header", path, t.line);
+    if (r == 0) return au_msg_set(msg, AU_E_FORMAT, "%s: the PLY header has no end_header", path);
+    p = s;
+    tok_next(&p, e, &ts, &te);
+    if (tok_is(ts, te, "end_header")) break;
+    if (tok_is(ts, te, "comment") || tok_is(ts, te, "obj_info")) continue;
+    if (tok_is(ts, te, "format")) {
+      const char *fs, *fe;
+      if (!tok_next(&p, e, &fs, &fe)) break;
+      if (tok_is(fs, fe, "ascii")) {
+        in->ascii = 1;
+      } else {
+        const uint16_t one = 1;
+        int little = *(const unsigned char *)&one == 1;
+        if (tok_is(fs, fe, "binary_little_endian")) in->swap = !little;
+        else if (tok_is(fs, fe, "binary_big_endian")) in->swap = little;
+        else return au_msg_set(msg, AU_E_FORMAT, "%s:%d: unknown PLY format '%.*s'", path, t.line, (int)(fe - fs), fs);
+      }
+      fmt_seen = 1;
+    } else if (tok_is(ts, te, "element")) {
+      const char *ns, *ne, *cs, *ce;
+      long long n;
+      if (*nelems == PLY_MAX_ELEMS) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: too many PLY elements", path, t.line);
+      if (!tok_next(&p, e, &ns, &ne) || !tok_next(&p, e, &cs, &ce) || !tok_int(cs, ce, 0, LLONG_MAX, &n))
+        return au_msg_set(msg, AU_E_FORMAT, "%s:%d: bad PLY element line", path, t.line);
+      ply_elem *el = &elems[(*nelems)++];
+      snprintf(el->name, sizeof el->name, "%.*s", (int)(ne - ns), ns);
+      el->n = n;
+      el->nprops = 0;
+    } else if (tok_is(ts, te, "property")) {
+      if (*nelems == 0) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: PLY property before any element", path, t.line);
+      ply_elem *el = &elems[*nelems - 1];
+      if (el->nprops == PLY_MAX_PROPS) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: too many PLY properties", path, t.line);
+      ply_prop *pr = &el->props[el->nprops];
+      const char *a, *b;
+      pr->count = PT_NONE;
+      if (!tok_next(&p, e, &a, &b)) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: bad PLY property line", path, t.line);
+      if (tok_is(a, b, "list")) {
+        if (!tok_next(&p, e, &a, &b) || (pr->count = ply_type_of(a, b)) == PT_NONE || pr->count == PT_F32 ||
+            pr->count == PT_F64 || !tok_next(&p, e, &a, &b))
+          return au_msg_set(msg, AU_E_FORMAT, "%s:%d: bad PLY list property", path, t.line);
+      }
+      if ((pr->type = ply_type_of(a, b)) == PT_NONE || !tok_next(&p, e, &a, &b))
+        return au_msg_set(msg, AU_E_FORMAT, "%s:%d: bad PLY property type '%.*s'", path, t.line, (int)(b - a), a);
+      snprintf(pr->name, sizeof pr->name, "%.*s", (int)(b - a), a);
+      el->nprops++;
+    } else {
+      return au_msg_set(msg, AU_E_FORMAT, "%s:%d: unknown PLY header line '%.*s'", path, t.line, (int)(te - ts), ts);
+    }
+  }
+  if (!fmt_seen) return au_msg_set(msg, AU_E_FORMAT, "%s: the PLY header has no valid format line", path);
+  in->p = (const unsigned char *)t.p;
+  in->end = (const unsigned char *)buf + len;
+  in->line = t.line + 1;
+  return AU_OK;
+}
+
+static int ply_find(const ply_elem *el, const char *name) {
+  for (int k = 0; k < el->nprops; k++)
+    if (!strcmp(el->props[k].name, name)) return k;
+  return -1;
+}
+
+static au_status ply_body(const char *path, const ply_elem *elems, int nelems, ply_in *in, au_mesh **out, au_msg *msg) {
+  const ply_elem *ve = NULL, *fe = NULL;
+  for (int i = 0; i < nelems; i++) {
+    if (!strcmp(elems[i].name, "vertex") && !ve) ve = &elems[i];
+    if (!strcmp(elems[i].name, "face") && !fe) fe = &elems[i];
+  }
+  if (!ve || !fe || ve->n == 0 || fe->n == 0)
+    return au_msg_set(msg, AU_E_EMPTY, "%s: %lld vertices and %lld faces; a mesh needs both", path, ve ? ve->n : 0,
+                      fe ? fe->n : 0);
+  int ix[3] = {ply_find(ve, "x"), ply_find(ve, "y"), ply_find(ve, "z")};
+  int fl = ply_find(fe, "vertex_indices");
+  if (fl < 0) fl = ply_find(fe, "vertex_index");
+  if (ix[0] < 0 || ix[1] < 0 || ix[2] < 0 || ve->props[ix[0]].count || ve->props[ix[1]].count || ve->props[ix[2]].count)
+    return au_msg_set(msg, AU_E_FORMAT, "%s: the PLY vertex element lacks scalar x, y, z properties", path);
+  if (fl < 0 || !fe->props[fl].count)
+    return au_msg_set(msg, AU_E_FORMAT, "%s: the PLY face element lacks a vertex_indices list", path);
+  /* Every record takes at least a byte per property, so counts beyond the body's size are a broken
+   * header, not a reason to allocate gigabytes. */
+  size_t body = (size_t)(in->end - in->p);
+  for (int i = 0; i < nelems; i++)
+    if (elems[i].nprops > 0 && (unsigned long long)elems[i].n > body / (size_t)elems[i].nprops)
+      return au_msg_set(msg, AU_E_FORMAT, "%s: the PLY header says %lld %s records, more than the file holds", path,
+                        elems[i].n, elems[i].name);
+  au_status st = mesh_new(path, ve->n, fe->n, out, msg);
+  if (st != AU_OK) return st;
+  au_mesh *m = *out;
+  for (int i = 0; i < nelems; i++) {
+    const ply_elem *el = &elems[i];
+    for (long long r = 0; r < el->n; r++) {
+      for (int k = 0; k < el->nprops; k++) {
+        const ply_prop *pr = &el->props[k];
+        double d;
+        long long v, len = 1;
+        if (pr->count && (!ply_value(in, pr->count, &d, &len) || len < 0)) goto bad;
+        if (el == fe && k == fl && len != 3) {
+          st = au_msg_set(msg, AU_E_FACE, "%s: face %lld has %lld corners; only triangles are supported (triangulate first)",
+                          path, r, len);
+          goto fail;
+        }
+        for (long long j = 0; j < len; j++) {
+          if (!ply_value(in, pr->type, &d, &v)) goto bad;
+          if (el == ve && (k == ix[0] || k == ix[1] || k == ix[2])) {
+            m->X[3 * r + (k == ix[0] ? 0 : k == ix[1] ? 1 : 2)] = d;
+          } else if (el == fe && k == fl) {
+            if (pr->type == PT_F32 || pr->type == PT_F64 || v < 0 || v >= ve->n) {
+              st = au_msg_set(msg, AU_E_INDEX, "%s: face %lld: index %.17g is out of range (%lld vertices, counted from 0)",
+                              path, r, d, ve->n);
+              goto fail;
+            }
+            m->F[3 * r + j] = (int)v;
+          }
+        }
+      }
+      continue;
+    bad:
+      if (in->ascii)
+        st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: %s %lld: malformed or missing value (truncated file?)", path, in->line,
+                        el->name, r);
+      else
+        st = au_msg_set(msg, AU_E_FORMAT, "%s: %s %lld: the file ends early (truncated?)", path, el->name, r);
+      goto fail;
+    }
+  }
+  /* Data left over means the header's counts are wrong; trailing blanks are harmless. */
+  if (in->ascii)
+    while (in->p < in->end && (is_space((char)*in->p) || *in->p == '\n')) in->p++;
+  if (in->p < in->end) {
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: %zu bytes of data after the last record the header announced", path,
+                    (size_t)(in->end - in->p));
+    goto fail;
+  }
+  return AU_OK;
+fail:
+  au_mesh_free(out);
+  return st;
+}
+
+static au_status read_ply(const char *path, const char *buf, size_t len, au_mesh **out, au_msg *msg) {
+  ply_elem *elems = calloc(PLY_MAX_ELEMS, sizeof *elems);
+  if (!elems) return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+  int nelems;
+  ply_in in = {0, 0, NULL, NULL, 0};
+  au_status st = ply_header(path, buf, len, elems, &nelems, &in, msg);
+  if (st == AU_OK) st = ply_body(path, elems, nelems, &in, out, msg);
+  free(elems);
+  return st;
+}
+
+/* ---------- STL (through OpenMesh) ---------- */
+
+/* The number of facets the file holds, counted the way STL defines them: a binary file is an
+ * 80-byte header, a 32-bit little-endian count and 50 bytes per facet; otherwise it must be
+ * ASCII ("solid ... facet ... endsolid"). */
+static au_status stl_facets(const char *path, const char *buf, size_t len, long long *n, au_msg *msg) {
+  if (len >= 84) {
+    const unsigned char *c = (const unsigned char *)buf + 80;
+    unsigned long long cnt = c[0] | (unsigned long long)c[1] << 8 | (unsigned long long)c[2] << 16 |
+                             (unsigned long long)c[3] << 24;
+    if (84 + 50 * cnt == len) {
+      *n = (long long)cnt;
+      return AU_OK;
+    }
+  }
+  au_text t = {buf, buf + len, 0};
+  const char *s, *e, *ts, *te;
+  int r = text_next(&t, &s, &e), first = 1;
+  *n = 0;
+  for (; r > 0; r = text_next(&t, &s, &e), first = 0) {
+    const char *p = s;
+    tok_next(&p, e, &ts, &te);
+    if (first && !tok_is(ts, te, "solid")) break;
+    if (tok_is(ts, te, "facet")) (*n)++;
+  }
+  if (r < 0 || (first && len > 0))
+    return au_msg_set(msg, AU_E_FORMAT, "%s: neither a binary STL (its size does not match its facet count) nor an ASCII STL",
+                      path);
+  return AU_OK;
+}
+
+/* Positions compared by their bits: a total order that also holds for NaN. */
+typedef struct stl_key {
+  uint64_t b[3];
+  int i;
+} stl_key;
+
+static int stl_cmp(const void *pa, const void *pb) {
+  const stl_key *a = pa, *b = pb;
+  for (int k = 0; k < 3; k++)
+    if (a->b[k] != b->b[k]) return a->b[k] < b->b[k] ? -1 : 1;
+  return (a->i > b->i) - (a->i < b->i);
+}
+
+static au_status read_stl(const char *path, const char *buf, size_t len, au_mesh **out, au_msg *msg) {
+  long long facets;
+  au_status st = stl_facets(path, buf, len, &facets, msg);
+  if (st != AU_OK) return st;
+  if (facets == 0) return au_msg_set(msg, AU_E_EMPTY, "%s: the STL file has no facets", path);
+  int nv, nf;
+  double *X;
+  int *F;
+  st = au_io__openmesh_read(path, &nv, &nf, &X, &F, msg);
+  if (st != AU_OK) return st;
+  if (nf != facets) {
+    free(X);
+    free(F);
+    return au_msg_set(msg, AU_E_FORMAT, "%s: the file has %lld facets but OpenMesh kept %d (it drops facets whose corners "
+                      "coincide)", path, facets, nf);
+  }
+  /* OpenMesh merges equal positions, and gives the corners of a facet that would make an edge
+   * non-manifold fresh copies of their vertices. Merging equal positions again (keeping the first)
+   * undoes that, so a non-manifold STL reaches validation, which names the edge. */
+  stl_key *key = malloc(sizeof *key * (size_t)(nv > 0 ? nv : 1));
+  int *map = malloc(sizeof *map * (size_t)(nv > 0 ? nv : 1));
+  if (!key || !map) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+    goto done;
+  }
+  for (int i = 0; i < nv; i++) {
+    memcpy(key[i].b, &X[3 * i], sizeof key[i].b);
+    key[i].i = i;
+  }
+  qsort(key, (size_t)nv, sizeof *key, stl_cmp);
+  for (int i = 0, first = 0; i < nv; i++) {
+    if (i > 0 && memcmp(key[i].b, key[i - 1].b, sizeof key[i].b) != 0) first = i;
+    map[key[i].i] = key[first].i;
+  }
+  int n = 0;
+  for (int i = 0; i < nv; i++) map[i] = map[i] == i ? n++ : -1 - map[i];
+  for (int i = 0; i < nv; i++)
+    if (map[i] < 0) map[i] = map[-1 - map[i]];
+  st = mesh_new(path, n, nf, out, msg);
+  if (st != AU_OK) goto done;
+  for (int i = 0; i < nv; i++) memcpy(&(*out)->X[3 * map[i]], &X[3 * i], 3 * sizeof(double));
+  for (int j = 0; j < 3 * nf; j++) (*out)->F[j] = map[F[j]];
+done:
+  free(key);
+  free(map);
+  free(X);
+  free(F);
+  return st;
+}
+
+au_status au_io_read(const char *path, au_mesh **out, au_msg *msg) {
+  if (msg) msg->text[0] = '\0';
+  if (!path || !out) return au_msg_set(msg, AU_E_ARG, "au_io_read: path and out must not be NULL");
+  *out = NULL;
+  char *buf;
+  size_t len;
+  au_status st = slurp(path, &buf, &len, msg);
+  if (st != AU_OK) return st;
+  au_fmt fmt = fmt_of(path);
+  if (fmt == AU_FMT_NONE)
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: unknown mesh file extension (expected .obj, .off, .ply or .stl)", path);
+  else if (len == 0)
+    st = au_msg_set(msg, AU_E_EMPTY, "%s: the file is empty", path);
+  else if (fmt == AU_FMT_OBJ)
+    st = read_obj(path, buf, len, out, msg);
+  else if (fmt == AU_FMT_OFF)
+    st = read_off(path, buf, len, out, msg);
+  else if (fmt == AU_FMT_PLY)
+    st = read_ply(path, buf, len, out, msg);
+  else
+    st = read_stl(path, buf, len, out, msg);
+  free(buf);
+  return st;
+}
+
+/* ---------- writing ---------- */
+
+/* The mode a new file gets from open(..., 0666): 0666 without the process's umask. The umask is
+ * read from /proc, because umask() can only read it by changing it. */
+static mode_t new_file_mode(void) {
+  mode_t mask = 022;
+  FILE *fp = fopen("/proc/self/status", "r");
+  if (fp) {
+    char line[256];
+    unsigned int u;
+    while (fgets(line, sizeof line, fp))
+      if (sscanf(line, "Umask: %o", &u) == 1) mask = (mode_t)u;
+    fclose(fp);
+  }
+  return 0666 & ~mask;
+}
+
+typedef int (*au_emit_fn)(FILE *fp, const void *ctx);
+
+/* Write through emit into "<path>.tmpXXXXXX" beside path, then rename it over path. On any failure
+ * the temporary file is removed and an existing path is left as it was. */
+static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx, au_msg *msg) {
+  size_t n = strlen(path);
+  char *tmp = malloc(n + 12);
+  if (!tmp) return au_msg_set(msg, AU_E_NOMEM, "out of memory writing '%s'", path);
+  memcpy(tmp, path, n);
+  memcpy(tmp + n, ".tmpXXXXXX", 11);
+  int fd = mkstemp(tmp);
+  if (fd < 0) {
+    int err = errno;
+    free(tmp);
+    return au_msg_set(msg, AU_E_IO, "cannot create '%s': %s", path, strerror(err));
+  }
+  /* mkstemp makes the file private (0600); the result should have the mode a plain fopen would
+   * give it, or keep the mode of the file it replaces. */
+  struct stat st;
+  mode_t mode = stat(path, &st) == 0 && S_ISREG(st.st_mode) ? (st.st_mode & 07777) : new_file_mode();
+  FILE *fp = fchmod(fd, mode) == 0 ? fdopen(fd, "w") : NULL;
+  int err = 0;
+  const char *what = "write";
+  if (!fp) {
+    err = errno;
+    close(fd);
+  } else {
+    if (emit(fp, ctx) != 0 || fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0) err = errno ? errno : EIO;
+    if (fclose(fp) != 0 && !err) err = errno ? errno : EIO;
+  }
+  if (!err && rename(tmp, path) != 0) {
+    err = errno;
+    what = "replace";
+  }
+  if (err) {
+    unlink(tmp);
+    free(tmp);
+    return au_msg_set(msg, AU_E_IO, "cannot %s '%s': %s", what, path, strerror(err));
+  }
+  free(tmp);
+  return AU_OK;
+}
+
+typedef struct au_mesh_out {
+  au_fmt fmt;
+  const au_mesh *m;
+  const double *P, *uv;
+  int prec;
+} au_mesh_out;
+
+static int emit_mesh(FILE *fp, const void *ctx) {
+  const au_mesh_out *o = ctx;
+  const au_mesh *m = o->m;
+  const double *P = o->P;
+  const int q = o->prec;
+  int bad = 0;
+  errno = 0;
+  if (o->fmt == AU_FMT_OFF) bad |= fprintf(fp, "OFF\n%d %d 0\n", m->nv, m->nf) < 0;
+  if (o->fmt == AU_FMT_PLY)
+    bad |= fprintf(fp,
+                   "ply\nformat ascii 1.0\ncomment written by authalic\nelement vertex %d\nproperty double x\n"
+                   "property double y\nproperty double z\nelement face %d\nproperty list uchar int vertex_indices\n"
+                   "end_header\n",
+                   m->nv, m->nf) < 0;
+  if (o->fmt == AU_FMT_OBJ) bad |= fputs("# written by authalic\n", fp) < 0;
+  const char *vfmt = o->fmt == AU_FMT_OBJ ? "v %.*g %.*g %.*g\n" : "%.*g %.*g %.*g\n";
+  for (int i = 0; i < m->nv && !bad; i++)
+    bad |= fprintf(fp, vfmt, q, P[3 * i], q, P[3 * i + 1], q, P[3 * i + 2]) < 0;
+  if (o->fmt == AU_FMT_OBJ && o->uv)
+    for (int i = 0; i < m->nv && !bad; i++) bad |= fprintf(fp, "vt %.*g %.*g\n", q, o->uv[2 * i], q, o->uv[2 * i + 1]) < 0;
+  for (int f = 0; f < m->nf && !bad; f++) {
+    const int *c = &m->F[3 * f];
+    if (o->fmt != AU_FMT_OBJ)
+      bad |= fprintf(fp, "3 %d %d %d\n", c[0], c[1], c[2]) < 0;
+    else if (o->uv)
+      bad |= fprintf(fp, "f %d/%d %d/%d %d/%d\n", c[0] + 1, c[0] + 1, c[1] + 1, c[1] + 1, c[2] + 1, c[2] + 1) < 0;
+    else
+      bad |= fprintf(fp, "f %d %d %d\n", c[0] + 1, c[1] + 1, c[2] + 1) < 0;
+  }
+  return bad;
+}
+
+au_io_write_opts au_io_write_opts_default(void) {
+  au_io_write_opts o;
+  o.uv = NULL;
+  o.precision = 17;
+  return o;
+}
+
+int au_io_can_write(const char *path) {
+  if (!path) return 0;
+  au_fmt f = fmt_of(path);
+  return f == AU_FMT_OBJ || f == AU_FMT_OFF || f == AU_FMT_PLY;
+}
+
+au_status au_io_write(const char *path, const au_mesh *m, const double *P, const au_io_write_opts *opts, au_msg *msg) {
+  if (msg) msg->text[0] = '\0';
+  if (!path || !m || !P || m->nv < 0 || m->nf < 0 || (m->nf > 0 && !m->F))
+    return au_msg_set(msg, AU_E_ARG, "au_io_write: path, mesh and positions must be given");
+  au_io_write_opts def = au_io_write_opts_default();
+  if (!opts) opts = &def;
+  if (opts->precision < 1 || opts->precision > 17)
+    return au_msg_set(msg, AU_E_ARG, "au_io_write: precision %d is outside 1..17", opts->precision);
+  for (int j = 0; j < 3 * m->nf; j++)
+    if (m->F[j] < 0 || m->F[j] >= m->nv)
+      return au_msg_set(msg, AU_E_ARG, "au_io_write: face %d has index %d, outside 0..%d", j / 3, m->F[j], m->nv - 1);
+  if (!au_io_can_write(path))
+    return au_msg_set(msg, AU_E_FORMAT, "%s: cannot write this extension (expected .obj, .off or .ply)", path);
+  au_mesh_out o = {fmt_of(path), m, P, opts->uv, opts->precision};
+  return write_atomic(path, emit_mesh, &o, msg);
+}
+
+typedef struct au_text_out {
+  const char *buf;
+  size_t len;
+} au_text_out;
+
+static int emit_text(FILE *fp, const void *ctx) {
+  const au_text_out *o = ctx;
+  errno = 0;
+  return o->len > 0 && fwrite(o->buf, 1, o->len, fp) != o->len;
+}
+
+au_status au_io_write_text(const char *path, const char *buf, size_t len, au_msg *msg) {
+  if (msg) msg->text[0] = '\0';
+  if (!path || (!buf && len > 0)) return au_msg_set(msg, AU_E_ARG, "au_io_write_text: path and buf must be given");
+  au_text_out o = {buf, len};
+  return write_atomic(path, emit_text, &o, msg);
+}

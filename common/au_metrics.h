@@ -19,6 +19,7 @@ typedef enum au_domain { AU_DOMAIN_SPHERE = 0, AU_DOMAIN_PLANE = 1 } au_domain;
 
 typedef struct au_metrics {
   int nv, nf;
+  au_domain domain;                         /* the domain the map was measured on */
   double upsilon_mean_abs, upsilon_std, upsilon_max_abs, upsilon_p95_abs, upsilon_p99_abs;
   double upsilon_wmean_abs;                 /* |Upsilon| weighted by surface area */
   double lambda_mean, lambda_std, lambda_max, lambda_p95;

@@ -1,1 +1,271 @@
-/* au_solver.c - (being written) */
+/* au_solver.c - CHOLMOD wrapper: analyze once, refactor numerically, solve with Dirichlet values. */
+#include "au_solver.h"
+
+#include <cholmod.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct au_solver {
+  int n, ne, nfree;
+  int *E;             /* copy of the edges */
+  int *idx;           /* idx [0..n-1]: row/column of a free vertex, -1 for fixed ones */
+  int *diag_pos;      /* diag_pos [0..nfree-1]: position of the diagonal entry in A->x */
+  int *edge_pos;      /* edge_pos [0..ne-1]: position of the off-diagonal entry, -1 if an end is fixed */
+  cholmod_common c;   /* one common per solver object */
+  cholmod_sparse *A;  /* upper triangle (stype 1), pattern fixed at creation */
+  cholmod_factor *L;
+  int factored;
+  int started;        /* cholmod_start was called */
+  double *w;          /* w [0..ne-1]: the weights of the last factorization, for Dirichlet right-hand sides */
+};
+
+static int cmp_int(const void *a, const void *b) {
+  int x = *(const int *)a, y = *(const int *)b;
+  return (x > y) - (x < y);
+}
+
+au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fixed, au_solver **out, au_msg *msg) {
+  if (!out || n <= 0 || ne < 0 || (ne > 0 && !E)) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
+  *out = NULL;
+  au_solver *s = calloc(1, sizeof *s);
+  if (!s) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+  s->n = n;
+  s->ne = ne;
+  s->E = malloc(sizeof(int) * 2 * (size_t)(ne > 0 ? ne : 1));
+  s->idx = malloc(sizeof(int) * (size_t)n);
+  s->edge_pos = malloc(sizeof(int) * (size_t)(ne > 0 ? ne : 1));
+  s->w = calloc((size_t)(ne > 0 ? ne : 1), sizeof(double));
+  int *count = calloc((size_t)n + 1, sizeof(int));
+  if (!s->E || !s->idx || !s->edge_pos || !s->w || !count) {
+    free(count);
+    au_solver_free(&s);
+    return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+  }
+  if (ne > 0) memcpy(s->E, E, sizeof(int) * 2 * (size_t)ne);
+  for (int i = 0; i < n; i++) s->idx[i] = (fixed && fixed[i]) ? -1 : s->nfree++;
+  if (s->nfree == 0) {
+    free(count);
+    au_solver_free(&s);
+    return au_msg_set(msg, AU_E_ARG, "solver: every vertex is fixed");
+  }
+  /* Column j of the upper triangle holds rows i <= j: the diagonal and each free edge's smaller index. */
+  for (int e = 0; e < ne; e++) {
+    int a = s->idx[E[2 * e]], b = s->idx[E[2 * e + 1]];
+    if (E[2 * e] == E[2 * e + 1] || E[2 * e] < 0 || E[2 * e] >= n || E[2 * e + 1] < 0 || E[2 * e + 1] >= n) {
+      free(count);
+      au_solver_free(&s);
+      return au_msg_set(msg, AU_E_ARG, "solver: edge %d is invalid", e);
+    }
+    if (a >= 0 && b >= 0) count[a > b ? a : b]++;
+  }
+  int nf = s->nfree;
+  size_t nnz = (size_t)nf;
+  for (int j = 0; j < nf; j++) nnz += (size_t)count[j];
+  cholmod_start(&s->c);
+  s->started = 1;
+  s->c.print = 0;
+  s->A = cholmod_allocate_sparse((size_t)nf, (size_t)nf, nnz, 1, 1, 1, CHOLMOD_REAL, &s->c);
+  s->diag_pos = malloc(sizeof(int) * (size_t)nf);
+  if (!s->A || !s->diag_pos) {
+    free(count);
+    au_solver_free(&s);
+    return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+  }
+  int *Ap = s->A->p, *Ai = s->A->i;
+  Ap[0] = 0;
+  for (int j = 0; j < nf; j++) Ap[j + 1] = Ap[j] + count[j] + 1;
+  /* Fill rows: off-diagonals first (then sorted), diagonal last in each column. */
+  int *fillp = count; /* reuse as per-column cursor */
+  for (int j = 0; j < nf; j++) fillp[j] = Ap[j];
+  for (int e = 0; e < ne; e++) {
+    int a = s->idx[E[2 * e]], b = s->idx[E[2 * e + 1]];
+    if (a >= 0 && b >= 0) {
+      int lo = a < b ? a : b, hi = a < b ? b : a;
+      Ai[fillp[hi]++] = lo;
+    }
+  }
+  for (int j = 0; j < nf; j++) {
+    Ai[fillp[j]] = j;
+    qsort(Ai + Ap[j], (size_t)(Ap[j + 1] - Ap[j]), sizeof(int), cmp_int);
+    s->diag_pos[j] = Ap[j + 1] - 1; /* the diagonal is the largest row index of an upper column */
+  }
+  free(count);
+  /* Map each edge to its entry by binary search in its column (columns are short). */
+  for (int e = 0; e < ne; e++) {
+    int a = s->idx[E[2 * e]], b = s->idx[E[2 * e + 1]];
+    s->edge_pos[e] = -1;
+    if (a < 0 || b < 0) continue;
+    int lo = a < b ? a : b, hi = a < b ? b : a;
+    int *base = Ai + Ap[hi];
+    int *hit = bsearch(&lo, base, (size_t)(Ap[hi + 1] - Ap[hi]), sizeof(int), cmp_int);
+    s->edge_pos[e] = (int)(hit - Ai);
+  }
+  /* Duplicate edges would share an entry; that is fine, weights accumulate. */
+  s->L = cholmod_analyze(s->A, &s->c);
+  if (!s->L || s->c.status < CHOLMOD_OK) {
+    int st = s->c.status;
+    au_solver_free(&s);
+    return au_msg_set(msg, st == CHOLMOD_OUT_OF_MEMORY ? AU_E_NOMEM : AU_E_NUMERIC,
+                      "solver: symbolic analysis failed (CHOLMOD status %d)", st);
+  }
+  *out = s;
+  return AU_OK;
+}
+
+au_status au_solver_factor(au_solver *s, const double *w, const double *d, au_msg *msg) {
+  if (!s || (s->ne > 0 && !w)) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
+  double *Ax = s->A->x;
+  memset(Ax, 0, sizeof(double) * (size_t)((int *)s->A->p)[s->nfree]);
+  for (int e = 0; e < s->ne; e++) {
+    int a = s->idx[s->E[2 * e]], b = s->idx[s->E[2 * e + 1]];
+    if (a >= 0) Ax[s->diag_pos[a]] += w[e];
+    if (b >= 0) Ax[s->diag_pos[b]] += w[e];
+    if (s->edge_pos[e] >= 0) Ax[s->edge_pos[e]] -= w[e];
+  }
+  memcpy(s->w, w, sizeof(double) * (size_t)s->ne);
+  if (d)
+    for (int i = 0; i < s->n; i++)
+      if (s->idx[i] >= 0) Ax[s->diag_pos[s->idx[i]]] += d[i];
+  s->factored = 0;
+  int ok = cholmod_factorize(s->A, s->L, &s->c);
+  /* cholmod_factorize returns TRUE on a matrix that is not positive definite: check status and minor. */
+  if (s->c.status == CHOLMOD_OUT_OF_MEMORY) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory in factorization");
+  if (s->c.status == CHOLMOD_NOT_POSDEF || s->L->minor < s->L->n)
+    return au_msg_set(msg, AU_E_NOT_SPD, "solver: matrix not positive definite (failed at column %d of %d)",
+                      (int)s->L->minor, (int)s->L->n);
+  if (!ok || s->c.status < CHOLMOD_OK) return au_msg_set(msg, AU_E_NUMERIC, "solver: factorization failed (status %d)", s->c.status);
+  s->factored = 1;
+  return AU_OK;
+}
+
+au_status au_solver_solve(au_solver *s, int nrhs, const double *b, double *x, au_msg *msg) {
+  if (!s || nrhs <= 0 || !b || !x) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
+  if (!s->factored) return au_msg_set(msg, AU_E_ARG, "solver: solve before a successful factorization");
+  int n = s->n, nf = s->nfree;
+  cholmod_dense *B = cholmod_allocate_dense((size_t)nf, (size_t)nrhs, (size_t)nf, CHOLMOD_REAL, &s->c);
+  if (!B) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+  double *Bx = B->x;
+  for (int c = 0; c < nrhs; c++) {
+    const double *bc = b + (size_t)c * n;
+    const double *xc = x + (size_t)c * n;
+    double *Bc = Bx + (size_t)c * nf;
+    for (int i = 0; i < n; i++)
+      if (s->idx[i] >= 0) Bc[s->idx[i]] = bc[i];
+    /* Dirichlet values move to the right-hand side: row a of A x = b gains + w_e x_j for a fixed j. */
+    for (int e = 0; e < s->ne; e++) {
+      int i = s->E[2 * e], j = s->E[2 * e + 1];
+      int a = s->idx[i], bb = s->idx[j];
+      if (a >= 0 && bb < 0) Bc[a] += s->w[e] * xc[j];
+      if (bb >= 0 && a < 0) Bc[bb] += s->w[e] * xc[i];
+    }
+  }
+  cholmod_dense *X = cholmod_solve(CHOLMOD_A, s->L, B, &s->c);
+  cholmod_free_dense(&B, &s->c);
+  if (!X) return au_msg_set(msg, AU_E_NUMERIC, "solver: solve failed (CHOLMOD status %d)", s->c.status);
+  const double *Xx = X->x;
+  int bad = 0;
+  for (int c = 0; c < nrhs; c++) {
+    double *xc = x + (size_t)c * n;
+    const double *Xc = Xx + (size_t)c * nf;
+    for (int i = 0; i < n; i++)
+      if (s->idx[i] >= 0) {
+        xc[i] = Xc[s->idx[i]];
+        if (!(xc[i] - xc[i] == 0)) bad = 1;
+      }
+  }
+  cholmod_free_dense(&X, &s->c);
+  if (bad) return au_msg_set(msg, AU_E_NUMERIC, "solver: the solution is not finite");
+  return AU_OK;
+}
+
+void au_solver_free(au_solver **sp) {
+  if (!sp || !*sp) return;
+  au_solver *s = *sp;
+  if (s->started) {
+    cholmod_free_factor(&s->L, &s->c);
+    cholmod_free_sparse(&s->A, &s->c);
+    cholmod_finish(&s->c);
+  }
+  free(s->E);
+  free(s->w);
+  free(s->idx);
+  free(s->diag_pos);
+  free(s->edge_pos);
+  free(s);
+  *sp = NULL;
+}
+
+struct au_spd {
+  int n;
+  cholmod_common c;
+  cholmod_sparse *A;
+  cholmod_factor *L;
+  int factored;
+};
+
+au_status au_spd_create(int n, const int *colstart, const int *rows, au_spd **out, au_msg *msg) {
+  if (!out || n <= 0 || !colstart || !rows) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
+  *out = NULL;
+  au_spd *s = calloc(1, sizeof *s);
+  if (!s) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+  s->n = n;
+  cholmod_start(&s->c);
+  s->c.print = 0;
+  size_t nnz = (size_t)colstart[n];
+  s->A = cholmod_allocate_sparse((size_t)n, (size_t)n, nnz, 1, 1, 1, CHOLMOD_REAL, &s->c);
+  if (!s->A) {
+    au_spd_free(&s);
+    return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+  }
+  memcpy(s->A->p, colstart, sizeof(int) * ((size_t)n + 1));
+  memcpy(s->A->i, rows, sizeof(int) * nnz);
+  memset(s->A->x, 0, sizeof(double) * nnz);
+  s->L = cholmod_analyze(s->A, &s->c);
+  if (!s->L || s->c.status < CHOLMOD_OK) {
+    int st = s->c.status;
+    au_spd_free(&s);
+    return au_msg_set(msg, st == CHOLMOD_OUT_OF_MEMORY ? AU_E_NOMEM : AU_E_NUMERIC, "solver: analysis failed (status %d)", st);
+  }
+  *out = s;
+  return AU_OK;
+}
+
+double *au_spd_values(au_spd *s) { return s ? (double *)s->A->x : NULL; }
+
+au_status au_spd_factor(au_spd *s, au_msg *msg) {
+  if (!s) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
+  s->factored = 0;
+  int ok = cholmod_factorize(s->A, s->L, &s->c);
+  if (s->c.status == CHOLMOD_OUT_OF_MEMORY) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory in factorization");
+  if (s->c.status == CHOLMOD_NOT_POSDEF || s->L->minor < s->L->n)
+    return au_msg_set(msg, AU_E_NOT_SPD, "solver: matrix not positive definite (failed at column %d of %d)",
+                      (int)s->L->minor, (int)s->L->n);
+  if (!ok || s->c.status < CHOLMOD_OK) return au_msg_set(msg, AU_E_NUMERIC, "solver: factorization failed (status %d)", s->c.status);
+  s->factored = 1;
+  return AU_OK;
+}
+
+au_status au_spd_solve(au_spd *s, const double *b, double *x, au_msg *msg) {
+  if (!s || !b || !x || !s->factored) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
+  cholmod_dense *B = cholmod_allocate_dense((size_t)s->n, 1, (size_t)s->n, CHOLMOD_REAL, &s->c);
+  if (!B) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+  memcpy(B->x, b, sizeof(double) * (size_t)s->n);
+  cholmod_dense *X = cholmod_solve(CHOLMOD_A, s->L, B, &s->c);
+  cholmod_free_dense(&B, &s->c);
+  if (!X) return au_msg_set(msg, AU_E_NUMERIC, "solver: solve failed (status %d)", s->c.status);
+  memcpy(x, X->x, sizeof(double) * (size_t)s->n);
+  cholmod_free_dense(&X, &s->c);
+  for (int i = 0; i < s->n; i++)
+    if (!(x[i] - x[i] == 0)) return au_msg_set(msg, AU_E_NUMERIC, "solver: the solution is not finite");
+  return AU_OK;
+}
+
+void au_spd_free(au_spd **sp) {
+  if (!sp || !*sp) return;
+  au_spd *s = *sp;
+  cholmod_free_factor(&s->L, &s->c);
+  cholmod_free_sparse(&s->A, &s->c);
+  cholmod_finish(&s->c);
+  free(s);
+  *sp = NULL;
+}

@@ -1,1 +1,399 @@
-/* mkdata.c - (being written) */
+/* mkdata.c - generator of the project's own closed genus-0 test meshes in data/ (needs only libm). */
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef AU_VERSION
+#define AU_VERSION "0.1.0"
+#endif
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* A growable triangle mesh: X is nv x 3, F is nf x 3 (0-based, counter-clockwise seen from outside). */
+typedef struct mesh {
+  double *X;
+  int *F;
+  int nv, nf, cv, cf;
+} mesh;
+
+static void die_nomem(void) {
+  fprintf(stderr, "au_mkdata: out of memory\n");
+  exit(1);
+}
+
+static int add_v(mesh *m, double x, double y, double z) {
+  if (m->nv == m->cv) {
+    m->cv = m->cv ? 2 * m->cv : 256;
+    double *X = realloc(m->X, sizeof(double) * 3 * (size_t)m->cv);
+    if (!X) die_nomem();
+    m->X = X;
+  }
+  double *p = m->X + 3 * (size_t)m->nv;
+  p[0] = x, p[1] = y, p[2] = z;
+  return m->nv++;
+}
+
+static void add_f(mesh *m, int a, int b, int c) {
+  if (m->nf == m->cf) {
+    m->cf = m->cf ? 2 * m->cf : 256;
+    int *F = realloc(m->F, sizeof(int) * 3 * (size_t)m->cf);
+    if (!F) die_nomem();
+    m->F = F;
+  }
+  int *f = m->F + 3 * (size_t)m->nf++;
+  f[0] = a, f[1] = b, f[2] = c;
+}
+
+static void mesh_free(mesh *m) {
+  free(m->X);
+  free(m->F);
+  memset(m, 0, sizeof *m);
+}
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static void normalize3(double *a) {
+  double n = sqrt(dot3(a, a));
+  a[0] /= n, a[1] /= n, a[2] /= n;
+}
+
+/* Angle between two unit vectors; atan2 keeps it accurate near 0, where the spikes are sharpest. */
+static double angle3(const double *a, const double *b) {
+  double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  return atan2(sqrt(dot3(c, c)), dot3(a, b));
+}
+
+/* The 12 icosahedron vertices as unit vectors and its 20 faces, oriented outward. */
+static const int ico_f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+
+static void ico_vertex(int i, double *p) {
+  const double t = 1.6180339887498948482; /* the golden ratio */
+  const double v[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (int k = 0; k < 3; k++) p[k] = v[i][k];
+  normalize3(p);
+}
+
+/* Icosphere: the icosahedron subdivided `level` times (each triangle into four), vertices on the
+ * unit sphere. Edge midpoints are shared through an open-addressing table keyed by the vertex pair,
+ * so the result has no duplicated vertices. Faces: 20 * 4^level. */
+static void icosphere(mesh *m, int level) {
+  for (int i = 0; i < 12; i++) {
+    double p[3];
+    ico_vertex(i, p);
+    add_v(m, p[0], p[1], p[2]);
+  }
+  for (int i = 0; i < 20; i++) add_f(m, ico_f[i][0], ico_f[i][1], ico_f[i][2]);
+  for (int l = 0; l < level; l++) {
+    size_t cap = 1;
+    while (cap < 4 * (size_t)m->nf) cap *= 2;
+    uint64_t *key = malloc(sizeof(uint64_t) * cap);
+    int *val = malloc(sizeof(int) * cap);
+    int *F = m->F, nf = m->nf;
+    if (!key || !val) die_nomem();
+    memset(key, 0xff, sizeof(uint64_t) * cap);
+    m->F = NULL, m->nf = m->cf = 0;
+    for (int f = 0; f < nf; f++) {
+      int mid[3];
+      for (int e = 0; e < 3; e++) {
+        int a = F[3 * f + e], b = F[3 * f + (e + 1) % 3];
+        uint64_t k = a < b ? (uint64_t)a << 32 | (uint64_t)b : (uint64_t)b << 32 | (uint64_t)a;
+        size_t h = (size_t)((k * 0x9E3779B97F4A7C15u) >> 20) & (cap - 1);
+        while (key[h] != UINT64_MAX && key[h] != k) h = (h + 1) & (cap - 1);
+        if (key[h] != k) {
+          double p[3];
+          for (int c = 0; c < 3; c++) p[c] = m->X[3 * a + c] + m->X[3 * b + c];
+          normalize3(p);
+          key[h] = k;
+          val[h] = add_v(m, p[0], p[1], p[2]);
+        }
+        mid[e] = val[h];
+      }
+      int a = F[3 * f], b = F[3 * f + 1], c = F[3 * f + 2];
+      add_f(m, a, mid[0], mid[2]);
+      add_f(m, mid[0], b, mid[1]);
+      add_f(m, mid[2], mid[1], c);
+      add_f(m, mid[0], mid[1], mid[2]);
+    }
+    free(F);
+    free(key);
+    free(val);
+  }
+}
+
+/* Push every vertex u of a unit icosphere out to r(u) * u with
+ *   r(u) = 1 + sum_k amp_k * exp(-(angle(u, dir_k) / width_k)^2).
+ * Any positive r keeps the mesh embedded and outward-oriented: each flat triangle stays inside the
+ * cone of its spherical triangle (the cones tile space), and det(r_a u_a, r_b u_b, r_c u_c) has the
+ * sign of det(u_a, u_b, u_c) > 0. So however long the fingers, the surface stays star-shaped. */
+static void radial_bumps(mesh *m, int n, const double (*dir)[3], const double *amp, const double *width) {
+  for (int i = 0; i < m->nv; i++) {
+    double *p = m->X + 3 * i, r = 1;
+    for (int k = 0; k < n; k++) {
+      double t = angle3(p, dir[k]) / width[k];
+      r += amp[k] * exp(-t * t);
+    }
+    p[0] *= r, p[1] *= r, p[2] *= r;
+  }
+}
+
+/* A tiny fixed-seed generator (xorshift64*), so the meshes are identical on every platform. */
+static double rng_uniform(uint64_t *s) {
+  *s ^= *s >> 12, *s ^= *s << 25, *s ^= *s >> 27;
+  return (double)((*s * 0x2545F4914F6CDD1Du) >> 11) * 0x1.0p-53;
+}
+
+static void rng_direction(uint64_t *s, double *d) {
+  double z = 2 * rng_uniform(s) - 1, phi = 2 * M_PI * rng_uniform(s), q = sqrt(1 - z * z);
+  d[0] = q * cos(phi), d[1] = q * sin(phi), d[2] = z;
+}
+
+/* bumpy_star: icosphere level 4 (5120 faces) with six long fingers of different lengths along a
+ * tilted octahedral frame, plus twelve low bumps at fixed pseudo-random directions. */
+static void make_bumpy_star(mesh *m) {
+  enum { NF = 6, NB = 12 };
+  double dir[NF + NB][3], amp[NF + NB], width[NF + NB];
+  static const double len[NF] = {2.5, 2.5, 2.0, 3.0, 1.5, 2.5};
+  /* A fixed rotation (about (1,2,3) by 0.4 rad) keeps the fingers off the icosahedron's symmetry axes. */
+  double ax[3] = {1, 2, 3}, th = 0.4;
+  normalize3(ax);
+  for (int k = 0; k < NF; k++) {
+    double e[3] = {0, 0, 0};
+    e[k / 2] = k % 2 ? -1 : 1;
+    double c = cos(th), s = sin(th), d = dot3(ax, e);
+    double x[3] = {ax[1] * e[2] - ax[2] * e[1], ax[2] * e[0] - ax[0] * e[2], ax[0] * e[1] - ax[1] * e[0]};
+    for (int j = 0; j < 3; j++) dir[k][j] = e[j] * c + x[j] * s + ax[j] * d * (1 - c);
+    amp[k] = len[k];
+    width[k] = 0.32;
+  }
+  uint64_t seed = 0x5EED0001u;
+  for (int k = NF; k < NF + NB; k++) {
+    rng_direction(&seed, dir[k]);
+    amp[k] = 0.06 + 0.08 * rng_uniform(&seed);
+    width[k] = 0.35 + 0.2 * rng_uniform(&seed);
+  }
+  icosphere(m, 4);
+  radial_bumps(m, NF + NB, (const double(*)[3])dir, amp, width);
+}
+
+/* spiky_ico: icosphere level 3 (1280 faces) with a sharp spike of length 2 at each of the 12
+ * icosahedron vertices (which the subdivision keeps, so every spike ends in a vertex). */
+static void make_spiky_ico(mesh *m) {
+  double dir[12][3], amp[12], width[12];
+  for (int k = 0; k < 12; k++) {
+    ico_vertex(k, dir[k]);
+    amp[k] = 2.0;
+    width[k] = 0.2;
+  }
+  icosphere(m, 3);
+  radial_bumps(m, 12, (const double(*)[3])dir, amp, width);
+}
+
+/* Surface of revolution about the z axis of a profile rho(z) > 0 on (z0, z1), rho(z0) = rho(z1) = 0.
+ * The profile is resampled into nlat rings equally spaced in arc length (so the poles, where rho has a
+ * vertical tangent, get as many rings as their length deserves); each ring has nlon vertices and is
+ * turned half a step against the previous one, so the quads split into near-isosceles triangles.
+ * Pole fans close both ends: 2 * nlon * nlat faces, nlon * nlat + 2 vertices. */
+typedef double (*profile_fn)(double z, const void *par);
+
+static void revolve(mesh *m, profile_fn rho, const void *par, double z0, double z1, int nlat, int nlon) {
+  enum { NS = 20000 };
+  double *zs = malloc(sizeof(double) * (NS + 1)), *rs = malloc(sizeof(double) * (NS + 1));
+  double *s = malloc(sizeof(double) * (NS + 1));
+  if (!zs || !rs || !s) die_nomem();
+  /* Sample with z clustered at the ends (cosine spacing), where the arc length per unit z explodes. */
+  for (int i = 0; i <= NS; i++) {
+    zs[i] = z0 + (z1 - z0) * 0.5 * (1 - cos(M_PI * i / NS));
+    rs[i] = i == 0 || i == NS ? 0 : rho(zs[i], par);
+    s[i] = i ? s[i - 1] + hypot(zs[i] - zs[i - 1], rs[i] - rs[i - 1]) : 0;
+  }
+  int south = add_v(m, 0, 0, z0);
+  for (int i = 1, j = 0; i <= nlat; i++) {
+    double t = s[NS] * i / (nlat + 1);
+    while (s[j + 1] < t) j++;
+    double w = (t - s[j]) / (s[j + 1] - s[j]);
+    double z = zs[j] + w * (zs[j + 1] - zs[j]), r = rs[j] + w * (rs[j + 1] - rs[j]);
+    for (int k = 0; k < nlon; k++) {
+      double phi = 2 * M_PI * (k + 0.5 * i) / nlon;
+      add_v(m, r * cos(phi), r * sin(phi), z);
+    }
+  }
+  int north = add_v(m, 0, 0, z1);
+  for (int k = 0; k < nlon; k++) {
+    int k1 = (k + 1) % nlon;
+    add_f(m, south, 1 + k1, 1 + k);
+    for (int i = 0; i + 1 < nlat; i++) {
+      int a = 1 + i * nlon, b = a + nlon; /* ring i and ring i+1, turned half a step ahead */
+      add_f(m, a + k, a + k1, b + k);
+      add_f(m, b + k, a + k1, b + k1);
+    }
+    add_f(m, 1 + (nlat - 1) * nlon + k, 1 + (nlat - 1) * nlon + k1, north);
+  }
+  free(zs);
+  free(rs);
+  free(s);
+}
+
+/* Dumbbell: spheres of radius R at z = +-c joined by a neck of radius n. rho^2 is a smooth maximum
+ * (log-sum-exp, sharpness k) of the two spheres' R^2 - (z -+ c)^2 and a neck term that is n^2 at
+ * z = 0 and falls off beyond the spheres, so the blend is smooth and the ends are the spheres' poles. */
+typedef struct dumbbell_par {
+  double R, c, n, k;
+} dumbbell_par;
+
+static double dumbbell_rho2(double z, const dumbbell_par *d) {
+  double t[3] = {d->R * d->R - (z - d->c) * (z - d->c), d->R * d->R - (z + d->c) * (z + d->c),
+                 d->n * d->n * (1 - (z / d->c) * (z / d->c))};
+  double mx = fmax(t[0], fmax(t[1], t[2])), sum = 0;
+  for (int i = 0; i < 3; i++) sum += exp(d->k * (t[i] - mx));
+  return mx + log(sum) / d->k;
+}
+
+static double dumbbell_rho(double z, const void *par) { return sqrt(fmax(dumbbell_rho2(z, par), 0)); }
+
+static void make_dumbbell(mesh *m) {
+  const dumbbell_par d = {1.0, 1.6, 0.25, 15.0};
+  /* The smooth maximum lies slightly above the spheres, so find the true pole by bisection. */
+  double lo = d.c + d.R - 0.5, hi = d.c + d.R + 0.5;
+  for (int it = 0; it < 200; it++) {
+    double mid = 0.5 * (lo + hi);
+    if (dumbbell_rho2(mid, &d) > 0) lo = mid;
+    else hi = mid;
+  }
+  revolve(m, dumbbell_rho, &d, -lo, lo, 72, 32);
+}
+
+/* Prolate ellipsoid with semi-axes 1, 1, 4 (a mild, smooth case). */
+static double ellipsoid_rho(double z, const void *par) {
+  double c = *(const double *)par;
+  return sqrt(fmax(1 - (z / c) * (z / c), 0));
+}
+
+static void make_ellipsoid(mesh *m) {
+  static const double c = 4.0;
+  revolve(m, ellipsoid_rho, &c, -c, c, 40, 26);
+}
+
+/* Self-check that every mesh is what the README promises: each directed edge used once and its
+ * reverse present (closed, manifold along edges, consistently oriented), Euler characteristic 2 on
+ * one component (genus 0), and positive signed volume (outward normals). Returns 0 if all hold. */
+static int cmp_u64(const void *a, const void *b) {
+  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+  return (x > y) - (x < y);
+}
+
+static int find_root(int *parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+static int check(const mesh *m, const char *name, double *volume) {
+  size_t ne = 3 * (size_t)m->nf;
+  uint64_t *e = malloc(sizeof(uint64_t) * ne);
+  int *parent = malloc(sizeof(int) * (size_t)m->nv);
+  if (!e || !parent) die_nomem();
+  double vol = 0;
+  for (int i = 0; i < m->nv; i++) parent[i] = i;
+  for (int f = 0; f < m->nf; f++) {
+    const int *t = m->F + 3 * f;
+    const double *a = m->X + 3 * t[0], *b = m->X + 3 * t[1], *c = m->X + 3 * t[2];
+    vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+            a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    for (int k = 0; k < 3; k++) {
+      e[3 * f + k] = (uint64_t)t[k] << 32 | (uint64_t)t[(k + 1) % 3];
+      parent[find_root(parent, t[k])] = find_root(parent, t[(k + 1) % 3]);
+    }
+  }
+  qsort(e, ne, sizeof *e, cmp_u64);
+  int bad = 0, comps = 0;
+  for (size_t i = 0; i < ne; i++) {
+    uint64_t rev = (e[i] & 0xffffffffu) << 32 | e[i] >> 32;
+    if ((i + 1 < ne && e[i + 1] == e[i]) || !bsearch(&rev, e, ne, sizeof *e, cmp_u64)) bad++;
+  }
+  for (int i = 0; i < m->nv; i++) comps += find_root(parent, i) == i;
+  long euler = (long)m->nv - (long)(ne / 2) + m->nf;
+  free(e);
+  free(parent);
+  *volume = vol;
+  if (bad || comps != 1 || euler != 2 || !(vol > 0)) {
+    fprintf(stderr, "au_mkdata: %s failed its check: %d bad half-edges, %d components, euler %ld, volume %g\n",
+            name, bad, comps, euler, vol);
+    return 1;
+  }
+  return 0;
+}
+
+/* Write OBJ through a temporary file and a rename, so a failed run never leaves a half-written mesh. */
+static int write_obj(const mesh *m, double vol, const char *dir, const char *name, const char *what) {
+  char path[4096], tmp[4200];
+  if (snprintf(path, sizeof path, "%s/%s.obj", dir, name) >= (int)sizeof path) {
+    fprintf(stderr, "au_mkdata: output path too long\n");
+    return 1;
+  }
+  snprintf(tmp, sizeof tmp, "%s.tmp", path);
+  FILE *fp = fopen(tmp, "w");
+  if (!fp) {
+    fprintf(stderr, "au_mkdata: cannot write %s: %s\n", tmp, strerror(errno));
+    return 1;
+  }
+  fprintf(fp, "# %s.obj - %s\n# generated by au_mkdata (data/mkdata.c); V %d F %d\n", name, what, m->nv, m->nf);
+  for (int i = 0; i < m->nv; i++)
+    fprintf(fp, "v %.17g %.17g %.17g\n", m->X[3 * i], m->X[3 * i + 1], m->X[3 * i + 2]);
+  for (int f = 0; f < m->nf; f++)
+    fprintf(fp, "f %d %d %d\n", m->F[3 * f] + 1, m->F[3 * f + 1] + 1, m->F[3 * f + 2] + 1);
+  int ok = !ferror(fp);
+  ok &= fclose(fp) == 0;
+  if (!ok || rename(tmp, path) != 0) {
+    fprintf(stderr, "au_mkdata: cannot write %s: %s\n", path, strerror(errno));
+    remove(tmp);
+    return 1;
+  }
+  printf("%-12s V %5d  F %5d  volume %.6g  -> %s\n", name, m->nv, m->nf, vol, path);
+  return 0;
+}
+
+static const struct {
+  const char *name, *what;
+  void (*make)(mesh *);
+} meshes[] = {
+    {"bumpy_star", "icosphere level 4 with six long fingers and low bumps (default for make run)", make_bumpy_star},
+    {"dumbbell", "two unit spheres joined by a thin neck (surface of revolution)", make_dumbbell},
+    {"spiky_ico", "icosphere level 3 with 12 long spikes at the icosahedron vertices", make_spiky_ico},
+    {"ellipsoid", "prolate ellipsoid 1:1:4 (surface of revolution)", make_ellipsoid},
+};
+
+int main(int argc, char **argv) {
+  if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+    printf("usage: au_mkdata OUTDIR\n"
+           "Writes the project's test meshes (closed, genus 0, outward-oriented OBJ) into OUTDIR:\n");
+    for (size_t i = 0; i < sizeof meshes / sizeof *meshes; i++)
+      printf("  %-12s %s\n", meshes[i].name, meshes[i].what);
+    return 0;
+  }
+  if (argc == 2 && !strcmp(argv[1], "--version")) {
+    printf("au_mkdata (authalic) %s\n", AU_VERSION);
+    return 0;
+  }
+  if (argc != 2 || argv[1][0] == '-') {
+    fprintf(stderr, "usage: au_mkdata OUTDIR   (--help for details)\n");
+    return 2;
+  }
+  int status = 0;
+  for (size_t i = 0; i < sizeof meshes / sizeof *meshes; i++) {
+    mesh m = {0};
+    double vol;
+    meshes[i].make(&m);
+    if (check(&m, meshes[i].name, &vol)) status = 1;
+    else if (write_obj(&m, vol, argv[1], meshes[i].name, meshes[i].what)) status = 2;
+    mesh_free(&m);
+  }
+  return status;
+}

@@ -19,6 +19,9 @@ int au_test_shared_mesh(const char *name, char *buf, size_t len);
 
 #define AU_SKIP 77
 
+/* The text of an optional message buffer (so macros can take &msg or NULL without warnings). */
+static inline const char *au_test_msg_text(const void *m) { return m ? (const char *)m : ""; }
+
 #define AU_CHECK(cond)                                                   \
   do {                                                                   \
     if (!(cond)) {                                                       \
@@ -63,7 +66,7 @@ int au_test_shared_mesh(const char *name, char *buf, size_t len);
     au_status au_s_ = (expr);                                                                     \
     if (au_s_ != (want)) {                                                                        \
       fprintf(stderr, "%s:%d: %s returned %s, want %s (%s)\n", __FILE__, __LINE__, #expr,          \
-              au_status_name(au_s_), au_status_name(want), (msgp) ? (msgp)->text : "");           \
+              au_status_name(au_s_), au_status_name(want), au_test_msg_text(msgp));           \
       return 1;                                                                                   \
     }                                                                                             \
   } while (0)

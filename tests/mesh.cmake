@@ -1,1 +1,12 @@
 # tests for mesh (owned by the mesh module)
+au_test_module(test_mesh test_mesh.c
+  alloc_free copy_deep expect_default
+  topo_tetra topo_octahedron topo_cube_counts topo_icosphere topo_disk_grid topo_disk_fan
+  topo_annulus topo_torus topo_two_tetra topo_two_disks loops_disk_order loops_annulus_len
+  topo_unreferenced topo_nonmanifold_edge topo_bowtie topo_pinched_spheres topo_flipped_face
+  topo_args topo_scale_200k
+  validate_ok_sphere validate_ok_disk validate_ok_annulus validate_ok_torus validate_any
+  validate_empty validate_nonfinite validate_index validate_repeat validate_nonmanifold_edge
+  validate_nonmanifold_vertex validate_orientation validate_components validate_disk_for_sphere
+  validate_boundary_before_genus validate_closed_for_disk validate_annulus_for_disk validate_genus
+  validate_degenerate validate_zero_total_area validate_unreferenced validate_no_topo_out)

@@ -1,0 +1,169 @@
+#!/usr/bin/env bash
+# bench.sh - maps the closed genus-0 meshes of ../shared/meshes onto the sphere and tabulates time, memory and quality.
+set -u
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+shared=$(cd "$root/.." && pwd)/shared
+all_meshes="spot_lowres.obj cow.off spot.obj hippocampus.obj cheburashka.off blub.obj hand_closed.obj
+maxplanck.obj bunny.obj nefertiti.obj ferret_brain_sim.off armadillo.obj brain.obj lion_statue.obj"
+meshes=$all_meshes
+out=$root/build/bench
+bin=$root/build/authalic
+args=""
+limit=0
+
+usage() {
+  cat <<EOF
+usage: bench/bench.sh [--meshes "a.obj b.off"] [--out DIR] [--args "..."] [--bin PATH] [--timeout SEC]
+Maps each mesh with 'authalic sphere IN OUT.obj --report R.json --quiet ARGS' under /usr/bin/time,
+evaluates the result with ../shared/tools/param-eval, prints a table and writes it to DIR/bench.md.
+  --meshes LIST  meshes of ../shared/meshes to run (default: all 14 closed genus-0 meshes)
+  --out DIR      where maps, reports and bench.md go (default: build/bench)
+  --args ARGS    extra arguments for authalic, split on spaces (default: none)
+  --bin PATH     the authalic program (default: build/authalic)
+  --timeout SEC  stop a map after SEC seconds and count it as failed (default: 0, no limit)
+Exit status: 0 all maps ran (or ../shared/meshes is absent), 1 some map failed, 2 bad usage.
+EOF
+}
+
+while [ $# -gt 0 ]; do
+  case $1 in
+    -h|--help) usage; exit 0 ;;
+    --meshes|--out|--args|--bin|--timeout)
+      if [ $# -lt 2 ]; then echo "bench: $1 needs a value" >&2; exit 2; fi
+      case $1 in
+        --meshes) meshes=$2 ;; --out) out=$2 ;; --args) args=$2 ;; --bin) bin=$2 ;; --timeout) limit=$2 ;;
+      esac
+      shift 2 ;;
+    *) echo "bench: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+case $limit in ''|*[!0-9]*) echo "bench: --timeout needs a whole number of seconds" >&2; exit 2 ;; esac
+
+if [ ! -d "$shared/meshes" ]; then
+  echo "bench: $shared/meshes is absent; nothing to benchmark (skipped)"
+  exit 0
+fi
+if [ ! -x "$bin" ]; then
+  echo "bench: $bin is missing; build it first (cmake --build build --target authalic)" >&2
+  exit 2
+fi
+if [ ! -x /usr/bin/python3 ]; then
+  echo "bench: /usr/bin/python3 is needed for param-eval and the table" >&2
+  exit 2
+fi
+timer=()
+if [ -x /usr/bin/time ]; then timer=(/usr/bin/time -f %M -o "$out/.rss"); else echo "bench: /usr/bin/time is absent; no peak memory" >&2; fi
+guard=()
+if [ "$limit" -gt 0 ]; then guard=(timeout "$limit"); fi
+read -r -a extra <<<"$args"
+mkdir -p "$out" || exit 2
+results=$out/results.tsv
+: >"$results" || exit 2
+
+# One row per mesh: name, status, wall seconds, peak KiB, report path, param-eval path, message.
+for m in $meshes; do
+  in=$shared/meshes/$m
+  base=$out/${m%.*}
+  rm -f "$base.obj" "$base.json" "$base.eval.json" "$base.err"
+  if [ ! -f "$in" ]; then
+    printf '%s\tFAIL\t\t\t\t\t%s\n' "$m" "no such mesh in $shared/meshes" >>"$results"
+    echo "bench: $m: no such mesh" >&2
+    continue
+  fi
+  echo "bench: $m ..." >&2
+  t0=$(date +%s.%N)
+  # The timer wraps the guard: Linux passes a reaped child's peak RSS up to its parent, so %M is authalic's.
+  ${timer[@]+"${timer[@]}"} ${guard[@]+"${guard[@]}"} "$bin" sphere "$in" "$base.obj" --report "$base.json" \
+    --quiet ${extra[@]+"${extra[@]}"} 2>"$base.err" >/dev/null
+  rc=$?
+  t1=$(date +%s.%N)
+  wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", b - a }')
+  # /usr/bin/time appends a "Command exited with non-zero status" line before the number on failure.
+  rss=$( [ -f "$out/.rss" ] && tail -n 1 "$out/.rss" | tr -dc '0-9' )
+  rm -f "$out/.rss"
+  if [ $rc -ne 0 ]; then
+    msg=$(grep . "$base.err" 2>/dev/null | tail -n 1 | tr '\t|' '  ' | cut -c1-200)
+    [ $rc -eq 124 ] && [ "$limit" -gt 0 ] && msg="timed out after $limit s"
+    printf '%s\tFAIL\t%s\t%s\t%s\t\t%s\n' "$m" "$wall" "$rss" "$base.json" "exit $rc: ${msg:-no message}" >>"$results"
+    echo "bench: $m: FAIL (exit $rc) ${msg}" >&2
+    continue
+  fi
+  if ! /usr/bin/python3 "$shared/tools/param-eval" "$in" "$base.obj" --json >"$base.eval.json" 2>"$base.err"; then
+    msg=$(grep . "$base.err" | tail -n 1 | tr '\t|' '  ' | cut -c1-200)
+    printf '%s\tEVAL\t%s\t%s\t%s\t\t%s\n' "$m" "$wall" "$rss" "$base.json" "param-eval failed: $msg" >>"$results"
+    echo "bench: $m: param-eval failed: $msg" >&2
+    continue
+  fi
+  printf '%s\tok\t%s\t%s\t%s\t%s\t\n' "$m" "$wall" "$rss" "$base.json" "$base.eval.json" >>"$results"
+done
+
+# The table (Markdown, so bench.md renders and the terminal copy stays readable).
+/usr/bin/python3 - "$results" "$out/bench.md" "$bin" "$args" <<'EOF'
+import json, sys
+
+results, md, binary, args = sys.argv[1:5]
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def get(d, *paths):
+    """The first present value among dotted key paths, else None."""
+    for p in paths:
+        v = d
+        for k in p.split('.'):
+            v = v.get(k) if isinstance(v, dict) else None
+        if v is not None:
+            return v
+    return None
+
+
+def num(v, f):
+    return f % v if isinstance(v, (int, float)) and not isinstance(v, bool) else '-'
+
+
+head = ['mesh', 'F', 'steps', 't_init s', 't_flow s', 't_total s', 'wall s', 'peak MB',
+        'folds', 'r_mean_abs_dev', 'r_cv', 'vertex_logr_mean_abs', 'lambda_mean', 'note']
+rows, failed = [], 0
+with open(results) as f:
+    for line in f:
+        name, status, wall, rss, rpath, epath, msg = (line.rstrip('\n').split('\t') + [''] * 7)[:7]
+        rep, ev = load(rpath) if rpath else {}, load(epath) if epath else {}
+        t = get(rep, 'time', 'timings') or {}
+        wall_v = float(wall) if wall else None
+        mb = int(rss) / 1024 if rss else None
+        note = msg
+        if status == 'ok':
+            conv = get(rep, 'converged')
+            note = 'not converged' if conv is not None and not conv else ''
+        else:
+            failed += 1
+            note = ('FAIL: ' if status == 'FAIL' else '') + msg
+        rows.append([name, num(get(ev, 'F') or get(rep, 'nf', 'F', 'mesh.F', 'input.F'), '%d'),
+                     num(get(rep, 'steps', 'flow.steps', 'advect.steps'), '%d'),
+                     num(get(t, 'init'), '%.3f'), num(get(t, 'flow'), '%.3f'), num(get(t, 'total'), '%.3f'),
+                     num(wall_v, '%.2f'), num(mb, '%.1f'), num(get(ev, 'folds'), '%d'),
+                     num(get(ev, 'r_mean_abs_dev'), '%.3g'), num(get(ev, 'r_cv'), '%.3g'),
+                     num(get(ev, 'vertex_logr_mean_abs'), '%.3g'), num(get(ev, 'lambda_mean'), '%.3g'), note])
+
+width = [max(len(str(r[i])) for r in rows + [head]) for i in range(len(head))]
+def line(cells):
+    return '| ' + ' | '.join(str(c).ljust(w) if i in (0, len(head) - 1) else str(c).rjust(w)
+                             for i, (c, w) in enumerate(zip(cells, width))) + ' |'
+sep = '|' + '|'.join(('-' * (w + 2)) if i in (0, len(head) - 1) else ('-' * (w + 1) + ':')
+                     for i, w in enumerate(width)) + '|'
+text = '\n'.join([f"authalic sphere benchmark ({binary}{' ' + args if args else ''}); "
+                  "quality columns from ../shared/tools/param-eval", '', line(head), sep]
+                 + [line(r) for r in rows]) + '\n'
+sys.stdout.write(text)
+with open(md, 'w') as f:
+    f.write(text)
+print(f"\n{len(rows) - failed} of {len(rows)} meshes mapped; table in {md}")
+sys.exit(1 if failed else 0)
+EOF

@@ -1,0 +1,41 @@
+/* au_dec.h - discrete exterior calculus operators on triangle meshes (pure functions of V, F).
+ *
+ * Shapes: V is nv x 3 row-major, F is nf x 3, face vectors nf x 3, vertex vectors nv x 3.
+ * The cotan stiffness C is (C g)_i = sum_j w_ij (g_i - g_j) with w_ij = (cot a_ij + cot b_ij)/2 over
+ * the angles opposite edge ij: symmetric positive semidefinite, constants in its null space, and
+ * (C g)_i = integral of grad g . grad phi_i (the Dirichlet form of piecewise-linear functions). */
+#ifndef AU_DEC_H
+#define AU_DEC_H
+
+#include "au_mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Triangle areas: area [0..nf-1]. */
+void au_dec_face_areas(int nf, const int *F, const double *V, double *area);
+
+/* Barycentric vertex areas (paper eq. 11): A [0..nv-1], a third of each incident triangle.
+ * area: face areas from au_dec_face_areas, or NULL to compute them. Unreferenced vertices get 0. */
+void au_dec_vertex_areas(int nv, int nf, const int *F, const double *V, const double *area, double *A);
+
+/* Cotan edge weights w [0..t->ne-1]: w_e = (cot a + cot b)/2 over the (one or two) faces of edge e.
+ * May be negative at obtuse angles; the assembled C is positive semidefinite all the same. */
+void au_dec_cotan(const au_topo *t, const int *F, const double *V, double *w);
+
+/* y = C x for the stiffness with edge weights w (y [0..nv-1]); x and y must not alias. */
+void au_dec_stiffness_apply(const au_topo *t, const double *w, const double *x, double *y);
+
+/* Per-face gradient of the piecewise-linear function g [0..nv-1] (paper eq. 15): G [0..3*nf-1], in the
+ * plane of each triangle. Degenerate triangles get a zero gradient. */
+void au_dec_face_grad(int nf, const int *F, const double *V, const double *g, double *G);
+
+/* Per-vertex average of face vectors Gf, weighted by the triangle's angle at the vertex (paper
+ * eq. 16): Gv [0..3*nv-1]. Unreferenced vertices get 0. Returns AU_OK or AU_E_NOMEM. */
+au_status au_dec_vertex_grad(int nv, int nf, const int *F, const double *V, const double *Gf, double *Gv);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

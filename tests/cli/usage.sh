@@ -1,0 +1,111 @@
+# usage.sh - command-line usage of `authalic`: help, version, and every kind of bad usage.
+# sh usage.sh PROG SOURCE_DIR SHARED_DIR CASE
+. "$(dirname "$0")/lib.sh"
+IN=$SRC/tests/cli/unreferenced.obj
+OUT=$T/o/out.obj
+
+case $1 in
+help)
+  run --help
+  expect_status 0
+  expect_out '^usage: authalic sphere IN OUT'
+  expect_out '--version'
+  [ ! -s "$T/log/stderr" ] || fail "--help printed on stderr"
+  ;;
+sphere_help)
+  run sphere --help
+  expect_status 0
+  # Every option is listed, and the numeric ones with their defaults.
+  for opt in --report --steps --tol --no-balance --quiet --init-only; do expect_out -- "$opt"; done
+  expect_out 'steps K .*default [0-9]+'
+  expect_out 'tol T .*default [0-9.e-]+'
+  ;;
+version)
+  run --version
+  expect_status 0
+  grep -Eq '^authalic [0-9]+\.[0-9]+\.[0-9]+$' "$T/log/stdout" || fail "--version printed '$(cat "$T/log/stdout")'"
+  ;;
+no_command)
+  run
+  expect_rejected 'no command'
+  ;;
+unknown_command)
+  run spher "$IN" "$OUT"
+  expect_rejected "unknown command 'spher'"
+  ;;
+unknown_flag)
+  run sphere "$IN" "$OUT" --fast
+  expect_rejected "unknown option '--fast'"
+  ;;
+prefix_flag)
+  # Flags match exactly: an abbreviation or an extension of a real flag is unknown.
+  run sphere "$IN" "$OUT" --rep "$T/o/r.json"
+  expect_rejected "unknown option '--rep'"
+  run sphere "$IN" "$OUT" --quietly
+  expect_rejected "unknown option '--quietly'"
+  run sphere "$IN" "$OUT" --steps=5
+  expect_rejected "unknown option '--steps=5'"
+  ;;
+missing_args)
+  run sphere
+  expect_rejected 'missing input and output'
+  run sphere "$IN"
+  expect_rejected 'missing output'
+  ;;
+missing_value)
+  run sphere "$IN" "$OUT" --steps
+  expect_rejected "'--steps' needs a value"
+  run sphere "$IN" "$OUT" --report
+  expect_rejected "'--report' needs a value"
+  ;;
+bad_number)
+  for v in abc 5x '' 0 -3 513 99999999999999999999 1.5; do
+    run sphere "$IN" "$OUT" --steps "$v"
+    expect_rejected "--steps '$v'"
+  done
+  for v in abc 1e-3x '' -1 nan inf 1e999; do
+    run sphere "$IN" "$OUT" --tol "$v"
+    expect_rejected "--tol '$v'"
+  done
+  ;;
+duplicate_flag)
+  run sphere "$IN" "$OUT" --steps 5 --steps 6
+  expect_rejected "'--steps' given twice"
+  ;;
+bad_combination)
+  run sphere "$IN" "$OUT" --init-only --steps 5
+  expect_rejected 'init-only'
+  ;;
+extra_arg)
+  run sphere "$IN" "$OUT" "$T/o/third.obj"
+  expect_rejected "extra argument '$T/o/third.obj'"
+  ;;
+in_eq_out)
+  # The same file, by the same name and by another name of it; the input is not touched.
+  cp "$IN" "$T/in.obj"
+  run sphere "$T/in.obj" "$T/in.obj"
+  expect_status 2
+  expect_one_error_line
+  expect_err 'is the input'
+  run sphere "$T/in.obj" "$T/./in.obj"
+  expect_status 2
+  expect_err 'is the input'
+  cmp -s "$IN" "$T/in.obj" || fail "the input was modified"
+  run sphere "$IN" "$OUT" --report "$IN"
+  expect_rejected 'report .* is the input'
+  run sphere "$IN" "$OUT" --report "$OUT"
+  expect_rejected 'report .* is the output'
+  ;;
+bad_extension)
+  run sphere "$IN" "$T/o/out.xyz"
+  expect_rejected "cannot write '\.xyz'"
+  run sphere "$IN" "$T/o/out.stl"
+  expect_rejected "cannot write '\.stl'"
+  run sphere "$IN" "$T/o/out"
+  expect_rejected 'no extension'
+  ;;
+*)
+  fail "unknown case '$1'"
+  ;;
+esac
+exit 0

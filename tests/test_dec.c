@@ -1,0 +1,245 @@
+/* test_dec.c - invariants of the DEC operators and the CHOLMOD wrapper. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "au_dec.h"
+#include "au_mesh.h"
+#include "au_solver.h"
+#include "au_test.h"
+
+/* A bumpy closed test surface: an octahedron refined n times, pushed onto an ellipsoid with bumps,
+ * so that triangles are irregular (some obtuse). */
+static au_mesh *make_surface(int levels, double scale) {
+  int nv = 6, nf = 8;
+  double *X = malloc(sizeof(double) * 3 * 6);
+  int *F = malloc(sizeof(int) * 3 * 8);
+  const double v0[18] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+  const int f0[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  memcpy(X, v0, sizeof v0);
+  memcpy(F, f0, sizeof f0);
+  for (int l = 0; l < levels; l++) {
+    /* Midpoint subdivision with a simple edge table (quadratic but the meshes are small). */
+    int *mid = malloc(sizeof(int) * 3 * nf);
+    double *X2 = malloc(sizeof(double) * 3 * (nv + 3 * nf));
+    int *F2 = malloc(sizeof(int) * 12 * nf), nv2 = nv;
+    int *ea = malloc(sizeof(int) * 3 * nf), *eb = malloc(sizeof(int) * 3 * nf), *em = malloc(sizeof(int) * 3 * nf), ne = 0;
+    memcpy(X2, X, sizeof(double) * 3 * nv);
+    for (int f = 0; f < nf; f++)
+      for (int k = 0; k < 3; k++) {
+        int a = F[3 * f + (k + 1) % 3], b = F[3 * f + (k + 2) % 3], lo = a < b ? a : b, hi = a < b ? b : a, found = -1;
+        for (int e = 0; e < ne; e++)
+          if (ea[e] == lo && eb[e] == hi) found = em[e];
+        if (found < 0) {
+          for (int d = 0; d < 3; d++) X2[3 * nv2 + d] = 0.5 * (X[3 * a + d] + X[3 * b + d]);
+          ea[ne] = lo, eb[ne] = hi, em[ne++] = found = nv2++;
+        }
+        mid[3 * f + k] = found;
+      }
+    for (int f = 0; f < nf; f++) {
+      int a = F[3 * f], b = F[3 * f + 1], c = F[3 * f + 2], ma = mid[3 * f], mb = mid[3 * f + 1], mc = mid[3 * f + 2];
+      int t[12] = {a, mc, mb, mc, b, ma, mb, ma, c, ma, mb, mc};
+      memcpy(F2 + 12 * f, t, sizeof t);
+    }
+    free(X), free(F), free(mid), free(ea), free(eb), free(em);
+    X = X2, F = F2, nv = nv2, nf *= 4;
+  }
+  au_mesh *m = NULL;
+  if (au_mesh_alloc(nv, nf, &m) != AU_OK) return NULL;
+  for (int i = 0; i < nv; i++) {
+    double *p = X + 3 * i, r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    double bump = 1 + 0.3 * sin(3 * p[0] / r) * cos(2 * p[1] / r);
+    m->X[3 * i] = scale * 1.0 * bump * p[0] / r;
+    m->X[3 * i + 1] = scale * 0.7 * bump * p[1] / r;
+    m->X[3 * i + 2] = scale * 1.6 * bump * p[2] / r;
+  }
+  memcpy(m->F, F, sizeof(int) * 3 * nf);
+  free(X), free(F);
+  return m;
+}
+
+static double rnd(unsigned *s) {
+  *s = *s * 1664525u + 1013904223u;
+  return (*s >> 8) / 16777216.0;
+}
+
+static int with_mesh(int (*fn)(au_mesh *, au_topo *), double scale) {
+  au_mesh *m = make_surface(3, scale);
+  au_topo *t = NULL;
+  AU_CHECK(m != NULL);
+  AU_CHECK_STATUS(au_mesh_topology(m, &t, NULL), AU_OK, (au_msg *)NULL);
+  int r = fn(m, t);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return r;
+}
+
+/* C 1 = 0, C symmetric (x'Cy = y'Cx), x'Cx >= 0. */
+static int stiffness_props(au_mesh *m, au_topo *t) {
+  int nv = m->nv;
+  double *w = malloc(sizeof(double) * t->ne), *x = malloc(sizeof(double) * nv), *y = malloc(sizeof(double) * nv);
+  double *Cx = malloc(sizeof(double) * nv), *Cy = malloc(sizeof(double) * nv);
+  au_dec_cotan(t, m->F, m->X, w);
+  unsigned s = 1;
+  for (int i = 0; i < nv; i++) x[i] = 1;
+  au_dec_stiffness_apply(t, w, x, Cx);
+  double mx = 0;
+  for (int i = 0; i < nv; i++) mx = fmax(mx, fabs(Cx[i]));
+  AU_CHECK_DBL(mx, <=, 1e-12);
+  for (int i = 0; i < nv; i++) x[i] = rnd(&s) - 0.5, y[i] = rnd(&s) - 0.5;
+  au_dec_stiffness_apply(t, w, x, Cx);
+  au_dec_stiffness_apply(t, w, y, Cy);
+  double xCy = 0, yCx = 0, xCx = 0;
+  for (int i = 0; i < nv; i++) xCy += x[i] * Cy[i], yCx += y[i] * Cx[i], xCx += x[i] * Cx[i];
+  AU_CHECK_NEAR(xCy, yCx, 1e-12 * fabs(xCy) + 1e-14);
+  AU_CHECK_DBL(xCx, >, 0);
+  free(w), free(x), free(y), free(Cx), free(Cy);
+  return 0;
+}
+
+/* x'Cx equals the Dirichlet energy sum over faces of area*|grad x|^2 (div grad = Laplacian). */
+static int stiffness_is_dirichlet(au_mesh *m, au_topo *t) {
+  int nv = m->nv, nf = m->nf;
+  double *w = malloc(sizeof(double) * t->ne), *x = malloc(sizeof(double) * nv), *Cx = malloc(sizeof(double) * nv);
+  double *G = malloc(sizeof(double) * 3 * nf), *a = malloc(sizeof(double) * nf);
+  unsigned s = 7;
+  for (int i = 0; i < nv; i++) x[i] = rnd(&s);
+  au_dec_cotan(t, m->F, m->X, w);
+  au_dec_stiffness_apply(t, w, x, Cx);
+  au_dec_face_grad(nf, m->F, m->X, x, G);
+  au_dec_face_areas(nf, m->F, m->X, a);
+  double e1 = 0, e2 = 0;
+  for (int i = 0; i < nv; i++) e1 += x[i] * Cx[i];
+  for (int f = 0; f < nf; f++) e2 += a[f] * (G[3 * f] * G[3 * f] + G[3 * f + 1] * G[3 * f + 1] + G[3 * f + 2] * G[3 * f + 2]);
+  AU_CHECK_NEAR(e1, e2, 1e-10 * e2);
+  free(w), free(x), free(Cx), free(G), free(a);
+  return 0;
+}
+
+/* The gradient of a linear function is its gradient projected into each triangle's plane, exactly. */
+static int grad_linear_exact(au_mesh *m, au_topo *t) {
+  (void)t;
+  int nv = m->nv, nf = m->nf;
+  double *g = malloc(sizeof(double) * nv), *G = malloc(sizeof(double) * 3 * nf);
+  const double c[3] = {0.3, -1.2, 2.5};
+  for (int i = 0; i < nv; i++) g[i] = c[0] * m->X[3 * i] + c[1] * m->X[3 * i + 1] + c[2] * m->X[3 * i + 2] + 4;
+  au_dec_face_grad(nf, m->F, m->X, g, G);
+  double worst = 0;
+  for (int f = 0; f < nf; f++) {
+    const double *p = m->X + 3 * m->F[3 * f], *q = m->X + 3 * m->F[3 * f + 1], *r = m->X + 3 * m->F[3 * f + 2];
+    double e1[3], e2[3], n[3];
+    for (int d = 0; d < 3; d++) e1[d] = q[d] - p[d], e2[d] = r[d] - p[d];
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), cn = (c[0] * n[0] + c[1] * n[1] + c[2] * n[2]) / nn;
+    for (int d = 0; d < 3; d++) worst = fmax(worst, fabs(G[3 * f + d] - (c[d] - cn * n[d] / nn)));
+  }
+  AU_CHECK_DBL(worst, <=, 1e-9);
+  free(g), free(G);
+  return 0;
+}
+
+/* Vertex areas sum to the total area; the vertex gradient of a linear function on a plane is exact. */
+static int areas_sum(au_mesh *m, au_topo *t) {
+  (void)t;
+  double *a = malloc(sizeof(double) * m->nf), *A = malloc(sizeof(double) * m->nv), s1 = 0, s2 = 0;
+  au_dec_face_areas(m->nf, m->F, m->X, a);
+  au_dec_vertex_areas(m->nv, m->nf, m->F, m->X, a, A);
+  for (int f = 0; f < m->nf; f++) s1 += a[f];
+  for (int i = 0; i < m->nv; i++) {
+    s2 += A[i];
+    AU_CHECK_DBL(A[i], >, 0);
+  }
+  AU_CHECK_NEAR(s1, s2, 1e-12 * s1);
+  free(a), free(A);
+  return 0;
+}
+
+/* Solver: Dirichlet problem with a linear function as boundary data on a flat grid is solved exactly
+ * (linear functions are discrete harmonic for the cotan Laplacian on planar meshes). */
+static int solver_linear_exact(void) {
+  int n = 12, nv = n * n, nf = 2 * (n - 1) * (n - 1);
+  au_mesh *m = NULL;
+  AU_CHECK_STATUS(au_mesh_alloc(nv, nf, &m), AU_OK, (au_msg *)NULL);
+  unsigned s = 3;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      double jit = (i > 0 && j > 0 && i < n - 1 && j < n - 1) ? 0.3 : 0;
+      m->X[3 * (j * n + i)] = i + jit * (rnd(&s) - 0.5);
+      m->X[3 * (j * n + i) + 1] = j + jit * (rnd(&s) - 0.5);
+    }
+  int f = 0;
+  for (int j = 0; j + 1 < n; j++)
+    for (int i = 0; i + 1 < n; i++) {
+      int a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+      int t2[6] = {a, b, d, a, d, c};
+      memcpy(m->F + 3 * f, t2, sizeof t2);
+      f += 2;
+    }
+  au_topo *t = NULL;
+  AU_CHECK_STATUS(au_mesh_topology(m, &t, NULL), AU_OK, (au_msg *)NULL);
+  double *w = malloc(sizeof(double) * t->ne), *b = calloc((size_t)nv, sizeof(double)), *x = calloc((size_t)nv, sizeof(double));
+  au_dec_cotan(t, m->F, m->X, w);
+  au_solver *sv = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK_STATUS(au_solver_create(nv, t->ne, t->E, t->vb, &sv, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_solver_factor(sv, w, NULL, &msg), AU_OK, &msg);
+  for (int i = 0; i < nv; i++)
+    if (t->vb[i]) x[i] = 2 * m->X[3 * i] - 3 * m->X[3 * i + 1] + 1;
+  AU_CHECK_STATUS(au_solver_solve(sv, 1, b, x, &msg), AU_OK, &msg);
+  double worst = 0;
+  for (int i = 0; i < nv; i++) worst = fmax(worst, fabs(x[i] - (2 * m->X[3 * i] - 3 * m->X[3 * i + 1] + 1)));
+  AU_CHECK_DBL(worst, <=, 1e-10);
+  /* Refactoring with new weights reuses the analysis and still solves. */
+  for (int e = 0; e < t->ne; e++) w[e] *= 2;
+  AU_CHECK_STATUS(au_solver_factor(sv, w, NULL, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_solver_solve(sv, 1, b, x, &msg), AU_OK, &msg);
+  worst = 0;
+  for (int i = 0; i < nv; i++) worst = fmax(worst, fabs(x[i] - (2 * m->X[3 * i] - 3 * m->X[3 * i + 1] + 1)));
+  AU_CHECK_DBL(worst, <=, 1e-10);
+  /* An indefinite matrix (negated weights) must be reported, not factored into garbage
+   * (cholmod_factorize itself returns TRUE on it). */
+  au_solver *sv2 = NULL;
+  AU_CHECK_STATUS(au_solver_create(nv, t->ne, t->E, t->vb, &sv2, &msg), AU_OK, &msg);
+  for (int e = 0; e < t->ne; e++) w[e] = -w[e];
+  au_status st = au_solver_factor(sv2, w, NULL, &msg);
+  AU_CHECK(st == AU_E_NOT_SPD);
+  au_solver_free(&sv2);
+  au_solver_free(&sv);
+  au_solver_free(&sv); /* NULL-safe */
+  free(w), free(b), free(x);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return 0;
+}
+
+static int stiffness_props_case(void) { return with_mesh(stiffness_props, 1); }
+static int stiffness_dirichlet_case(void) { return with_mesh(stiffness_is_dirichlet, 1); }
+static int grad_linear_case(void) { return with_mesh(grad_linear_exact, 1); }
+static int areas_sum_case(void) { return with_mesh(areas_sum, 1); }
+/* Scale invariance: cotan weights are unchanged by scaling the mesh by 1e6 and 1e-6. */
+static int cotan_scale_case(void) {
+  au_mesh *m1 = make_surface(2, 1), *m2 = make_surface(2, 1e6), *m3 = make_surface(2, 1e-6);
+  au_topo *t = NULL;
+  AU_CHECK_STATUS(au_mesh_topology(m1, &t, NULL), AU_OK, (au_msg *)NULL);
+  double *w1 = malloc(sizeof(double) * t->ne), *w2 = malloc(sizeof(double) * t->ne), *w3 = malloc(sizeof(double) * t->ne);
+  au_dec_cotan(t, m1->F, m1->X, w1);
+  au_dec_cotan(t, m2->F, m2->X, w2);
+  au_dec_cotan(t, m3->F, m3->X, w3);
+  for (int e = 0; e < t->ne; e++) {
+    AU_CHECK_NEAR(w1[e], w2[e], 1e-9 * fabs(w1[e]) + 1e-12);
+    AU_CHECK_NEAR(w1[e], w3[e], 1e-9 * fabs(w1[e]) + 1e-12);
+  }
+  free(w1), free(w2), free(w3);
+  au_topo_free(&t);
+  au_mesh_free(&m1), au_mesh_free(&m2), au_mesh_free(&m3);
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  static const au_test_case cases[] = {
+      {"stiffness_props", stiffness_props_case},       {"stiffness_dirichlet", stiffness_dirichlet_case},
+      {"grad_linear", grad_linear_case},               {"areas_sum", areas_sum_case},
+      {"cotan_scale", cotan_scale_case},               {"solver_linear_exact", solver_linear_exact},
+  };
+  return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
+}
