@@ -31,6 +31,9 @@ au_advect_opts au_advect_opts_default(void) {
   o.tol = 1e-3;
   o.max_move = 0.3;
   o.newton_below = 0.05;
+  o.face_steps = 20;
+  o.face_tol = 1e-3;
+  o.face_damping = 0.1;
   return o;
 }
 
@@ -209,16 +212,17 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
   const int sph = dom->spherical;
   au_status st = AU_OK;
   au_solver *solver = NULL;
-  au_gn *gn = NULL;
+  au_gn *gn = NULL, *gnf = NULL;
   double *AM = malloc(sizeof(double) * nv), *AO = malloc(sizeof(double) * nv), *b = malloc(sizeof(double) * nv);
   double *g = malloc(sizeof(double) * nv), *lim = malloc(sizeof(double) * nv), *af = malloc(sizeof(double) * nf);
   double *Gf = malloc(sizeof(double) * 3 * nf), *D = malloc(sizeof(double) * 3 * nv);
   double *Pold = malloc(sizeof(double) * 3 * nv), *w = malloc(sizeof(double) * (t->ne > 0 ? t->ne : 1));
   unsigned char *fixed = calloc((size_t)nv, 1), *bad = calloc((size_t)nv, 1);
   int *heap = malloc(sizeof(int) * nv), *hpos = malloc(sizeof(int) * nv);
-  double *inr = malloc(sizeof(double) * nf);
+  double *inr = malloc(sizeof(double) * nf), *As = malloc(sizeof(double) * nf), *fw = malloc(sizeof(double) * nf);
+  double *dA_f = malloc(sizeof(double) * nf);
   adjacency adj = {NULL, NULL};
-  if (!AM || !AO || !b || !g || !lim || !af || !Gf || !D || !Pold || !w || !fixed || !bad || !heap || !hpos || !inr ||
+  if (!AM || !AO || !b || !g || !lim || !af || !Gf || !D || !Pold || !w || !fixed || !bad || !heap || !hpos || !inr || !As || !fw || !dA_f ||
       !adjacency_build(t, &adj)) {
     st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
     goto done;
@@ -237,6 +241,9 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     }
     SM += AM[i];
   }
+  /* Per-face target weight: the mean of its corners' densities. */
+  for (int f = 0; f < nf; f++)
+    fw[f] = o.weight ? (o.weight[F[3 * f]] + o.weight[F[3 * f + 1]] + o.weight[F[3 * f + 2]]) / 3.0 : 1.0;
   if (!(SM > 0)) {
     st = au_msg_set(msg, AU_E_ARG, "advect: the surface has no area");
     goto done;
@@ -260,7 +267,9 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
   rep->t_solve += now_s() - t0;
   if (st != AU_OK) goto done;
 
-  int k;
+  int k, face_phase = 0, face_steps = 0;
+  double prev_err = INFINITY, prev_ferr = INFINITY;
+  au_dec_face_areas(nf, F, m->X, As);
   for (k = 0;; k++) {
     au_dec_face_areas(nf, F, P, af);
     au_dec_vertex_areas(nv, nf, F, P, af, AO);
@@ -270,61 +279,92 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     /* b temporarily holds the target areas of this domain's total. */
     for (int i = 0; i < nv; i++) b[i] = AM[i] * scale;
     double err = vertex_error(nv, t->vused, b, AO);
+    double ferr = 0;
+    for (int f = 0; f < nf; f++) ferr += fabs(af[f] / (As[f] * fw[f] * scale) - 1);
+    ferr /= nf;
     rep->err[k] = err;
-    if (!(err == err)) {
+    rep->face_err[k] = ferr;
+    if (!(err == err) || !(ferr == ferr)) {
       st = au_msg_set(msg, AU_E_NUMERIC, "advect: area error is not a number at step %d", k);
       goto done;
     }
     if (o.progress) o.progress(o.user, k, o.max_steps, err);
-    if (err <= o.tol) {
+    if (face_phase) {
+      /* Refine while the per-face error falls; a step that made it worse is undone. */
+      if (ferr >= prev_ferr) {
+        memcpy(P, Pold, sizeof(double) * 3 * nv);
+        rep->err[k] = err = prev_err;
+        rep->face_err[k] = ferr = prev_ferr;
+        rep->converged = err <= o.tol;
+        break;
+      }
+      if (ferr <= o.face_tol || face_steps >= o.face_steps) {
+        rep->converged = err <= o.tol;
+        break;
+      }
+    } else if (err <= o.tol) {
       rep->converged = 1;
-      break;
+      /* The vertex cells are equal: go on with the triangles themselves. */
+      if (o.face_steps > 0 && ferr > o.face_tol) face_phase = 1;
+      else break;
     }
+    prev_err = err, prev_ferr = ferr;
     if (k == o.max_steps) break;
 
-    /* Geometric schedule: the area ratio of each cell moves by rho^s; renormalize so the wanted
-     * changes sum to zero (the Poisson problem is then consistent). */
-    double s = k < o.schedule_steps ? 1.0 / (double)(o.schedule_steps - k) : 1.0;
-    double sum_new = 0;
-    for (int i = 0; i < nv; i++) {
-      if (!t->vused[i]) {
-        b[i] = 0;
-        continue;
-      }
-      b[i] = AO[i] * exp(s * log(b[i] / AO[i]));
-      sum_new += b[i];
-    }
-    double renorm = SO / sum_new;
-    for (int i = 0; i < nv; i++) b[i] = t->vused[i] ? -(b[i] * renorm - AO[i]) : 0; /* b = -dA */
-
     t0 = now_s();
-    if (err < o.newton_below) {
-      /* Polish: the exact Gauss-Newton step (au_gn.c), weights 1/(domain vertex area). */
-      if (!gn) {
-        st = au__gn_create(m, t, &gn, msg);
+    if (face_phase) {
+      /* Per-face refinement: damped Gauss-Newton on the triangle areas. */
+      if (!gnf) {
+        st = au__gn_create(m, t, 1, &gnf, msg);
         if (st != AU_OK) goto done;
       }
-      for (int i = 0; i < nv; i++) {
-        g[i] = AO[i] > 0 ? 1.0 / AO[i] : 0;
-        b[i] = -b[i];
-      }
-      st = au__gn_step(gn, dom, P, g, b, D, msg);
-      rep->t_solve += now_s() - t0;
-      if (st != AU_OK) goto done;
+      for (int f = 0; f < nf; f++) dA_f[f] = As[f] * fw[f] * scale - af[f];
+      for (int i = 0; i < nv; i++) g[i] = AO[i] > 0 ? 1.0 / AO[i] : 0;
+      st = au__gn_step(gnf, dom, P, g, dA_f, o.face_damping, D, msg);
+      face_steps++;
+      rep->face_steps = face_steps;
     } else {
-      au_dec_cotan(t, F, P, w);
-      st = au_solver_factor(solver, w, NULL, msg);
-      if (st == AU_OK) {
-        memset(g, 0, sizeof(double) * nv);
-        st = au_solver_solve(solver, 1, b, g, msg);
+      /* Geometric schedule: the area ratio of each cell moves by rho^s; renormalize so the wanted
+       * changes sum to zero (the Poisson problem is then consistent). */
+      double s = k < o.schedule_steps ? 1.0 / (double)(o.schedule_steps - k) : 1.0;
+      double sum_new = 0;
+      for (int i = 0; i < nv; i++) {
+        if (!t->vused[i]) {
+          b[i] = 0;
+          continue;
+        }
+        b[i] = AO[i] * exp(s * log(b[i] / AO[i]));
+        sum_new += b[i];
       }
-      rep->t_solve += now_s() - t0;
-      if (st != AU_OK) goto done;
-      au_dec_face_grad(nf, F, P, g, Gf);
-      st = au_dec_vertex_grad(nv, nf, F, P, Gf, D);
-      if (st != AU_OK) goto done;
-      for (int i = 0; i < nv; i++) dom->constrain(dom->ctx, i, P + 3 * i, D + 3 * i);
+      double renorm = SO / sum_new;
+      for (int i = 0; i < nv; i++) b[i] = t->vused[i] ? (b[i] * renorm - AO[i]) : 0; /* b = dA */
+      if (err < o.newton_below) {
+        /* Polish: the exact Gauss-Newton step (au_gn.c), weights 1/(domain vertex area). */
+        if (!gn) {
+          st = au__gn_create(m, t, 0, &gn, msg);
+          if (st != AU_OK) goto done;
+        }
+        for (int i = 0; i < nv; i++) g[i] = AO[i] > 0 ? 1.0 / AO[i] : 0;
+        st = au__gn_step(gn, dom, P, g, b, 0, D, msg);
+      } else {
+        /* The paper's step: C g = -dA, move along the angle-weighted vertex gradient. */
+        for (int i = 0; i < nv; i++) b[i] = -b[i];
+        au_dec_cotan(t, F, P, w);
+        st = au_solver_factor(solver, w, NULL, msg);
+        if (st == AU_OK) {
+          memset(g, 0, sizeof(double) * nv);
+          st = au_solver_solve(solver, 1, b, g, msg);
+        }
+        if (st == AU_OK) {
+          au_dec_face_grad(nf, F, P, g, Gf);
+          st = au_dec_vertex_grad(nv, nf, F, P, Gf, D);
+        }
+        if (st == AU_OK)
+          for (int i = 0; i < nv; i++) dom->constrain(dom->ctx, i, P + 3 * i, D + 3 * i);
+      }
     }
+    rep->t_solve += now_s() - t0;
+    if (st != AU_OK) goto done;
 
     /* Local step control (see the banner): per-face safe fractions, then a Lipschitz envelope. */
     for (int f = 0; f < nf; f++) {
@@ -385,7 +425,8 @@ done:
   au_solver_free(&solver);
   au__gn_free(&gn);
   free(AM), free(AO), free(b), free(g), free(lim), free(af), free(Gf), free(D), free(Pold), free(w), free(fixed), free(bad);
-  free(heap), free(hpos), free(inr);
+  free(heap), free(hpos), free(inr), free(As), free(fw), free(dA_f);
+  au__gn_free(&gnf);
   adjacency_free(&adj);
   return st;
 }

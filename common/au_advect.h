@@ -28,6 +28,10 @@ typedef struct au_advect_opts {
   double tol;           /* stop when the vertex-level mean |ln(area ratio)| is below this (default 1e-3) */
   double newton_below;  /* switch from the paper's Poisson step to the exact Gauss-Newton step on the
                            vertex areas once the error is below this (default 0.05; 0: never, inf: always) */
+  int face_steps;       /* after the vertex cells are equal, at most this many per-face refinement steps
+                           (damped Gauss-Newton on the triangle areas); 0 turns it off (default 20) */
+  double face_tol;      /* stop refining when the per-face mean |r - 1| is below this (default 1e-3) */
+  double face_damping;  /* Levenberg-Marquardt damping of the face steps, relative (default 0.1) */
   double max_move;      /* a vertex moves at most this fraction of the inradius of its triangles per
                            step, which keeps every triangle positively oriented (0 < x < 0.5, default 0.3) */
   const double *weight; /* per-vertex target density [0..nv-1] (> 0): domain area proportional to
@@ -43,7 +47,9 @@ typedef struct au_advect_report {
   int steps;                            /* steps taken */
   int converged;                        /* 1 if err <= tol at the end */
   double err[AU_ADVECT_MAX_STEPS + 1];  /* vertex-level mean |ln ratio| before each step and at the end */
+  double face_err[AU_ADVECT_MAX_STEPS + 1]; /* per-face mean |r - 1| before each step and at the end */
   double frac[AU_ADVECT_MAX_STEPS];     /* mean fraction of the wanted displacement taken per step */
+  int face_steps;                       /* of the steps, how many were per-face refinement steps */
   double t_solve;                       /* seconds in the sparse solves (factor + solve) */
 } au_advect_report;
 

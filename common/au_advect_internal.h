@@ -8,14 +8,15 @@ typedef struct au_gn au_gn;
 
 /* Prepare the Gauss-Newton step for the mesh's connectivity (pattern analysis done once).
  * Returns AU_OK, AU_E_NOMEM, AU_E_NUMERIC. */
-au_status au__gn_create(const au_mesh *m, const au_topo *t, au_gn **out, au_msg *msg);
+/* faces: 0 for the vertex cells, 1 for the triangles as cells. */
+au_status au__gn_create(const au_mesh *m, const au_topo *t, int faces, au_gn **out, au_msg *msg);
 
 /* The displacement D [0..3nv-1] of least kinetic energy sum_j W_j^-1 |u_j|^2 whose first-order change of
  * the barycentric vertex areas at P is dA [0..nv-1]: u = W D^T g with (D W D^T + reg) g = dA, D the exact
  * derivative of the cell areas with respect to the (constrained) vertex positions.
  * W [0..nv-1] > 0. Returns AU_OK, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC. */
 au_status au__gn_step(au_gn *gn, const au_advect_domain *dom, const double *P, const double *W, const double *dA,
-                      double *D, au_msg *msg);
+                      double damping, double *D, au_msg *msg);
 
 void au__gn_free(au_gn **gn);
 

@@ -16,6 +16,8 @@
 
 struct au_gn {
   int nv, nf;
+  int faces;    /* 0: cells are the barycentric vertex cells; 1: cells are the triangles */
+  int nc;       /* number of cells */
   const int *F;
   int *Lstart;  /* [0..nv]: vertex j's list L_j = {j} + its neighbours is Lv[Lstart[j]..Lstart[j+1]-1] */
   int *Lv;
@@ -38,46 +40,61 @@ void au__gn_free(au_gn **gp) {
   *gp = NULL;
 }
 
-au_status au__gn_create(const au_mesh *m, const au_topo *t, au_gn **out, au_msg *msg) {
+au_status au__gn_create(const au_mesh *m, const au_topo *t, int faces, au_gn **out, au_msg *msg) {
   *out = NULL;
   int nv = m->nv;
   au_gn *g = calloc(1, sizeof *g);
   if (!g) return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
-  g->nv = nv, g->nf = m->nf, g->F = m->F;
+  g->nv = nv, g->nf = m->nf, g->F = m->F, g->faces = faces, g->nc = faces ? m->nf : nv;
+  int nc = g->nc;
   g->Lstart = calloc((size_t)nv + 1, sizeof(int));
-  int *cnt = calloc((size_t)nv + 1, sizeof(int));
+  int *cnt = calloc((size_t)(nc > nv ? nc : nv) + 1, sizeof(int));
   if (!g->Lstart || !cnt) goto nomem;
-  for (int e = 0; e < t->ne; e++) g->Lstart[t->E[2 * e] + 1]++, g->Lstart[t->E[2 * e + 1] + 1]++;
-  for (int j = 0; j < nv; j++) g->Lstart[j + 1] += g->Lstart[j] + 1;
-  g->Lv = malloc(sizeof(int) * (size_t)g->Lstart[nv]);
-  g->c = malloc(sizeof(double) * 3 * (size_t)g->Lstart[nv]);
-  if (!g->Lv || !g->c) goto nomem;
-  for (int j = 0; j < nv; j++) g->Lv[g->Lstart[j]] = j, cnt[j] = 1;
-  for (int e = 0; e < t->ne; e++) {
-    int a = t->E[2 * e], b = t->E[2 * e + 1];
-    g->Lv[g->Lstart[a] + cnt[a]++] = b;
-    g->Lv[g->Lstart[b] + cnt[b]++] = a;
+  if (faces) {
+    for (int f = 0; f < m->nf; f++)
+      for (int k = 0; k < 3; k++) g->Lstart[m->F[3 * f + k] + 1]++;
+    for (int j = 0; j < nv; j++) g->Lstart[j + 1] += g->Lstart[j];
+  } else {
+    for (int e = 0; e < t->ne; e++) g->Lstart[t->E[2 * e] + 1]++, g->Lstart[t->E[2 * e + 1] + 1]++;
+    for (int j = 0; j < nv; j++) g->Lstart[j + 1] += g->Lstart[j] + 1;
   }
-  /* Pattern of D W D^T: (i, k) for i, k in a common L_j; per column k the rows i <= k. */
-  memset(cnt, 0, sizeof(int) * ((size_t)nv + 1));
+  g->Lv = malloc(sizeof(int) * (size_t)(g->Lstart[nv] > 0 ? g->Lstart[nv] : 1));
+  g->c = malloc(sizeof(double) * 3 * (size_t)(g->Lstart[nv] > 0 ? g->Lstart[nv] : 1));
+  if (!g->Lv || !g->c) goto nomem;
+  if (faces) {
+    for (int f = 0; f < m->nf; f++)
+      for (int k = 0; k < 3; k++) {
+        int j = m->F[3 * f + k];
+        g->Lv[g->Lstart[j] + cnt[j]++] = f;
+      }
+  } else {
+    for (int j = 0; j < nv; j++) g->Lv[g->Lstart[j]] = j, cnt[j] = 1;
+    for (int e = 0; e < t->ne; e++) {
+      int a = t->E[2 * e], b = t->E[2 * e + 1];
+      g->Lv[g->Lstart[a] + cnt[a]++] = b;
+      g->Lv[g->Lstart[b] + cnt[b]++] = a;
+    }
+  }
+  /* Pattern of D W D^T: (i, k) for cells i, k in a common L_j; per column k the rows i <= k. */
+  memset(cnt, 0, sizeof(int) * ((size_t)nc + 1));
   for (int j = 0; j < nv; j++)
     for (int s = g->Lstart[j]; s < g->Lstart[j + 1]; s++) cnt[g->Lv[s]] += g->Lstart[j + 1] - g->Lstart[j];
   long long tot = 0;
-  for (int k = 0; k < nv; k++) tot += cnt[k];
-  int *start = malloc(sizeof(int) * ((size_t)nv + 1)), *buf = malloc(sizeof(int) * (size_t)(tot > 0 ? tot : 1));
+  for (int k = 0; k < nc; k++) tot += cnt[k];
+  int *start = malloc(sizeof(int) * ((size_t)nc + 1)), *buf = malloc(sizeof(int) * (size_t)(tot > 0 ? tot : 1));
   if (!start || !buf) {
     free(start), free(buf);
     goto nomem;
   }
   start[0] = 0;
-  for (int k = 0; k < nv; k++) start[k + 1] = start[k] + cnt[k], cnt[k] = 0;
+  for (int k = 0; k < nc; k++) start[k + 1] = start[k] + cnt[k], cnt[k] = 0;
   for (int j = 0; j < nv; j++)
     for (int s = g->Lstart[j]; s < g->Lstart[j + 1]; s++)
       for (int u = g->Lstart[j]; u < g->Lstart[j + 1]; u++) {
         int i = g->Lv[u], k = g->Lv[s];
         if (i <= k) buf[start[k] + cnt[k]++] = i;
       }
-  g->colstart = malloc(sizeof(int) * ((size_t)nv + 1));
+  g->colstart = malloc(sizeof(int) * ((size_t)nc + 1));
   g->rows = malloc(sizeof(int) * (size_t)(tot > 0 ? tot : 1));
   if (!g->colstart || !g->rows) {
     free(start), free(buf);
@@ -85,7 +102,7 @@ au_status au__gn_create(const au_mesh *m, const au_topo *t, au_gn **out, au_msg 
   }
   g->colstart[0] = 0;
   int nz = 0;
-  for (int k = 0; k < nv; k++) {
+  for (int k = 0; k < nc; k++) {
     int *col = buf + start[k], n = cnt[k];
     qsort(col, (size_t)n, sizeof(int), cmp_int);
     for (int r = 0; r < n; r++)
@@ -94,7 +111,7 @@ au_status au__gn_create(const au_mesh *m, const au_topo *t, au_gn **out, au_msg 
   }
   free(start), free(buf), free(cnt);
   cnt = NULL;
-  au_status st = au_spd_create(nv, g->colstart, g->rows, &g->spd, msg);
+  au_status st = au_spd_create(nc, g->colstart, g->rows, &g->spd, msg);
   if (st != AU_OK) {
     au__gn_free(&g);
     return st;
@@ -115,8 +132,8 @@ static int slot_of(const au_gn *g, int j, int i) {
 }
 
 au_status au__gn_step(au_gn *g, const au_advect_domain *dom, const double *P, const double *W, const double *dA,
-                      double *D, au_msg *msg) {
-  const int nv = g->nv, *F = g->F;
+                      double damping, double *D, au_msg *msg) {
+  const int nv = g->nv, nc = g->nc, *F = g->F;
   memset(g->c, 0, sizeof(double) * 3 * (size_t)g->Lstart[nv]);
   for (int f = 0; f < g->nf; f++) {
     const int *v = F + 3 * f;
@@ -132,6 +149,11 @@ au_status au__gn_step(au_gn *g, const au_advect_domain *dom, const double *P, co
       double e[3] = {p2[0] - p1[0], p2[1] - p1[1], p2[2] - p1[2]};
       /* d(area)/d(p_j) = n x (opposite edge) / 2; a third of it goes to each corner's cell. */
       double gr[3] = {(n[1] * e[2] - n[2] * e[1]) / 6, (n[2] * e[0] - n[0] * e[2]) / 6, (n[0] * e[1] - n[1] * e[0]) / 6};
+      if (g->faces) {
+        double *c = g->c + 3 * slot_of(g, j, f);
+        c[0] += 3 * gr[0], c[1] += 3 * gr[1], c[2] += 3 * gr[2];
+        continue;
+      }
       for (int r = 0; r < 3; r++) {
         int s = slot_of(g, j, v[r]);
         double *c = g->c + 3 * s;
@@ -143,7 +165,7 @@ au_status au__gn_step(au_gn *g, const au_advect_domain *dom, const double *P, co
     for (int s = g->Lstart[j]; s < g->Lstart[j + 1]; s++) dom->constrain(dom->ctx, j, P + 3 * j, g->c + 3 * s);
 
   double *val = au_spd_values(g->spd);
-  memset(val, 0, sizeof(double) * (size_t)g->colstart[nv]);
+  memset(val, 0, sizeof(double) * (size_t)g->colstart[nc]);
   for (int j = 0; j < nv; j++) {
     for (int s = g->Lstart[j]; s < g->Lstart[j + 1]; s++) {
       int k = g->Lv[s];
@@ -162,10 +184,13 @@ au_status au__gn_step(au_gn *g, const au_advect_domain *dom, const double *P, co
   /* A relative Tikhonov term keeps the system definite where D W D^T is singular (unreferenced
    * vertices, the near-constant mode) without changing the step noticeably. */
   double dmax = 0;
-  for (int k = 0; k < nv; k++) dmax = fmax(dmax, val[g->colstart[k + 1] - 1]);
-  for (int k = 0; k < nv; k++) val[g->colstart[k + 1] - 1] += 1e-10 * dmax + (dmax > 0 ? 0 : 1);
+  for (int k = 0; k < nc; k++) dmax = fmax(dmax, val[g->colstart[k + 1] - 1]);
+  /* Levenberg-Marquardt damping (relative to each diagonal) tames the near-null checkerboard modes of
+   * the face areas. */
+  for (int k = 0; k < nc; k++) val[g->colstart[k + 1] - 1] *= 1 + damping;
+  for (int k = 0; k < nc; k++) val[g->colstart[k + 1] - 1] += 1e-10 * dmax + (dmax > 0 ? 0 : 1);
   au_status st = au_spd_factor(g->spd, msg);
-  double *gv = malloc(sizeof(double) * (size_t)nv);
+  double *gv = malloc(sizeof(double) * (size_t)nc);
   if (!gv) return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
   if (st == AU_OK) st = au_spd_solve(g->spd, dA, gv, msg);
   if (st == AU_OK) {

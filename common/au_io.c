@@ -336,8 +336,16 @@ static au_status read_off(const char *path, const char *buf, size_t len, au_mesh
       goto fail;
     }
     if (n != 3) {
-      st = au_msg_set(msg, AU_E_FACE, "%s:%d: face %d has %lld corners; only triangles are supported (triangulate first)",
-                      path, t.line, f, n);
+      /* Fewer than three corners, or fewer indices than announced, is no polygon at all: most likely
+       * the header's counts are wrong and this line is something else. */
+      const char *q = p;
+      long long have = 0;
+      while (have < n && tok_next(&q, e, &ts, &te)) have++;
+      if (n < 3 || have < n)
+        st = au_msg_set(msg, AU_E_FORMAT, "%s:%d: face %d: not a polygon (header counts wrong?)", path, t.line, f);
+      else
+        st = au_msg_set(msg, AU_E_FACE, "%s:%d: face %d has %lld corners; only triangles are supported (triangulate first)",
+                        path, t.line, f, n);
       goto fail;
     }
     for (int c = 0; c < 3; c++) {

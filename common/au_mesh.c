@@ -62,7 +62,8 @@ void au_topo_free(au_topo **t) {
   *t = NULL;
 }
 
-/* malloc of n elements of size sz, with the product computed in 64 bits and n == 0 allowed. */
+/* malloc of n elements of size sz with the product checked for overflow; n == 0 gets one element
+ * so that NULL always means failure. */
 static void *au__alloc(size_t n, size_t sz) {
   if (n == 0) n = 1;
   if (n > SIZE_MAX / sz) return NULL;
@@ -81,8 +82,9 @@ static int au__he_to(const int *F, int64_t h) {
 }
 
 /* LSD radix sort of n (key, val) pairs on the low `bits` bits of key, 11 bits per pass; k2/v2 are
- * scratch of the same size. Sequential reads and 2048 write streams per pass make this several
- * times faster than a comparison sort, or a counting sort over vertices, on millions of half-edges.
+ * scratch of the same size. Sequential reads and 2048 write streams per pass beat a comparison
+ * sort, and a counting sort over vertices (whose scattered reads miss the cache), on millions of
+ * half-edges.
  * The sorted pairs end up in key/val. */
 static void au__radix_sort(uint64_t *key, uint32_t *val, uint64_t *k2, uint32_t *v2, int64_t n, int bits) {
   int64_t cnt[2048];
@@ -399,7 +401,7 @@ au_mesh_expect au_mesh_expect_default(void) {
   return e;
 }
 
-/* Describe the loop sizes, e.g. "64 vertices" or "sizes 64, 32 and 8", into buf. */
+/* Describe the loop sizes, e.g. "64 vertices" or "sizes 64, 32, 8" (at most four listed), into buf. */
 static void au__loop_sizes(const au_topo *t, char *buf, size_t len) {
   if (t->nloops == 1) {
     snprintf(buf, len, "%d vertices", t->loop_start[1] - t->loop_start[0]);

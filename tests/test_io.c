@@ -330,11 +330,12 @@ static int t_nonmanifold_kept(void) {
   return 0;
 }
 
-/* STL, ASCII and binary: equal positions merged in order of first appearance, every facet kept. */
+/* STL, ASCII and binary: equal positions merged in order of first appearance (an STL file has no
+ * other vertex order), every facet kept with its corners in the file's order. */
 static int t_stl(void) {
   AU_CHECK(make_dir("stl"));
   const float V[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.1f, 0.2f, 1.5f}};
-  const int F[12] = {0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3};
+  const int F[12] = {0, 1, 2, 0, 3, 1, 1, 3, 2, 2, 3, 0}; /* vertices first appear in order 0..3 */
   unsigned char buf[84 + 4 * 50], *p = buf + 84;
   memset(buf, 0, sizeof buf);
   memcpy(buf, "solid but binary", 16); /* binary files that start with "solid" exist; the size decides */
@@ -522,8 +523,8 @@ static int t_err_garbage(void) {
     }
     for (int k = 0; k < 4; k++) AU_CHECK(expect(names[k], (const char *)buf, sizeof buf, AU_E_FORMAT, names[k]) == 0);
   }
-  /* A PNG signature under .obj: caught on the first line. */
-  EXPECT("png.obj", "\x89PNG\r\n\x1a\n\0\0\0\rIHDR", AU_E_FORMAT, "png.obj:1:");
+  /* A PNG signature under .obj: caught on the line of the first control byte. */
+  EXPECT("png.obj", "\x89PNG\r\n\x1a\n\0\0\0\rIHDR", AU_E_FORMAT, "png.obj:2:");
   return 0;
 }
 
@@ -584,6 +585,7 @@ static int t_write_atomic(void) {
 static int t_write_mode(void) {
   AU_CHECK(make_dir("write_mode"));
   au_msg msg = {{0}};
+  unlink(tp("new.json")); /* left by an earlier run */
   mode_t old = umask(022);
   AU_CHECK_STATUS(au_io_write_text(tp("new.json"), "{}\n", 3, &msg), AU_OK, &msg);
   struct stat st;

@@ -72,7 +72,7 @@ expect_rejected() {
   [ -z "$1" ] || expect_err "$1"
 }
 
-# Vertex lines of an OBJ/OFF-free check: the number of `v` lines of an OBJ file.
+# The number of `v` lines of an OBJ file.
 obj_nv() {
   grep -c '^v ' "$1"
 }

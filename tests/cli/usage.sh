@@ -16,7 +16,7 @@ sphere_help)
   run sphere --help
   expect_status 0
   # Every option is listed, and the numeric ones with their defaults.
-  for opt in --report --steps --tol --no-balance --quiet --init-only; do expect_out -- "$opt"; done
+  for opt in --report --steps --tol --no-balance --quiet --init-only; do expect_out "$opt"; done
   expect_out 'steps K .*default [0-9]+'
   expect_out 'tol T .*default [0-9.e-]+'
   ;;

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# setup-debian.sh - install the Debian 12 packages authalic needs; quick and quiet when all are present.
+#
+# Run as root on a fresh machine (CI does, through .ci/run). It asks apt only when something is
+# missing, so it is cheap to run before every build. As a non-root user it installs nothing: it
+# names what is missing and fails, so the build does not stop later with a less clear error.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config  # compilers, make, the build system
+  libsuitesparse-dev libopenblas-dev  # CHOLMOD with a fast BLAS
+  libopenmesh-dev libgeographiclib-dev libcjson-dev libpng-dev
+  python3-numpy  # the shared evaluator (param-eval) and the data and bench scripts
+  time  # /usr/bin/time, used by the benchmarks
+)
+
+if ! command -v dpkg-query >/dev/null 2>&1; then
+  echo "setup-debian.sh: not a Debian system (no dpkg-query); install the equivalents of: ${PACKAGES[*]}" >&2
+  exit 0
+fi
+
+# One dpkg-query call for all packages; unknown ones are simply absent from its output.
+installed=" $(dpkg-query -W -f='${Package}=${db:Status-Status} ' "${PACKAGES[@]}" 2>/dev/null || true) "
+missing=()
+for p in "${PACKAGES[@]}"; do
+  [[ "$installed" == *" $p=installed "* ]] || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+if [ "$(id -u)" -ne 0 ]; then
+  echo "setup-debian.sh: missing Debian packages: ${missing[*]}" >&2
+  echo "setup-debian.sh: install them as root: apt-get install ${missing[*]}" >&2
+  exit 1
+fi
+
+echo "setup-debian.sh: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -q
+apt-get install -y -q --no-install-recommends "${missing[@]}"

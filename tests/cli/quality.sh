@@ -1,0 +1,69 @@
+# quality.sh - a real map end to end: the result lies on the unit sphere, keeps the input's
+# vertices and faces, is fold-free, and the JSON report says what the map is.
+# sh quality.sh PROG SOURCE_DIR SHARED_DIR CASE MESH   (MESH relative to the source dir)
+# CASE map: full run checked against the report. init_only: --init-only gives the initial map
+# whose metrics the full run reports as initial_metrics.
+. "$(dirname "$0")/lib.sh"
+IN=$SRC/$2
+# data/ is made by the project's generator; without it there is nothing to map.
+[ -f "$IN" ] || skip "$IN is missing (run au_mkdata to generate data/)"
+OUT=$T/o/map.obj
+REP=$T/o/report.json
+
+run sphere "$IN" "$OUT" --report "$REP"
+expect_status 0
+[ -f "$OUT" ] && [ -f "$REP" ] || fail "the output or the report is missing"
+[ "$(obj_nv "$OUT")" -eq "$(obj_nv "$IN")" ] || fail "vertex count $(obj_nv "$OUT"), input has $(obj_nv "$IN")"
+obj_faces "$IN" >"$T/f.in"
+obj_faces "$OUT" >"$T/f.out"
+cmp -s "$T/f.in" "$T/f.out" || fail "the output's faces differ from the input's"
+expect_on_sphere "$OUT" 1e-12
+# Not quiet: one summary line with the mesh's size and zero folds.
+expect_err "^authalic: sphere: V=$(obj_nv "$IN") F=$(wc -l <"$T/f.in" | tr -d ' ') steps=[0-9]+ folds=0 "
+[ "$(ls -A "$T/o" | tr '\n' ' ')" = "map.obj report.json " ] || fail "unexpected files: $(ls -A "$T/o")"
+
+case $1 in
+map)
+  $PY - "$REP" "$(obj_nv "$IN")" "$(wc -l <"$T/f.in")" <<'PYEOF' || fail "the report is wrong"
+import json, sys
+r = json.load(open(sys.argv[1]))
+nv, nf = int(sys.argv[2]), int(sys.argv[3])
+m, i = r["metrics"], r["initial_metrics"]
+def check(ok, what):
+    if not ok:
+        sys.exit("report: " + what)
+check(r["command"] == "sphere" and r["V"] == nv and r["F"] == nf, "command, V or F")
+check(r["folds"] == 0 and m["folds"] == 0, "folds %s" % r["folds"])
+check(m["domain"] == "sphere" and m["sphere_radius_max_dev"] <= 1e-12, "not on the sphere")
+check(1 <= r["steps"] and len(r["convergence"]["err"]) == r["steps"] + 1, "steps and errors")
+check(len(r["convergence"]["frac"]) == r["steps"], "step fractions")
+check(not r["converged"] or r["convergence"]["err"][-1] <= 1e-3, "converged above the default tolerance")
+check(set(r["time"]) >= {"read", "validate", "init", "flow", "metrics", "write", "total"}, "stages %s" % list(r["time"]))
+check(all(t is not None and t >= 0 for t in r["time"].values()), "negative stage time")
+# The flow is what the tool is for: it must beat the conformal start on area, by a wide margin.
+check(m["vertex_logr_mean_abs"] < 0.2 * i["vertex_logr_mean_abs"],
+      "vertex area error %g, initial %g" % (m["vertex_logr_mean_abs"], i["vertex_logr_mean_abs"]))
+check(m["r_mean_abs_dev"] < i["r_mean_abs_dev"], "face area error did not improve")
+PYEOF
+  ;;
+init_only)
+  run sphere "$IN" "$T/o/init.obj" --init-only --report "$T/o/init.json" --quiet
+  expect_status 0
+  [ ! -s "$T/log/stderr" ] || fail "--quiet run printed on stderr"
+  expect_on_sphere "$T/o/init.obj" 1e-12
+  $PY - "$REP" "$T/o/init.json" <<'PYEOF' || fail "the initial maps disagree"
+import json, sys
+full, init = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+if init["steps"] != 0 or init["folds"] != 0 or "initial_metrics" in init:
+    sys.exit("init-only report: steps %s folds %s" % (init["steps"], init["folds"]))
+a, b = full["initial_metrics"], init["metrics"]
+for k in ("r_mean_abs_dev", "r_cv", "upsilon_mean_abs", "lambda_mean", "vertex_logr_mean_abs"):
+    if abs(a[k] - b[k]) > 1e-9 * max(1.0, abs(b[k])):
+        sys.exit("%s: full run's initial %r, --init-only %r" % (k, a[k], b[k]))
+PYEOF
+  ;;
+*)
+  fail "unknown case '$1'"
+  ;;
+esac
+exit 0
