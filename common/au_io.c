@@ -475,8 +475,8 @@ static au_status ply_header(const char *path, const char *buf, size_t len, ply_e
   r = text_next(&t, &s, &e);
   if (r <= 0 || t.line != 1 || !tok_is(s, e, "ply")) return au_msg_set(msg, AU_E_FORMAT, "%s:1: not a PLY file (no 'ply' line)", path);
   for (;;) {
-    /* Header lines are read raw: '#' is not a comment character in PLY, but text_next's binary
-     * check and blank skipping are still what we want, and no keyword contains '#'. */
+    /* text_next cuts at '#', which PLY does not treat as a comment; that is harmless because no
+     * header keyword or name contains '#', and its binary check and blank skipping are wanted. */
     r = text_next(&t, &s, &e);
     if (r < 0) return au_msg_set(msg, AU_E_FORMAT, "%s:%d: binary data in the PLY header", path, t.line);
     if (r == 0) return au_msg_set(msg, AU_E_FORMAT, "%s: the PLY header has no end_header", path);
@@ -732,14 +732,21 @@ au_status au_io_read(const char *path, au_mesh **out, au_msg *msg) {
   au_status st = slurp(path, &buf, &len, msg);
   if (st != AU_OK) return st;
   au_fmt fmt = fmt_of(path);
+  /* Editors on some systems start text files with a UTF-8 byte-order mark; it is not part of the
+   * first record. */
+  const char *text = buf;
+  if ((fmt == AU_FMT_OBJ || fmt == AU_FMT_OFF) && len >= 3 && !memcmp(buf, "\xEF\xBB\xBF", 3)) {
+    text += 3;
+    len -= 3;
+  }
   if (fmt == AU_FMT_NONE)
     st = au_msg_set(msg, AU_E_FORMAT, "%s: unknown mesh file extension (expected .obj, .off, .ply or .stl)", path);
   else if (len == 0)
     st = au_msg_set(msg, AU_E_EMPTY, "%s: the file is empty", path);
   else if (fmt == AU_FMT_OBJ)
-    st = read_obj(path, buf, len, out, msg);
+    st = read_obj(path, text, len, out, msg);
   else if (fmt == AU_FMT_OFF)
-    st = read_off(path, buf, len, out, msg);
+    st = read_off(path, text, len, out, msg);
   else if (fmt == AU_FMT_PLY)
     st = read_ply(path, buf, len, out, msg);
   else
@@ -800,6 +807,7 @@ static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx
     what = "replace";
   }
   if (err) {
+    /* Best effort: the error being reported is the write's, and the name is ours alone. */
     unlink(tmp);
     free(tmp);
     return au_msg_set(msg, AU_E_IO, "cannot %s '%s': %s", what, path, strerror(err));

@@ -1,8 +1,11 @@
-/* au_io.h - reading and writing meshes (OBJ, OFF, PLY, STL) through the OpenMesh bridge.
+/* au_io.h - reading and writing meshes (OBJ, OFF, PLY, STL); STL goes through the OpenMesh bridge.
  *
- * The reader keeps the file's vertex order and face order exactly and checks that it did
- * (OpenMesh may drop or reorder on load): the bridge counts the file's own vertices and faces and
- * fails with AU_E_FORMAT if OpenMesh disagrees. Writers go to a temporary file beside the target
+ * The reader keeps the file's vertex order and face order exactly. OBJ, OFF and PLY are parsed
+ * by au_io.c itself, because OpenMesh repairs what it cannot represent (it splits non-manifold
+ * faces, drops faces with repeated corners) and reads PLY coordinates as float; a broken mesh must
+ * reach au_mesh_validate unrepaired. STL (float positions, no shared vertices) is read by OpenMesh,
+ * which merges equal positions in order of first appearance; its facet count is checked against the
+ * file's (AU_E_FORMAT if OpenMesh dropped any). Writers go to a temporary file beside the target
  * and rename it into place, so a failed run never leaves a partial or clobbered file. */
 #ifndef AU_IO_H
 #define AU_IO_H

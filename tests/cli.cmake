@@ -43,6 +43,10 @@ foreach(i RANGE 0 ${last} 2)
   au_cli_test(bad.${stem} bad_input.sh ${file} ${pattern})
 endforeach()
 
+foreach(c replace_existing not_converged options)
+  au_cli_test(${c} runs.sh ${c})
+endforeach()
+
 au_cli_test(unreferenced unreferenced.sh)
 foreach(mesh spiky_ico bumpy_star)
   au_cli_test(quality.${mesh} quality.sh map data/${mesh}.obj)

@@ -202,6 +202,7 @@ static int solver_linear_exact(void) {
   AU_CHECK_STATUS(au_solver_create(nv, t->ne, t->E, t->vb, &sv2, &msg), AU_OK, &msg);
   for (int e = 0; e < t->ne; e++) w[e] = -w[e];
   au_status st = au_solver_factor(sv2, w, NULL, &msg);
+  if (st != AU_E_NOT_SPD) fprintf(stderr, "factor of an indefinite matrix returned %s (%s)\n", au_status_name(st), msg.text);
   AU_CHECK(st == AU_E_NOT_SPD);
   au_solver_free(&sv2);
   au_solver_free(&sv);

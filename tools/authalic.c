@@ -76,23 +76,10 @@ static int fail(const char *path, au_status st, const au_msg *msg) {
   return au_status_is_input_error(st) ? EXIT_USAGE : EXIT_INTERNAL;
 }
 
-static void print_help(void) {
-  printf("authalic %s - equal-area (authalic) maps of triangle meshes by Lie advection\n\n"
-         "usage: authalic sphere IN OUT [options]   map a closed genus-0 mesh onto the unit sphere\n"
-         "       authalic sphere --help             options of the sphere command\n"
-         "       authalic --help | --version\n\n"
-         "IN is read as .obj .off .ply or .stl; OUT is written as .obj .off or .ply (by extension),\n"
-         "with the input's vertex order and faces. Exit status: 0 ok (also with warnings), 2 bad usage\n"
-         "or bad input, 1 internal or numerical failure.\n",
-         AU_VERSION);
-}
-
-static void print_sphere_help(void) {
+/* The options of the sphere command, with the defaults read from the library. */
+static void print_sphere_options(void) {
   au_sphere_opts d = au_sphere_opts_default();
-  printf("usage: authalic sphere IN OUT [options]\n\n"
-         "Maps the closed genus-0 triangle mesh IN onto the unit sphere so that every vertex cell keeps\n"
-         "its share of the surface area, and writes the map to OUT (.obj .off or .ply).\n\n"
-         "options:\n"
+  printf("options of sphere:\n"
          "  --report R.json  write a JSON report: metrics of the result and of the initial conformal\n"
          "                   map, per-step errors, stage times, warnings\n"
          "  --steps K        most advection steps, 1..%d (default %d)\n"
@@ -102,6 +89,26 @@ static void print_sphere_help(void) {
          "  --quiet          no progress and no summary on stderr (errors and warnings remain)\n"
          "  --help           this text\n",
          AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol);
+}
+
+static void print_help(void) {
+  printf("authalic %s - equal-area (authalic) maps of triangle meshes by Lie advection\n\n"
+         "usage: authalic sphere IN OUT [options]   map a closed genus-0 mesh onto the unit sphere\n"
+         "       authalic sphere --help             the sphere command in detail\n"
+         "       authalic --help | --version\n\n"
+         "IN is read as .obj .off .ply or .stl; OUT is written as .obj .off or .ply (by extension),\n"
+         "with the input's vertex order and faces. Exit status: 0 ok (also with warnings), 2 bad usage\n"
+         "or bad input, 1 internal or numerical failure.\n\n",
+         AU_VERSION);
+  print_sphere_options();
+}
+
+static void print_sphere_help(void) {
+  printf("usage: authalic sphere IN OUT [options]\n\n"
+         "Maps the closed genus-0 triangle mesh IN onto the unit sphere so that every vertex cell keeps\n"
+         "its share of the surface area, and writes the map to OUT (.obj .off or .ply). Progress and a\n"
+         "summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n");
+  print_sphere_options();
 }
 
 /* Everything the sphere command was asked to do. */
@@ -379,6 +386,9 @@ static int run_sphere(const cli_args *a) {
     rc = fail(a->out, st, &msg);
     goto done;
   }
+  /* A result that replaces an earlier one keeps its permissions, as au_io_write's own would. */
+  struct stat old;
+  if (stat(a->out, &old) == 0 && S_ISREG(old.st_mode)) chmod(tmp, old.st_mode & 07777);
   stages[nst++] = (au_report_stage){"write", now_s() - t0};
 
   if (a->report) {

@@ -3,8 +3,8 @@
 # nor over an existing file (which keeps its bytes).
 # sh bad_input.sh PROG SOURCE_DIR SHARED_DIR FILE REGEX
 . "$(dirname "$0")/lib.sh"
-IN=$SRC/tests/cli/bad/$1
-[ -f "$IN" ] || fail "corpus file $IN is missing"
+[ -f "$SRC/tests/cli/bad/$1" ] || fail "corpus file $SRC/tests/cli/bad/$1 is missing"
+IN=$(stage "$SRC/tests/cli/bad/$1")
 
 run sphere "$IN" "$T/o/out.obj" --report "$T/o/report.json"
 expect_rejected "$2"

@@ -2,7 +2,7 @@
 # directory, an output that is a directory, and an existing output left untouched by a failed run.
 # sh files.sh PROG SOURCE_DIR SHARED_DIR CASE
 . "$(dirname "$0")/lib.sh"
-GOOD=$SRC/tests/cli/unreferenced.obj
+GOOD=$(stage "$SRC/tests/cli/unreferenced.obj")
 
 case $1 in
 missing_input)
@@ -33,7 +33,7 @@ keep_existing)
   # The run fails late (in validation, after the output name was accepted).
   printf 'the previous result\n' >"$T/o/out.obj"
   cp "$T/o/out.obj" "$T/keep"
-  run sphere "$SRC/tests/cli/bad/torus.obj" "$T/o/out.obj" --report "$T/o/r.json"
+  run sphere "$(stage "$SRC/tests/cli/bad/torus.obj")" "$T/o/out.obj" --report "$T/o/r.json"
   expect_status 2
   expect_one_error_line
   cmp -s "$T/o/out.obj" "$T/keep" || fail "the existing output was changed by a failed run"

@@ -1,7 +1,8 @@
 # lib.sh - helpers shared by the end-to-end tests of the `authalic` program (POSIX sh, sourced).
 # Every script is called as: sh SCRIPT.sh PROG SOURCE_DIR SHARED_DIR [ARGS...]; it exits 0 (pass),
 # 1 (fail) or 77 (skip). Each run gets a private scratch folder: $T/o for outputs, $T/log for the
-# program's stdout and stderr, so "no file was left behind" is simply "$T/o is empty".
+# program's stdout and stderr, so "no file was left behind" is simply "$T/o is empty". Inputs are
+# copied into $T/in first (`stage`), so a misbehaving program can never damage the source tree.
 
 PROG=$1
 SRC=$2
@@ -10,7 +11,7 @@ shift 3
 
 T=$(mktemp -d "${TMPDIR:-/tmp}/authalic-cli.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
-mkdir "$T/o" "$T/log" || exit 1
+mkdir "$T/o" "$T/log" "$T/in" || exit 1
 PY=/usr/bin/python3
 
 # The test's verdict, with the program's output for the log.
@@ -23,6 +24,12 @@ fail() {
     fi
   done
   exit 1
+}
+
+# Copy an input file into the scratch folder and print the copy's path.
+stage() {
+  cp "$1" "$T/in/" || fail "cannot copy $1"
+  echo "$T/in/$(basename "$1")"
 }
 
 skip() {

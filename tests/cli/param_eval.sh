@@ -2,10 +2,10 @@
 # AU_SHARED_DIR/tools/param-eval on the same map (skipped where it is absent).
 # sh param_eval.sh PROG SOURCE_DIR SHARED_DIR MESH   (MESH relative to the source dir)
 . "$(dirname "$0")/lib.sh"
-IN=$SRC/$1
 PE=$SHARED/tools/param-eval
 [ -f "$PE" ] || skip "$PE is absent"
-[ -f "$IN" ] || skip "$IN is missing (run au_mkdata to generate data/)"
+[ -f "$SRC/$1" ] || skip "$SRC/$1 is missing (run au_mkdata to generate data/)"
+IN=$(stage "$SRC/$1")
 OUT=$T/o/map.obj
 REP=$T/o/report.json
 

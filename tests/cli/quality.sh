@@ -4,9 +4,9 @@
 # CASE map: full run checked against the report. init_only: --init-only gives the initial map
 # whose metrics the full run reports as initial_metrics.
 . "$(dirname "$0")/lib.sh"
-IN=$SRC/$2
 # data/ is made by the project's generator; without it there is nothing to map.
-[ -f "$IN" ] || skip "$IN is missing (run au_mkdata to generate data/)"
+[ -f "$SRC/$2" ] || skip "$SRC/$2 is missing (run au_mkdata to generate data/)"
+IN=$(stage "$SRC/$2")
 OUT=$T/o/map.obj
 REP=$T/o/report.json
 

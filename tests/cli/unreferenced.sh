@@ -2,7 +2,7 @@
 # output keeps that vertex at its index: same vertex count, same faces, every vertex on the sphere.
 # sh unreferenced.sh PROG SOURCE_DIR SHARED_DIR
 . "$(dirname "$0")/lib.sh"
-IN=$SRC/tests/cli/unreferenced.obj
+IN=$(stage "$SRC/tests/cli/unreferenced.obj")
 OUT=$T/o/map.obj
 
 run sphere "$IN" "$OUT" --quiet --report "$T/o/r.json"

@@ -1,7 +1,7 @@
 # usage.sh - command-line usage of `authalic`: help, version, and every kind of bad usage.
 # sh usage.sh PROG SOURCE_DIR SHARED_DIR CASE
 . "$(dirname "$0")/lib.sh"
-IN=$SRC/tests/cli/unreferenced.obj
+IN=$(stage "$SRC/tests/cli/unreferenced.obj")
 OUT=$T/o/out.obj
 
 case $1 in
@@ -90,7 +90,7 @@ in_eq_out)
   run sphere "$T/in.obj" "$T/./in.obj"
   expect_status 2
   expect_err 'is the input'
-  cmp -s "$IN" "$T/in.obj" || fail "the input was modified"
+  cmp -s "$SRC/tests/cli/unreferenced.obj" "$T/in.obj" || fail "the input was modified"
   run sphere "$IN" "$OUT" --report "$IN"
   expect_rejected 'report .* is the input'
   run sphere "$IN" "$OUT" --report "$OUT"
