@@ -31,6 +31,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.tol = 1e-3;
   o.max_move = 0.3;
   o.newton_below = 0.05;
+  o.max_log_step = 0.7;
   o.face_steps = 20;
   o.face_tol = 1e-3;
   o.face_damping = 0.1;
@@ -159,15 +160,8 @@ static void adjacency_free(adjacency *a) {
  *    smaller inradius of the edge's triangles, which bounds the extra relative motion by c inradii.
  *    This is a shortest-path envelope, computed with Dijkstra's algorithm from every vertex at once.
  * inr [0..nf-1] holds the faces' inradii; heap and pos are scratch of nv ints. */
-static void step_control(const au_topo *t, const adjacency *adj, const int *F, int nf, int nv, const double *P,
-                         const double *inr, const double *D, double c, double *s, int *heap, int *pos) {
-  for (int i = 0; i < nv; i++) s[i] = 1;
-  for (int f = 0; f < nf; f++) {
-    const int *v = F + 3 * f;
-    double tf = face_safe_t(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2], D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], 0.25);
-    for (int k = 0; k < 3; k++)
-      if (tf < s[v[k]]) s[v[k]] = tf;
-  }
+static void envelope(const au_topo *t, const adjacency *adj, int nv, const double *inr, const double *D, double c,
+                     double *s, int *heap, int *pos) {
   int n = nv;
   for (int i = 0; i < nv; i++) heap[i] = i, pos[i] = i;
   for (int k = n / 2 - 1; k >= 0; k--) heap_down(heap, pos, s, n, k);
@@ -194,6 +188,18 @@ static void step_control(const au_topo *t, const adjacency *adj, const int *F, i
       }
     }
   }
+}
+
+static void step_control(const au_topo *t, const adjacency *adj, const int *F, int nf, int nv, const double *P,
+                         const double *inr, const double *D, double c, double *s, int *heap, int *pos) {
+  for (int i = 0; i < nv; i++) s[i] = 1;
+  for (int f = 0; f < nf; f++) {
+    const int *v = F + 3 * f;
+    double tf = face_safe_t(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2], D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], 0.25);
+    for (int k = 0; k < 3; k++)
+      if (tf < s[v[k]]) s[v[k]] = tf;
+  }
+  envelope(t, adj, nv, inr, D, c, s, heap, pos);
 }
 
 au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
@@ -333,7 +339,11 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
           b[i] = 0;
           continue;
         }
-        b[i] = AO[i] * exp(s * log(b[i] / AO[i]));
+        /* The ratio moves by rho^s, but never by more than a factor e^max_log_step in one step. */
+        double lr = s * log(b[i] / AO[i]);
+        if (lr > o.max_log_step) lr = o.max_log_step;
+        if (lr < -o.max_log_step) lr = -o.max_log_step;
+        b[i] = AO[i] * exp(lr);
         sum_new += b[i];
       }
       double renorm = SO / sum_new;
@@ -380,12 +390,10 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     double frac_sum = 0;
     int nused = 0;
     for (int i = 0; i < nv; i++) {
-      double *d = D + 3 * i;
       if (!t->vused[i]) {
-        d[0] = d[1] = d[2] = 0;
+        lim[i] = 0;
         continue;
       }
-      d[0] *= lim[i], d[1] *= lim[i], d[2] *= lim[i];
       frac_sum += lim[i];
       nused++;
     }
@@ -393,8 +401,17 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
 
     memcpy(Pold, P, sizeof(double) * 3 * nv);
     for (int tries = 0;; tries++) {
-      for (int i = 0; i < 3 * nv; i++) P[i] = Pold[i] + D[i];
-      for (int i = 0; i < nv; i++) dom->retract(dom->ctx, i, P + 3 * i);
+      /* A vertex that does not move keeps its exact position: retracting it again could nudge a
+       * nearly flat triangle across zero. */
+      for (int i = 0; i < nv; i++) {
+        double *p = P + 3 * i, *q = Pold + 3 * i, *d = D + 3 * i;
+        if (lim[i] == 0) {
+          p[0] = q[0], p[1] = q[1], p[2] = q[2];
+          continue;
+        }
+        p[0] = q[0] + lim[i] * d[0], p[1] = q[1] + lim[i] * d[1], p[2] = q[2] + lim[i] * d[2];
+        dom->retract(dom->ctx, i, p);
+      }
       int nbad = 0;
       memset(bad, 0, (size_t)nv);
       for (int f = 0; f < nf; f++) {
@@ -403,14 +420,13 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
         for (int e = 0; e < 3; e++) bad[F[3 * f + e]] = 1;
       }
       if (!nbad) break;
-      /* Backtrack locally: halve the move of the vertices of flipped triangles; after enough halvings
-       * they stay where they were, which is fold-free. */
+      /* Backtrack locally and smoothly: halve the fraction of the vertices of flipped triangles and
+       * restore the Lipschitz envelope, so that the neighbours slow down with them (halving alone
+       * would shear the triangles around them). After enough halvings they stay where they were. */
       for (int i = 0; i < nv; i++)
-        if (bad[i]) {
-          double h = tries < 20 ? 0.5 : 0.0;
-          D[3 * i] *= h, D[3 * i + 1] *= h, D[3 * i + 2] *= h;
-        }
-      if (tries > 21) {
+        if (bad[i]) lim[i] = tries < 30 ? 0.5 * lim[i] : 0;
+      envelope(t, &adj, nv, inr, D, o.max_move, lim, heap, hpos);
+      if (tries > 31) {
         memcpy(P, Pold, sizeof(double) * 3 * nv);
         break;
       }

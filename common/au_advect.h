@@ -25,6 +25,7 @@ typedef struct au_advect_domain {
 typedef struct au_advect_opts {
   int max_steps;        /* most advection steps, 1..AU_ADVECT_MAX_STEPS (default 60) */
   int schedule_steps;   /* K of eq. 19: the remaining excess is spread over K-k+1 steps (default 12) */
+  double max_log_step;  /* a cell's area changes by at most this factor's log in one step (default 0.7) */
   double tol;           /* stop when the vertex-level mean |ln(area ratio)| is below this (default 1e-3) */
   double newton_below;  /* switch from the paper's Poisson step to the exact Gauss-Newton step on the
                            vertex areas once the error is below this (default 0.05; 0: never, inf: always) */
