@@ -30,9 +30,9 @@ au_advect_opts au_advect_opts_default(void) {
   o.schedule_steps = 12;
   o.tol = 1e-3;
   o.max_move = 0.3;
-  o.newton_below = 0.05;
+  o.newton_below = 0.7;
   o.max_log_step = 0.7;
-  o.face_steps = 20;
+  o.face_steps = 30;
   o.face_tol = 1e-3;
   o.face_damping = 0.1;
   return o;
