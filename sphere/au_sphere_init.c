@@ -32,7 +32,9 @@ static int pick_face(const au_mesh *m, const double *area) {
       double l2 = 0;
       for (int d = 0; d < 3; d++) l2 += (b[d] - a[d]) * (b[d] - a[d]) + (c[d] - b[d]) * (c[d] - b[d]) + (a[d] - c[d]) * (a[d] - c[d]);
       double q = l2 > 0 ? 4 * sqrt(3.0) * area[f] / l2 : 0; /* 1 for an equilateral triangle */
-      if (q > bestq) bestq = q, best = f;
+      /* Ties (symmetric meshes) go to the lowest index whatever the rounding, so the map does not
+       * depend on the unit of the input. */
+      if (q > bestq + 1e-9) bestq = q, best = f;
     }
   }
   return best;
