@@ -50,6 +50,5 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
   t0 = now_s();
   st = au_advect_run(m, t, &dom, &o.flow, P, &rep->flow, msg);
   rep->t_flow = now_s() - t0;
-  for (int i = 0; i < m->nv; i++) sphere_retract(NULL, i, P + 3 * i);
   return st;
 }
