@@ -23,6 +23,10 @@
 #include "au_dec.h"
 #include "au_solver.h"
 
+/* Smallest orientation (twice the signed area, or the triple product on the unit sphere) a triangle
+ * may be moved down to: far above the ~1e-16 rounding of the determinant of unit vectors. */
+#define AU_ORIENT_MARGIN 1e-13
+
 au_advect_opts au_advect_opts_default(void) {
   au_advect_opts o;
   memset(&o, 0, sizeof o);
@@ -226,9 +230,9 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
   unsigned char *fixed = calloc((size_t)nv, 1), *bad = calloc((size_t)nv, 1);
   int *heap = malloc(sizeof(int) * nv), *hpos = malloc(sizeof(int) * nv);
   double *inr = malloc(sizeof(double) * nf), *As = malloc(sizeof(double) * nf), *fw = malloc(sizeof(double) * nf);
-  double *dA_f = malloc(sizeof(double) * nf);
+  double *dA_f = malloc(sizeof(double) * nf), *orient_old = malloc(sizeof(double) * nf);
   adjacency adj = {NULL, NULL};
-  if (!AM || !AO || !b || !g || !lim || !af || !Gf || !D || !Pold || !w || !fixed || !bad || !heap || !hpos || !inr || !As || !fw || !dA_f ||
+  if (!AM || !AO || !b || !g || !lim || !af || !Gf || !D || !Pold || !w || !fixed || !bad || !heap || !hpos || !inr || !As || !fw || !dA_f || !orient_old ||
       !adjacency_build(t, &adj)) {
     st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
     goto done;
@@ -400,6 +404,7 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     rep->frac[k] = nused ? frac_sum / nused : 0;
 
     memcpy(Pold, P, sizeof(double) * 3 * nv);
+    for (int f = 0; f < nf; f++) orient_old[f] = face_orient(P, F, f, sph);
     for (int tries = 0;; tries++) {
       /* A vertex that does not move keeps its exact position: retracting it again could nudge a
        * nearly flat triangle across zero. */
@@ -415,7 +420,11 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       int nbad = 0;
       memset(bad, 0, (size_t)nv);
       for (int f = 0; f < nf; f++) {
-        if (face_orient(P, F, f, sph) > 0) continue;
+        /* Orientation with a margin: a triangle must stay above AU_ORIENT_MARGIN (or, if it already was
+         * below, must not get flatter), so that its sign survives a re-normalization of the output by
+         * a reader (param-eval normalizes again) and the rounding of other formulas for the same sign. */
+        double o_new = face_orient(P, F, f, sph);
+        if (o_new > AU_ORIENT_MARGIN || (o_new > 0 && o_new >= orient_old[f])) continue;
         nbad++;
         for (int e = 0; e < 3; e++) bad[F[3 * f + e]] = 1;
       }
@@ -441,7 +450,7 @@ done:
   au_solver_free(&solver);
   au__gn_free(&gn);
   free(AM), free(AO), free(b), free(g), free(lim), free(af), free(Gf), free(D), free(Pold), free(w), free(fixed), free(bad);
-  free(heap), free(hpos), free(inr), free(As), free(fw), free(dA_f);
+  free(heap), free(hpos), free(inr), free(As), free(fw), free(dA_f), free(orient_old);
   au__gn_free(&gnf);
   adjacency_free(&adj);
   return st;
