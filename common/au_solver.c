@@ -31,6 +31,18 @@ static void configure(cholmod_common *c) {
   c->supernodal = CHOLMOD_SUPERNODAL;
 }
 
+/* Numeric factorization with every outcome checked. cholmod_factorize returns TRUE on a matrix that
+ * is not positive definite, so the status and L->minor are checked too. */
+static au_status factorize(cholmod_sparse *A, cholmod_factor *L, cholmod_common *c, au_msg *msg) {
+  int ok = cholmod_factorize(A, L, c);
+  if (c->status == CHOLMOD_OUT_OF_MEMORY) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory in factorization");
+  if (c->status == CHOLMOD_NOT_POSDEF || L->minor < L->n)
+    return au_msg_set(msg, AU_E_NOT_SPD, "solver: matrix not positive definite (failed at column %d of %d)", (int)L->minor,
+                      (int)L->n);
+  if (!ok || c->status < CHOLMOD_OK) return au_msg_set(msg, AU_E_NUMERIC, "solver: factorization failed (status %d)", c->status);
+  return AU_OK;
+}
+
 static int cmp_int(const void *a, const void *b) {
   int x = *(const int *)a, y = *(const int *)b;
   return (x > y) - (x < y);
@@ -140,15 +152,9 @@ au_status au_solver_factor(au_solver *s, const double *w, const double *d, au_ms
     for (int i = 0; i < s->n; i++)
       if (s->idx[i] >= 0) Ax[s->diag_pos[s->idx[i]]] += d[i];
   s->factored = 0;
-  int ok = cholmod_factorize(s->A, s->L, &s->c);
-  /* cholmod_factorize returns TRUE on a matrix that is not positive definite: check status and minor. */
-  if (s->c.status == CHOLMOD_OUT_OF_MEMORY) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory in factorization");
-  if (s->c.status == CHOLMOD_NOT_POSDEF || s->L->minor < s->L->n)
-    return au_msg_set(msg, AU_E_NOT_SPD, "solver: matrix not positive definite (failed at column %d of %d)",
-                      (int)s->L->minor, (int)s->L->n);
-  if (!ok || s->c.status < CHOLMOD_OK) return au_msg_set(msg, AU_E_NUMERIC, "solver: factorization failed (status %d)", s->c.status);
-  s->factored = 1;
-  return AU_OK;
+  au_status st = factorize(s->A, s->L, &s->c, msg);
+  s->factored = st == AU_OK;
+  return st;
 }
 
 au_status au_solver_solve(au_solver *s, int nrhs, const double *b, double *x, au_msg *msg) {
@@ -248,14 +254,9 @@ double *au_spd_values(au_spd *s) { return s ? (double *)s->A->x : NULL; }
 au_status au_spd_factor(au_spd *s, au_msg *msg) {
   if (!s) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
   s->factored = 0;
-  int ok = cholmod_factorize(s->A, s->L, &s->c);
-  if (s->c.status == CHOLMOD_OUT_OF_MEMORY) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory in factorization");
-  if (s->c.status == CHOLMOD_NOT_POSDEF || s->L->minor < s->L->n)
-    return au_msg_set(msg, AU_E_NOT_SPD, "solver: matrix not positive definite (failed at column %d of %d)",
-                      (int)s->L->minor, (int)s->L->n);
-  if (!ok || s->c.status < CHOLMOD_OK) return au_msg_set(msg, AU_E_NUMERIC, "solver: factorization failed (status %d)", s->c.status);
-  s->factored = 1;
-  return AU_OK;
+  au_status st = factorize(s->A, s->L, &s->c, msg);
+  s->factored = st == AU_OK;
+  return st;
 }
 
 au_status au_spd_solve(au_spd *s, const double *b, double *x, au_msg *msg) {
