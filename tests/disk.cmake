@@ -1,0 +1,1 @@
+# tests for disk/ (disk, annulus, square maps)

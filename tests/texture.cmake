@@ -1,0 +1,1 @@
+# tests for the spherical textures and sampling (sphere/ texture module)

@@ -1,0 +1,209 @@
+/* cmd_sphere.c - `authalic sphere IN OUT`: a closed genus-0 mesh onto the unit sphere. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "au_advect.h"
+#include "au_sphere.h"
+#include "cli.h"
+
+#define HELP "authalic sphere --help"
+
+/* The options of the sphere command, with the defaults read from the library. */
+void cli_print_sphere_options(void) {
+  au_sphere_opts d = au_sphere_opts_default();
+  printf("options of sphere:\n"
+         "  --report R.json  write a JSON report: metrics of the result and of the initial conformal\n"
+         "                   map, per-step errors, stage times, warnings\n"
+         "  --steps K        most advection steps, 1..%d (default %d)\n"
+         "  --tol T          stop when the vertex mean |log area ratio| is below T, T >= 0 (default %g)\n"
+         "  --no-balance     skip the Moebius balancing of the conformal start\n"
+         "  --init-only      stop after the conformal start (and balancing), for comparison\n"
+         "  --quiet          no progress and no summary on stderr (errors and warnings remain)\n"
+         "  --help           this text\n",
+         AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol);
+}
+
+static void print_sphere_help(void) {
+  printf("usage: authalic sphere IN OUT [options]\n\n"
+         "Maps the closed genus-0 triangle mesh IN onto the unit sphere so that every vertex cell keeps\n"
+         "its share of the surface area, and writes the map to OUT (.obj .off or .ply). Progress and a\n"
+         "summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n");
+  cli_print_sphere_options();
+}
+
+/* Everything the sphere command was asked to do. */
+typedef struct sphere_args {
+  const char *in, *out, *report;
+  int steps, has_steps; /* --steps, and whether it was given */
+  double tol;
+  int has_tol;
+  int no_balance, quiet, init_only;
+} sphere_args;
+
+/* Parse `authalic sphere ...` (argv[0] is "sphere"). Returns -1 to go on, else an exit code. */
+static int parse_sphere(int argc, char **argv, sphere_args *a) {
+  int npos = 0, dashdash = 0;
+  for (int i = 1; i < argc; i++) {
+    const char *s = argv[i];
+    if (dashdash || s[0] != '-' || s[1] == '\0') {
+      if (npos == 0) a->in = s;
+      else if (npos == 1) a->out = s;
+      else return cli_usage_error(HELP, "unexpected extra argument '%s'", s);
+      npos++;
+      continue;
+    }
+    if (strcmp(s, "--") == 0) {
+      dashdash = 1;
+    } else if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
+      print_sphere_help();
+      return EXIT_OK;
+    } else if (strcmp(s, "--no-balance") == 0) {
+      if (a->no_balance++) return cli_usage_error(HELP, "option '%s' given twice", s);
+    } else if (strcmp(s, "--quiet") == 0) {
+      if (a->quiet++) return cli_usage_error(HELP, "option '%s' given twice", s);
+    } else if (strcmp(s, "--init-only") == 0) {
+      if (a->init_only++) return cli_usage_error(HELP, "option '%s' given twice", s);
+    } else if (strcmp(s, "--report") == 0 || strcmp(s, "--steps") == 0 || strcmp(s, "--tol") == 0) {
+      if (i + 1 >= argc) return cli_usage_error(HELP, "option '%s' needs a value", s);
+      const char *v = argv[++i];
+      if (strcmp(s, "--report") == 0) {
+        if (a->report) return cli_usage_error(HELP, "option '%s' given twice", s);
+        if (!*v) return cli_usage_error(HELP, "option '--report' needs a file name");
+        a->report = v;
+      } else if (strcmp(s, "--steps") == 0) {
+        if (a->has_steps++) return cli_usage_error(HELP, "option '%s' given twice", s);
+        if (cli_parse_int(v, 1, AU_ADVECT_MAX_STEPS, &a->steps))
+          return cli_usage_error(HELP, "--steps '%s': expected a whole number from 1 to %d", v, AU_ADVECT_MAX_STEPS);
+      } else {
+        if (a->has_tol++) return cli_usage_error(HELP, "option '%s' given twice", s);
+        if (cli_parse_nonneg(v, &a->tol)) return cli_usage_error(HELP, "--tol '%s': expected a finite number >= 0", v);
+      }
+    } else {
+      return cli_usage_error(HELP, "unknown option '%s'", s);
+    }
+  }
+  if (npos < 2) return cli_usage_error(HELP, npos == 0 ? "missing input and output files" : "missing output file");
+  if (!*a->in || !*a->out) return cli_usage_error(HELP, "empty file name");
+  if (a->init_only && (a->has_steps || a->has_tol))
+    return cli_usage_error(HELP, "--init-only runs no advection: --steps and --tol do not apply");
+  int rc = cli_check_outputs(HELP, a->in, a->out, a->report);
+  return rc ? rc : -1;
+}
+
+/* The sphere command after parsing. All resources are released at `done`. */
+static int run_sphere(const sphere_args *a) {
+  double t_start = cli_now(), t0;
+  au_report_stage stages[8];
+  int nst = 0, rc = EXIT_INTERNAL;
+  cli_warnings warn;
+  warn.n = 0;
+  au_mesh *m = NULL;
+  au_topo *topo = NULL;
+  double *P = NULL, *Pinit = NULL;
+  au_msg msg = {{0}};
+  au_status st;
+  au_metrics fin, ini;
+  int have_init = 0;
+
+  cli_progress_state prog;
+  cli_progress_init(&prog, a->quiet);
+  au_sphere_opts opts = au_sphere_opts_default();
+  if (a->has_steps) opts.flow.max_steps = a->steps;
+  if (a->has_tol) opts.flow.tol = a->tol;
+  if (a->no_balance) opts.balance = 0;
+  if (!a->quiet) opts.flow.progress = cli_progress, opts.flow.user = &prog;
+
+  au_mesh_expect ex = au_mesh_expect_default();
+  ex.loops = 0, ex.genus = 0, ex.command = "sphere";
+  rc = cli_load(a->in, &ex, &m, &topo, &warn, stages, &nst);
+  if (rc >= 0) goto done;
+  rc = EXIT_INTERNAL;
+
+  size_t n3 = 3 * (size_t)m->nv;
+  P = malloc(n3 * sizeof *P);
+  if (!P) {
+    rc = cli_fail(a->in, AU_E_NOMEM, NULL);
+    goto done;
+  }
+
+  au_sphere_report rep;
+  memset(&rep, 0, sizeof rep);
+  double t_extra = 0; /* the initial map computed again only for the report's initial metrics */
+  if (a->init_only) {
+    t0 = cli_now();
+    st = au_sphere_conformal(m, topo, P, &msg);
+    if (st == AU_OK && opts.balance) st = au_sphere_balance(m, topo, P, &msg);
+    rep.t_init = cli_now() - t0;
+  } else {
+    /* au_sphere_map does not hand out its starting point, so the initial map's metrics cost one
+     * more conformal solve; only a run that asks for a report pays for it. */
+    if (a->report) {
+      t0 = cli_now();
+      Pinit = malloc(n3 * sizeof *Pinit);
+      st = Pinit ? au_sphere_conformal(m, topo, Pinit, &msg) : AU_E_NOMEM;
+      if (st == AU_OK && opts.balance) st = au_sphere_balance(m, topo, Pinit, &msg);
+      if (st == AU_OK) st = au_metrics_compute(m->nv, m->nf, m->X, Pinit, m->F, AU_DOMAIN_SPHERE, &ini, NULL, NULL);
+      if (st != AU_OK) {
+        rc = cli_fail(a->in, st, &msg);
+        goto done;
+      }
+      have_init = 1;
+      t_extra = cli_now() - t0;
+    }
+    st = au_sphere_map(m, topo, &opts, P, &rep, &msg);
+    cli_progress_end(&prog);
+  }
+  if (st < 0) {
+    rc = cli_fail(a->in, st, &msg);
+    goto done;
+  }
+  if (st == AU_W_NOT_CONVERGED) {
+    int k = rep.flow.steps;
+    cli_warn(&warn, a->in, "tolerance %g not reached in %d steps (error %.3e)", opts.flow.tol, k, rep.flow.err[k]);
+  }
+  stages[nst++] = (au_report_stage){"init", rep.t_init};
+  stages[nst++] = (au_report_stage){"flow", rep.t_flow};
+
+  t0 = cli_now();
+  st = au_metrics_compute(m->nv, m->nf, m->X, P, m->F, AU_DOMAIN_SPHERE, &fin, NULL, NULL);
+  if (st != AU_OK) {
+    rc = cli_fail(a->in, st, NULL);
+    goto done;
+  }
+  /* A folded map is never written: zero folds is the tool's promise, not a hope. */
+  rc = cli_refuse_folds(a->in, &fin);
+  if (rc >= 0) goto done;
+  stages[nst++] = (au_report_stage){"metrics", cli_now() - t0 + t_extra};
+  stages[nst] = (au_report_stage){"write", 0};
+  au_report_info info = {AU_VERSION, "sphere", a->in, a->out, m->nv, m->nf,
+                         rep.flow.steps, a->init_only ? 0 : rep.flow.converged,
+                         have_init ? &ini : NULL, &fin, stages, nst + 1,
+                         a->init_only ? NULL : rep.flow.err, a->init_only ? NULL : rep.flow.frac,
+                         warn.list, warn.n};
+  rc = cli_publish(a->out, m, P, NULL, a->report, &info, &stages[nst]);
+  if (rc != EXIT_OK) goto done;
+
+  if (!a->quiet)
+    fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs\n",
+            m->nv, m->nf, rep.flow.steps, fin.folds, fin.r_mean_abs_dev, fin.vertex_logr_mean_abs,
+            cli_now() - t_start);
+  rc = EXIT_OK;
+
+done:
+  cli_progress_end(&prog);
+  free(P);
+  free(Pinit);
+  au_topo_free(&topo);
+  au_mesh_free(&m);
+  return rc;
+}
+
+int cli_cmd_sphere(int argc, char **argv) {
+  sphere_args a;
+  memset(&a, 0, sizeof a);
+  int rc = parse_sphere(argc, argv, &a);
+  return rc >= 0 ? rc : run_sphere(&a);
+}
