@@ -27,6 +27,14 @@
  * may be moved down to: far above the ~1e-16 rounding of the determinant of unit vectors. */
 #define AU_ORIENT_MARGIN 1e-13
 
+/* The least-shear step weighs a face by its target area, but by at most this many times its current
+ * area (a face squeezed by e^-20 would otherwise make the system singular in double precision). */
+#define AU_WEIGHT_CAP 100.0
+
+/* Kinetic-energy weight of the least-shear step: only fixes the rigid rotations, which change neither
+ * areas nor angles. */
+#define AU_ROTATION_EPS 1e-6
+
 au_advect_opts au_advect_opts_default(void) {
   au_advect_opts o;
   memset(&o, 0, sizeof o);
@@ -39,6 +47,9 @@ au_advect_opts au_advect_opts_default(void) {
   o.face_steps = 30;
   o.face_tol = 1e-3;
   o.face_damping = 0.1;
+  o.method = AU_ADVECT_LEAST_SHEAR;
+  o.shear = 1;
+  o.shear_tail = 0.01;
   return o;
 }
 
@@ -52,9 +63,7 @@ static double now_s(void) {
  * z component of the cross product. Positive means correctly oriented. */
 static double face_orient(const double *P, const int *F, int f, int spherical) {
   const double *a = P + 3 * F[3 * f], *b = P + 3 * F[3 * f + 1], *c = P + 3 * F[3 * f + 2];
-  if (spherical) {
-    return a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
-  }
+  if (spherical) return au_dec_sphere_orient(a, b, c);
   return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
 
@@ -78,19 +87,27 @@ static double vertex_error(int nv, const unsigned char *used, const double *T, c
 }
 
 /* Smallest t in (0, 1] at which the triangle (a, b, c) moved by t*(da, db, dc) keeps only `keep` of its
- * area, measured in the plane of the triangle; 1 if it never gets there. */
+ * orientation, 1 if it never gets there. The orientation is the triangle's area projected onto the
+ * domain's normal (planar: z; sphere: the direction of the centroid), not onto its own plane: a thin
+ * triangle along a great circle has a sizeable chord area but almost no spherical orientation, and a
+ * small sideways move turns it over (measured on cheburashka). */
 static double face_safe_t(const double *a, const double *b, const double *c, const double *da, const double *db,
-                          const double *dc, double keep) {
+                          const double *dc, double keep, int spherical) {
   double e1[3], e2[3], d1[3], d2[3], n[3];
   for (int d = 0; d < 3; d++) e1[d] = b[d] - a[d], e2[d] = c[d] - a[d], d1[d] = db[d] - da[d], d2[d] = dc[d] - da[d];
-  n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  if (spherical) {
+    for (int d = 0; d < 3; d++) n[d] = a[d] + b[d] + c[d];
+  } else {
+    n[0] = 0, n[1] = 0, n[2] = 1;
+  }
   double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   if (!(nn > 0)) return 0;
   for (int d = 0; d < 3; d++) n[d] /= nn;
 #define AU_TRI(u, v) (n[0] * ((u)[1] * (v)[2] - (u)[2] * (v)[1]) + n[1] * ((u)[2] * (v)[0] - (u)[0] * (v)[2]) + n[2] * ((u)[0] * (v)[1] - (u)[1] * (v)[0]))
-  /* Twice the area along the way: c0 + c1 t + c2 t^2, with c0 = nn. */
-  double c0 = nn, c1 = AU_TRI(e1, d2) + AU_TRI(d1, e2), c2 = AU_TRI(d1, d2);
+  /* Twice the projected area along the way: c0 + c1 t + c2 t^2. */
+  double c0 = AU_TRI(e1, e2), c1 = AU_TRI(e1, d2) + AU_TRI(d1, e2), c2 = AU_TRI(d1, d2);
 #undef AU_TRI
+  if (!(c0 > 0)) return 0;
   double q0 = c0 * (1 - keep); /* solve c2 t^2 + c1 t + q0 = 0 for the first t > 0 */
   double tmin = 1;
   if (fabs(c2) < 1e-300) {
@@ -195,11 +212,11 @@ static void envelope(const au_topo *t, const adjacency *adj, int nv, const doubl
 }
 
 static void step_control(const au_topo *t, const adjacency *adj, const int *F, int nf, int nv, const double *P,
-                         const double *inr, const double *D, double c, double *s, int *heap, int *pos) {
+                         const double *inr, const double *D, double c, int spherical, double *s, int *heap, int *pos) {
   for (int i = 0; i < nv; i++) s[i] = 1;
   for (int f = 0; f < nf; f++) {
     const int *v = F + 3 * f;
-    double tf = face_safe_t(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2], D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], 0.25);
+    double tf = face_safe_t(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2], D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], 0.25, spherical);
     for (int k = 0; k < 3; k++)
       if (tf < s[v[k]]) s[v[k]] = tf;
   }
@@ -223,6 +240,8 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
   au_status st = AU_OK;
   au_solver *solver = NULL;
   au_gn *gn = NULL, *gnf = NULL;
+  au_lm *lm = NULL;
+  const int ls = o.method == AU_ADVECT_LEAST_SHEAR;
   double *AM = malloc(sizeof(double) * nv), *AO = malloc(sizeof(double) * nv), *b = malloc(sizeof(double) * nv);
   double *g = malloc(sizeof(double) * nv), *lim = malloc(sizeof(double) * nv), *af = malloc(sizeof(double) * nf);
   double *Gf = malloc(sizeof(double) * 3 * nf), *D = malloc(sizeof(double) * 3 * nv);
@@ -278,6 +297,7 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
   if (st != AU_OK) goto done;
 
   int k, face_phase = 0, face_steps = 0;
+  double alpha = o.shear; /* the least-shear step's current shear weight */
   double prev_err = INFINITY, prev_ferr = INFINITY;
   au_dec_face_areas(nf, F, m->X, As);
   for (k = 0;; k++) {
@@ -298,8 +318,27 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       st = au_msg_set(msg, AU_E_NUMERIC, "advect: area error is not a number at step %d", k);
       goto done;
     }
-    if (o.progress) o.progress(o.user, k, o.max_steps, err);
-    if (face_phase) {
+    if (o.progress) o.progress(o.user, k, o.max_steps, ls ? ferr : err);
+    if (ls) {
+      /* Levenberg-Marquardt control of the shear weight: a step that made the per-face error worse is
+       * undone and retried stiffer; an accepted one lets the next be bolder, down to shear_tail. */
+      if (k > 0 && ferr > prev_ferr * (1 + 1e-9)) {
+        memcpy(P, Pold, sizeof(double) * 3 * nv);
+        alpha = alpha * 4;
+        rep->err[k] = err = prev_err;
+        rep->face_err[k] = ferr = prev_ferr;
+        if (k == o.max_steps) break;
+        continue;
+      }
+      if (k > 0) alpha = fmax(0.5 * alpha, o.shear_tail);
+      /* Done when the vertex cells meet the tolerance and the faces theirs (or no longer improve:
+       * less than 2% in the last four steps). */
+      int stalled = k >= o.schedule_steps + 4 && ferr > 0.98 * rep->face_err[k - 4];
+      if (err <= o.tol && (ferr <= fmax(o.face_tol, o.tol) || stalled)) {
+        rep->converged = 1;
+        break;
+      }
+    } else if (face_phase) {
       /* Refine while the per-face error falls; a step that made it worse is undone. */
       if (ferr >= prev_ferr) {
         memcpy(P, Pold, sizeof(double) * 3 * nv);
@@ -322,7 +361,37 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     if (k == o.max_steps) break;
 
     t0 = now_s();
-    if (face_phase) {
+    if (ls) {
+      /* Per-face targets on the geometric schedule, each ratio moving at most e^max_log_step. */
+      double s = k < o.schedule_steps ? 1.0 / (double)(o.schedule_steps - k) : 1.0, sum_new = 0;
+      for (int f = 0; f < nf; f++) {
+        double lr = s * log(As[f] * fw[f] * scale / af[f]);
+        if (lr > o.max_log_step) lr = o.max_log_step;
+        if (lr < -o.max_log_step) lr = -o.max_log_step;
+        dA_f[f] = af[f] * exp(lr);
+        sum_new += dA_f[f];
+      }
+      double renorm = SO / sum_new;
+      for (int f = 0; f < nf; f++) dA_f[f] = dA_f[f] * renorm - af[f];
+      if (!lm) {
+        st = au__lm_create(m, t, &lm, msg);
+        if (st != AU_OK) goto done;
+      }
+      /* Face weights: the target areas (the faces' shares of the surface), at most AU_WEIGHT_CAP times
+       * the current area so that the system stays well conditioned. */
+      for (int f = 0; f < nf; f++) Gf[f] = fmin(As[f] * fw[f] * scale, AU_WEIGHT_CAP * af[f]);
+      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, D, msg);
+      if (st == AU_E_NOT_SPD && alpha < 1e6) {
+        /* Rounding made the system indefinite: retry stiffer (the shear term is definite but for the
+         * rotations). Nothing has moved: the next round sees the same map. */
+        alpha *= 16;
+        memcpy(Pold, P, sizeof(double) * 3 * nv);
+        rep->frac[k] = 0;
+        msg ? (void)(msg->text[0] = '\0') : (void)0;
+        st = AU_OK;
+        continue;
+      }
+    } else if (face_phase) {
       /* Per-face refinement: damped Gauss-Newton on the triangle areas. */
       if (!gnf) {
         st = au__gn_create(m, t, 1, &gnf, msg);
@@ -390,7 +459,7 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       }
       inr[f] = per > 0 ? 2.0 * af[f] / per : 0;
     }
-    step_control(t, &adj, F, nf, nv, P, inr, D, o.max_move, lim, heap, hpos);
+    step_control(t, &adj, F, nf, nv, P, inr, D, o.max_move, sph, lim, heap, hpos);
     double frac_sum = 0;
     int nused = 0;
     for (int i = 0; i < nv; i++) {
@@ -420,25 +489,25 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       int nbad = 0;
       memset(bad, 0, (size_t)nv);
       for (int f = 0; f < nf; f++) {
-        /* Orientation with a margin: a triangle must stay above AU_ORIENT_MARGIN (or, if it already was
-         * below, must not get flatter), so that its sign survives a re-normalization of the output by
-         * a reader (param-eval normalizes again) and the rounding of other formulas for the same sign. */
+        /* Orientation with a margin: a triangle must stay above AU_ORIENT_MARGIN, so that its sign
+         * survives a re-normalization of the output by a reader (param-eval normalizes again) and the
+         * rounding of other formulas for the same sign. One already below it (the tiny triangles of a
+         * squeezed start) may shrink by at most half per step: comparing it with its old value
+         * exactly would only compare rounding noise. */
         double o_new = face_orient(P, F, f, sph);
-        if (o_new > AU_ORIENT_MARGIN || (o_new > 0 && o_new >= orient_old[f])) continue;
+        if (o_new > AU_ORIENT_MARGIN || (o_new > 0 && o_new >= 0.5 * orient_old[f])) continue;
         nbad++;
         for (int e = 0; e < 3; e++) bad[F[3 * f + e]] = 1;
       }
       if (!nbad) break;
       /* Backtrack locally and smoothly: halve the fraction of the vertices of flipped triangles and
        * restore the Lipschitz envelope, so that the neighbours slow down with them (halving alone
-       * would shear the triangles around them). After enough halvings they stay where they were. */
+       * would shear the triangles around them). After enough halvings they stay where they were;
+       * a triangle whose corners all stay is unchanged, so every further round freezes at least one
+       * more vertex and the loop ends. */
       for (int i = 0; i < nv; i++)
         if (bad[i]) lim[i] = tries < 30 ? 0.5 * lim[i] : 0;
       envelope(t, &adj, nv, inr, D, o.max_move, lim, heap, hpos);
-      if (tries > 31) {
-        memcpy(P, Pold, sizeof(double) * 3 * nv);
-        break;
-      }
     }
   }
   rep->steps = k;
@@ -452,6 +521,7 @@ done:
   free(AM), free(AO), free(b), free(g), free(lim), free(af), free(Gf), free(D), free(Pold), free(w), free(fixed), free(bad);
   free(heap), free(hpos), free(inr), free(As), free(fw), free(dA_f), free(orient_old);
   au__gn_free(&gnf);
+  au__lm_free(&lm);
   adjacency_free(&adj);
   return st;
 }

@@ -22,7 +22,20 @@ typedef struct au_advect_domain {
   void *ctx;     /* passed to the callbacks */
 } au_advect_domain;
 
+/* How a step's velocity is chosen. */
+typedef enum au_advect_method {
+  AU_ADVECT_LEAST_SHEAR = 0, /* per-face area targets; of the velocities that realize them, the one that
+                                shears least (au_lm.c). Default. */
+  AU_ADVECT_POISSON = 1      /* the paper's curl-free velocity grad g, C g = -dA on the vertex cells, then
+                                exact Gauss-Newton polish and per-face refinement */
+} au_advect_method;
+
 typedef struct au_advect_opts {
+  au_advect_method method; /* default AU_ADVECT_LEAST_SHEAR */
+  double shear;         /* weight of the shear energy against the area residual in the least-shear
+                           step while the schedule runs, >= 0 (default 1) */
+  double shear_tail;    /* the same weight after the schedule, when the last per-face error is taken
+                           out, >= 0 (default 0.01: lower converges faster but turns angles more) */
   int max_steps;        /* most advection steps, 1..AU_ADVECT_MAX_STEPS (default 60) */
   int schedule_steps;   /* K of eq. 19: the remaining excess is spread over K-k+1 steps (default 12) */
   double max_log_step;  /* a cell's area changes by at most this factor's log in one step (default 0.7) */

@@ -20,4 +20,21 @@ au_status au__gn_step(au_gn *gn, const au_advect_domain *dom, const double *P, c
 
 void au__gn_free(au_gn **gn);
 
+/* The least-shear area step (au_lm.c). */
+typedef struct au_lm au_lm;
+
+/* Prepare for the mesh's connectivity (the 2nv x 2nv pattern is analyzed once).
+ * Returns AU_OK, AU_E_NOMEM, AU_E_NUMERIC. */
+au_status au__lm_create(const au_mesh *m, const au_topo *t, au_lm **out, au_msg *msg);
+
+/* The displacement D [0..3nv-1] (in the directions the domain allows at each vertex) whose first-order
+ * change of the face areas at P is closest to dAf [0..nf-1] in sum_f w_f ((change_f - dAf_f) / A_f)^2,
+ * plus alpha times the w-weighted shear energy of the motion and eps times its kinetic energy (see
+ * au_lm.c). wf [0..nf-1] > 0: face weights (e.g. the target areas); NULL: the current areas A_f.
+ * alpha >= 0, eps > 0. Returns AU_OK, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC. */
+au_status au__lm_step(au_lm *lm, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
+                      double alpha, double eps, double *D, au_msg *msg);
+
+void au__lm_free(au_lm **lm);
+
 #endif

@@ -124,3 +124,9 @@ au_status au_dec_vertex_grad(int nv, int nf, const int *F, const double *V, cons
   free(wsum);
   return AU_OK;
 }
+
+double au_dec_sphere_orient(const double *a, const double *b, const double *c) {
+  double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  return (n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) + n[2] * (a[2] + b[2] + c[2])) / 3.0;
+}

@@ -35,6 +35,12 @@ void au_dec_face_grad(int nf, const int *F, const double *V, const double *g, do
  * eq. 16): Gv [0..3*nv-1]. Unreferenced vertices get 0. Returns AU_OK or AU_E_NOMEM. */
 au_status au_dec_vertex_grad(int nv, int nf, const int *F, const double *V, const double *Gf, double *Gv);
 
+/* Orientation of the triangle (a, b, c) with corners on the unit sphere: the triple product
+ * a . (b x c), positive for a counter-clockwise triangle seen from outside. Computed as
+ * ((b - a) x (c - a)) . (a + b + c) / 3, which is the same number algebraically but keeps its relative
+ * accuracy for tiny triangles (the direct formula loses it below ~1e-16). */
+double au_dec_sphere_orient(const double *a, const double *b, const double *c);
+
 #ifdef __cplusplus
 }
 #endif

@@ -28,6 +28,7 @@ typedef struct au_report_info {
   const double *step_err;     /* per-step vertex mean |log ratio| [0..steps]; may be NULL */
   const double *step_frac;    /* per-step fraction of the step taken [0..steps-1]; may be NULL */
   const char **warnings; int nwarnings;
+  const double *step_face_err; /* per-step per-face mean |r - 1| [0..steps]; may be NULL */
 } au_report_info;
 
 /* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.

@@ -1,4 +1,5 @@
-/* mkdata.c - generator of the project's own closed genus-0 test meshes in data/ (needs only libm). */
+/* mkdata.c - generator of the project's own test meshes in data/: closed genus-0 ones, and a disk and an
+ * annulus with a bump for the planar domains (needs only libm). */
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -282,9 +283,72 @@ static void make_ellipsoid(mesh *m) {
   revolve(m, ellipsoid_rho, &c, -c, c, 40, 26);
 }
 
+/* Open meshes for the planar domains: concentric rings in the plane, lifted by a height field. */
+
+/* Join ring a (na vertices from index a0, angles 2 pi (k + oa) / na) to the larger-radius ring b
+ * (nb vertices from b0, offset ob) by walking both in angle: counter-clockwise seen from +z. */
+static void join_rings(mesh *m, int a0, int na, double oa, int b0, int nb, double ob) {
+  int i = 0, j = 0;
+  while (i < na || j < nb) {
+    double ta = (i + 1 + oa) / na, tb = (j + 1 + ob) / nb; /* angle of the next vertex, in turns */
+    if (j < nb && (i >= na || tb <= ta)) {
+      add_f(m, a0 + i % na, b0 + j % nb, b0 + (j + 1) % nb);
+      j++;
+    } else {
+      add_f(m, a0 + i % na, b0 + (j % nb), a0 + (i + 1) % na);
+      i++;
+    }
+  }
+}
+
+/* Height of the bumps: a tall Gaussian off the centre and a low one opposite it. */
+static double bump_height(double x, double y) {
+  double d1 = (x - 0.3) * (x - 0.3) + (y - 0.1) * (y - 0.1), d2 = (x + 0.45) * (x + 0.45) + (y + 0.35) * (y + 0.35);
+  return 1.2 * exp(-d1 / (2 * 0.18 * 0.18)) + 0.3 * exp(-d2 / (2 * 0.15 * 0.15));
+}
+
+/* Unit disk: a centre vertex and 24 rings with 6k vertices on ring k (each turned a little against
+ * the previous one), lifted by bump_height. 1801 vertices, 3456 faces. */
+static void make_disk_bump(mesh *m) {
+  enum { NR = 24 };
+  add_v(m, 0, 0, bump_height(0, 0));
+  int prev0 = 0, prevn = 1;
+  double prevo = 0;
+  for (int k = 1; k <= NR; k++) {
+    int n = 6 * k, start = m->nv;
+    double r = (double)k / NR, o = 0.5 * (k % 2);
+    for (int i = 0; i < n; i++) {
+      double phi = 2 * M_PI * (i + o) / n, x = r * cos(phi), y = r * sin(phi);
+      add_v(m, x, y, bump_height(x, y));
+    }
+    if (k == 1)
+      for (int i = 0; i < n; i++) add_f(m, 0, start + i, start + (i + 1) % n);
+    else
+      join_rings(m, prev0, prevn, prevo, start, n, o);
+    prev0 = start, prevn = n, prevo = o;
+  }
+}
+
+/* Annulus 0.35 <= r <= 1: 20 rings of 96 vertices, every other ring turned half a step, lifted by
+ * bump_height (the tall bump sits between the two boundary circles). 1920 vertices, 3648 faces. */
+static void make_annulus_bump(mesh *m) {
+  enum { NR = 20, NL = 96 };
+  for (int k = 0; k < NR; k++) {
+    double r = 0.35 + 0.65 * k / (NR - 1), o = 0.5 * (k % 2);
+    for (int i = 0; i < NL; i++) {
+      double phi = 2 * M_PI * (i + o) / NL, x = r * cos(phi), y = r * sin(phi);
+      add_v(m, x, y, bump_height(x, y));
+    }
+    if (k > 0) join_rings(m, (k - 1) * NL, NL, 0.5 * ((k - 1) % 2), k * NL, NL, o);
+  }
+}
+
 /* Self-check that every mesh is what the README promises: each directed edge used once and its
  * reverse present (closed, manifold along edges, consistently oriented), Euler characteristic 2 on
- * one component (genus 0), and positive signed volume (outward normals). Returns 0 if all hold. */
+ * one component (genus 0), and positive signed volume (outward normals). Returns 0 if all hold.
+ * Open meshes (loops > 0) instead: each directed edge used once, the edges without a reverse forming
+ * exactly `loops` boundary loops, Euler characteristic 2 - loops (genus 0), one component, and a
+ * positive projected area in the xy plane (counter-clockwise seen from +z); *volume gets the area. */
 static int cmp_u64(const void *a, const void *b) {
   uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
   return (x > y) - (x < y);
@@ -295,7 +359,7 @@ static int find_root(int *parent, int i) {
   return i;
 }
 
-static int check(const mesh *m, const char *name, double *volume) {
+static int check(const mesh *m, const char *name, int loops, double *volume) {
   size_t ne = 3 * (size_t)m->nf;
   uint64_t *e = malloc(sizeof(uint64_t) * ne);
   int *parent = malloc(sizeof(int) * (size_t)m->nv);
@@ -320,6 +384,39 @@ static int check(const mesh *m, const char *name, double *volume) {
   }
   for (int i = 0; i < m->nv; i++) comps += find_root(parent, i) == i;
   long euler = (long)m->nv - (long)(ne / 2) + m->nf;
+  if (loops > 0) {
+    /* Directed edges without a reverse are boundary edges: count them and trace their loops. */
+    int nb = 0, nl = 0, *next = malloc(sizeof(int) * (size_t)m->nv);
+    unsigned char *seen = calloc((size_t)m->nv, 1);
+    if (!next || !seen) die_nomem();
+    for (int i = 0; i < m->nv; i++) next[i] = -1;
+    bad = 0;
+    for (size_t i = 0; i < ne; i++) {
+      uint64_t rev = (e[i] & 0xffffffffu) << 32 | e[i] >> 32;
+      if (i + 1 < ne && e[i + 1] == e[i]) bad++;
+      if (!bsearch(&rev, e, ne, sizeof *e, cmp_u64)) {
+        int a = (int)(e[i] >> 32), b = (int)(e[i] & 0xffffffffu);
+        if (next[a] >= 0) bad++; /* two boundary edges leave a: not a manifold boundary */
+        next[a] = b, nb++;
+      }
+    }
+    for (int i = 0; i < m->nv; i++) {
+      if (next[i] < 0 || seen[i]) continue;
+      nl++;
+      for (int v = i; v >= 0 && !seen[v]; v = next[v]) seen[v] = 1;
+    }
+    euler = (long)m->nv - (long)((ne + (size_t)nb) / 2) + m->nf;
+    vol = 0;
+    for (int f = 0; f < m->nf; f++) {
+      const int *t = m->F + 3 * f;
+      const double *a = m->X + 3 * t[0], *b = m->X + 3 * t[1], *c = m->X + 3 * t[2];
+      vol += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    }
+    free(next);
+    free(seen);
+    if (nl != loops) bad++;
+    euler += loops; /* compare with 2 below: V - E + F = 2 - loops for genus 0 */
+  }
   free(e);
   free(parent);
   *volume = vol;
@@ -332,7 +429,7 @@ static int check(const mesh *m, const char *name, double *volume) {
 }
 
 /* Write OBJ through a temporary file and a rename, so a failed run never leaves a half-written mesh. */
-static int write_obj(const mesh *m, double vol, const char *dir, const char *name, const char *what) {
+static int write_obj(const mesh *m, double vol, int loops, const char *dir, const char *name, const char *what) {
   char path[4096], tmp[4200];
   if (snprintf(path, sizeof path, "%s/%s.obj", dir, name) >= (int)sizeof path) {
     fprintf(stderr, "au_mkdata: output path too long\n");
@@ -356,24 +453,28 @@ static int write_obj(const mesh *m, double vol, const char *dir, const char *nam
     remove(tmp);
     return 1;
   }
-  printf("%-12s V %5d  F %5d  volume %.6g  -> %s\n", name, m->nv, m->nf, vol, path);
+  printf("%-12s V %5d  F %5d  %s %.6g  -> %s\n", name, m->nv, m->nf, loops ? "area" : "volume", vol, path);
   return 0;
 }
 
 static const struct {
   const char *name, *what;
   void (*make)(mesh *);
+  int loops; /* boundary loops: 0 closed genus 0, 1 disk, 2 annulus */
 } meshes[] = {
-    {"bumpy_star", "icosphere level 4 with six long fingers and low bumps (default for make run)", make_bumpy_star},
-    {"dumbbell", "two unit spheres joined by a thin neck (surface of revolution)", make_dumbbell},
-    {"spiky_ico", "icosphere level 3 with 12 long spikes at the icosahedron vertices", make_spiky_ico},
-    {"ellipsoid", "prolate ellipsoid 1:1:4 (surface of revolution)", make_ellipsoid},
+    {"bumpy_star", "icosphere level 4 with six long fingers and low bumps (default for make run)", make_bumpy_star, 0},
+    {"dumbbell", "two unit spheres joined by a thin neck (surface of revolution)", make_dumbbell, 0},
+    {"spiky_ico", "icosphere level 3 with 12 long spikes at the icosahedron vertices", make_spiky_ico, 0},
+    {"ellipsoid", "prolate ellipsoid 1:1:4 (surface of revolution)", make_ellipsoid, 0},
+    {"disk_bump", "unit disk lifted by a tall Gaussian bump and a low one (one boundary loop)", make_disk_bump, 1},
+    {"annulus_bump", "annulus 0.35 <= r <= 1 lifted by the same bumps (two boundary loops)", make_annulus_bump, 2},
 };
 
 int main(int argc, char **argv) {
   if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
     printf("usage: au_mkdata OUTDIR\n"
-           "Writes the project's test meshes (closed, genus 0, outward-oriented OBJ) into OUTDIR:\n");
+           "Writes the project's test meshes (genus 0; closed ones outward-oriented, open ones\n"
+           "counter-clockwise seen from +z) as OBJ into OUTDIR:\n");
     for (size_t i = 0; i < sizeof meshes / sizeof *meshes; i++)
       printf("  %-12s %s\n", meshes[i].name, meshes[i].what);
     return 0;
@@ -391,8 +492,8 @@ int main(int argc, char **argv) {
     mesh m = {0};
     double vol;
     meshes[i].make(&m);
-    if (check(&m, meshes[i].name, &vol)) status = 1;
-    else if (write_obj(&m, vol, argv[1], meshes[i].name, meshes[i].what)) status = 2;
+    if (check(&m, meshes[i].name, meshes[i].loops, &vol)) status = 1;
+    else if (write_obj(&m, vol, meshes[i].loops, argv[1], meshes[i].name, meshes[i].what)) status = 2;
     mesh_free(&m);
   }
   return status;

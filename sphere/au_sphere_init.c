@@ -40,19 +40,61 @@ static int pick_face(const au_mesh *m, const double *area) {
   return best;
 }
 
+/* The plane map is computed and projected in extended precision: the conformal map squeezes long
+ * protrusions exponentially (cow's legs to triangles of ~1e-12 on the unit sphere), below what the
+ * absolute rounding of a double solve (~1e-16 of the map's extent) resolves; those triangles came
+ * out "folded" by rounding alone. */
+typedef long double xreal;
+
 /* Inverse stereographic projection of the plane points (x[i], y[i]) scaled by s onto the unit sphere. */
-static void inverse_stereo(int nv, const unsigned char *used, const double *x, const double *y, double s, double *P) {
+static void inverse_stereo(int nv, const unsigned char *used, const xreal *x, const xreal *y, xreal s, double *P) {
   for (int i = 0; i < nv; i++) {
     double *p = P + 3 * i;
     if (!used[i]) {
       p[0] = 0, p[1] = 0, p[2] = 1;
       continue;
     }
-    double u = s * x[i], v = s * y[i], r2 = u * u + v * v;
-    p[0] = 2 * u / (1 + r2);
-    p[1] = 2 * v / (1 + r2);
-    p[2] = (r2 - 1) / (r2 + 1);
+    xreal u = s * x[i], v = s * y[i], r2 = u * u + v * v;
+    p[0] = (double)(2 * u / (1 + r2));
+    p[1] = (double)(2 * v / (1 + r2));
+    p[2] = (double)((r2 - 1) / (r2 + 1));
   }
+}
+
+/* Solve the Laplacian system (edge weights w, Dirichlet values at fixed vertices already in z) for
+ * two right-hand sides b (2nv) to extended precision: a double solve, then iterative refinement
+ * with residuals computed in extended precision (the double factorization as preconditioner).
+ * zx [0..2nv-1] gets the solution; r, dz are scratch of 2nv doubles. */
+static au_status solve_refined(au_solver *solver, const au_topo *t, const unsigned char *fixed, const double *w,
+                               const double *b, double *z, xreal *zx, double *r, double *dz, au_msg *msg) {
+  const int nv = t->nv;
+  au_status st = au_solver_solve(solver, 2, b, z, msg);
+  if (st != AU_OK) return st;
+  for (int i = 0; i < 2 * nv; i++) zx[i] = z[i];
+  xreal *res = malloc(sizeof(xreal) * 2 * (size_t)nv);
+  if (!res) return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+  for (int it = 0; it < 3 && st == AU_OK; it++) {
+    /* res = b - A z over the free vertices, A z = sum_e w_e (z_i - z_j). */
+    for (int c = 0; c < 2; c++)
+      for (int i = 0; i < nv; i++) res[c * nv + i] = b[c * nv + i];
+    for (int e = 0; e < t->ne; e++) {
+      int i = t->E[2 * e], j = t->E[2 * e + 1];
+      for (int c = 0; c < 2; c++) {
+        xreal d = (xreal)w[e] * (zx[c * nv + i] - zx[c * nv + j]);
+        res[c * nv + i] -= d;
+        res[c * nv + j] += d;
+      }
+    }
+    for (int k = 0; k < 2 * nv; k++) {
+      r[k] = fixed[k % nv] ? 0 : (double)res[k];
+      dz[k] = 0;
+    }
+    st = au_solver_solve(solver, 2, r, dz, msg);
+    if (st == AU_OK)
+      for (int k = 0; k < 2 * nv; k++) zx[k] += dz[k];
+  }
+  free(res);
+  return st;
 }
 
 static int cmp_dbl(const void *a, const void *b) {
@@ -65,7 +107,7 @@ static int sphere_folds(const double *P, const int *F, int nf, int *npos) {
   int neg = 0, pos = 0;
   for (int f = 0; f < nf; f++) {
     const double *a = P + 3 * F[3 * f], *b = P + 3 * F[3 * f + 1], *c = P + 3 * F[3 * f + 2];
-    double det = a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    double det = au_dec_sphere_orient(a, b, c);
     if (det > 0) pos++;
     else neg++;
   }
@@ -74,14 +116,36 @@ static int sphere_folds(const double *P, const int *F, int nf, int *npos) {
 }
 
 /* Lay the plane map (x, y) on the sphere: scale so the median radius is 1 (half the vertices on each
- * hemisphere), reflect if the map came out orientation-reversing. Returns the fold count. */
-static int to_sphere(const au_mesh *m, const au_topo *t, double *x, double *y, double *P, double *work) {
+ * hemisphere), reflect if the map came out orientation-reversing. A plane triangle maps to a region
+ * bounded by circular arcs, but the mesh's triangle on the sphere is the one through its three
+ * corners: a wide, very obtuse triangle of the expanded region (near the puncture) can come out
+ * turned over (cow: two such). The scale moves triangles between the expanded and the squeezed part,
+ * so scales 2^k times the median one are tried, nearest first, until one has no fold.
+ * Returns the fold count of the scale kept. */
+static int to_sphere(const au_mesh *m, const au_topo *t, xreal *x, xreal *y, double *P, double *work) {
   int n = 0;
   for (int i = 0; i < m->nv; i++)
-    if (t->vused[i]) work[n++] = x[i] * x[i] + y[i] * y[i];
+    if (t->vused[i]) work[n++] = (double)(x[i] * x[i] + y[i] * y[i]);
   qsort(work, (size_t)n, sizeof(double), cmp_dbl);
   double med = sqrt(work[n / 2]);
-  double s = med > 0 ? 1.0 / med : 1.0;
+  xreal s0 = med > 0 ? 1.0L / med : 1.0L;
+  static const int tries[] = {0, -1, 1, -2, 2, -3, -4, -5, -6};
+  int best_neg = -1, best_k = 0;
+  for (int a = 0; a < (int)(sizeof tries / sizeof tries[0]); a++) {
+    xreal s = ldexpl(s0, tries[a]);
+    inverse_stereo(m->nv, t->vused, x, y, s, P);
+    int pos;
+    int neg = sphere_folds(P, m->F, m->nf, &pos);
+    if (neg > pos) {
+      for (int i = 0; i < m->nv; i++) y[i] = -y[i];
+      inverse_stereo(m->nv, t->vused, x, y, s, P);
+      neg = sphere_folds(P, m->F, m->nf, &pos);
+    }
+    if (best_neg < 0 || neg < best_neg) best_neg = neg, best_k = tries[a];
+    if (neg == 0) return 0;
+  }
+  /* None is fold-free: keep the best (the caller reports the folds). */
+  xreal s = ldexpl(s0, best_k);
   inverse_stereo(m->nv, t->vused, x, y, s, P);
   int pos;
   int neg = sphere_folds(P, m->F, m->nf, &pos);
@@ -100,8 +164,10 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
   au_solver *solver = NULL;
   double *area = malloc(sizeof(double) * nf), *w = malloc(sizeof(double) * (t->ne ? t->ne : 1));
   double *b = malloc(sizeof(double) * 2 * nv), *z = malloc(sizeof(double) * 2 * nv), *work = malloc(sizeof(double) * nv);
+  double *r = malloc(sizeof(double) * 2 * nv), *dz = malloc(sizeof(double) * 2 * nv);
+  xreal *zx = malloc(sizeof(xreal) * 2 * nv);
   unsigned char *fixed = calloc((size_t)nv, 1);
-  if (!area || !w || !b || !z || !work || !fixed) {
+  if (!area || !w || !b || !z || !work || !fixed || !r || !dz || !zx) {
     st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
     goto done;
   }
@@ -168,9 +234,9 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
       st = au_solver_create(nv, t->ne, t->E, fixed, &solver, msg);
     }
     if (st == AU_OK) st = au_solver_factor(solver, w, NULL, msg);
-    if (st == AU_OK) st = au_solver_solve(solver, 2, b, z, msg);
+    if (st == AU_OK) st = solve_refined(solver, t, fixed, w, b, z, zx, r, dz, msg);
     if (st != AU_OK) goto done;
-    int folds = to_sphere(m, t, z, z + nv, P, work);
+    int folds = to_sphere(m, t, zx, zx + nv, P, work);
     if (folds == 0) goto done;
     if (attempt == 2) {
       st = au_msg_set(msg, AU_E_FOLD, "sphere: the conformal map has %d folded triangles", folds);
@@ -179,23 +245,28 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
   }
 done:
   au_solver_free(&solver);
-  free(area), free(w), free(b), free(z), free(work), free(fixed);
+  free(area), free(w), free(b), free(z), free(work), free(fixed), free(r), free(dz), free(zx);
   return st;
 }
 
 au_status au_sphere_balance(const au_mesh *m, const au_topo *t, double *P, au_msg *msg) {
   if (!m || !t || !P) return au_msg_set(msg, AU_E_ARG, "sphere: bad arguments");
   const int nv = m->nv;
-  double *A = malloc(sizeof(double) * nv);
-  if (!A) return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+  double *A = malloc(sizeof(double) * nv), *Q = malloc(sizeof(double) * 3 * (size_t)nv);
+  if (!A || !Q) {
+    free(A), free(Q);
+    return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+  }
   au_dec_vertex_areas(nv, m->nf, m->F, m->X, NULL, A);
   double tot = 0;
   for (int i = 0; i < nv; i++) tot += A[i];
   au_status st = AU_OK;
+  double shrink = 1; /* a translation that turned a triangle over is retried shorter */
   for (int it = 0; it < 200; it++) {
     double a[3] = {0, 0, 0};
     for (int i = 0; i < nv; i++)
       for (int d = 0; d < 3; d++) a[d] += A[i] * P[3 * i + d] / tot;
+    for (int d = 0; d < 3; d++) a[d] *= shrink;
     double a2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
     if (a2 < 1e-16) break;
     if (!(a2 < 1)) {
@@ -203,17 +274,30 @@ au_status au_sphere_balance(const au_mesh *m, const au_topo *t, double *P, au_ms
       break;
     }
     /* x -> (1-|a|^2)(x-a)/|x-a|^2 - a maps the unit sphere to itself and a (inside the ball) to the
-     * origin: it spreads out the region the centroid leans towards. */
+     * origin: it spreads out the region the centroid leans towards. Extended precision keeps the
+     * tiny triangles of squeezed regions resolved. */
     for (int i = 0; i < nv; i++) {
-      if (!t->vused[i]) continue;
-      double *p = P + 3 * i, y[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-      double y2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-      double s = (1 - a2) / y2, nrm = 0;
-      for (int d = 0; d < 3; d++) p[d] = s * y[d] - a[d], nrm += p[d] * p[d];
-      nrm = sqrt(nrm);
-      for (int d = 0; d < 3; d++) p[d] /= nrm;
+      double *p = P + 3 * i, *q = Q + 3 * i;
+      if (!t->vused[i]) {
+        q[0] = p[0], q[1] = p[1], q[2] = p[2];
+        continue;
+      }
+      xreal y[3] = {(xreal)p[0] - a[0], (xreal)p[1] - a[1], (xreal)p[2] - a[2]}, r[3];
+      xreal y2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      xreal sc = (1 - (xreal)a2) / y2, nrm = 0;
+      for (int d = 0; d < 3; d++) r[d] = sc * y[d] - a[d], nrm += r[d] * r[d];
+      nrm = sqrtl(nrm);
+      for (int d = 0; d < 3; d++) q[d] = (double)(r[d] / nrm);
     }
+    /* A Moebius map keeps circles, not the great circles of the mesh's triangles: a wide triangle
+     * can turn over. Such a step is retried shorter; balancing stops after a few refusals. */
+    if (sphere_folds(Q, m->F, m->nf, NULL) > 0) {
+      shrink *= 0.5;
+      if (shrink < 1.0 / 64) break;
+      continue;
+    }
+    memcpy(P, Q, sizeof(double) * 3 * (size_t)nv);
   }
-  free(A);
+  free(A), free(Q);
   return st;
 }

@@ -1,1 +1,20 @@
-# tests for disk/ (disk, annulus, square maps)
+# tests for disk/ (disk, annulus, square maps): unit tests of the boundary constraints and initial
+# maps, quality of the maps on the project's own open meshes (data/disk_bump.obj, data/annulus_bump.obj),
+# bad-input statuses; then end-to-end runs of `authalic disk | annulus | square` (tests/cli/disk_*.sh).
+au_test_module(test_disk test_disk.c
+  bc_circle_projection bc_square_sides meanvalue_positive init_disk annulus_modulus annulus_inner_radius
+  map_disk_bump map_disk_fixed map_annulus_bump map_square square_split_ear bad_topology folded_start_refused)
+
+foreach(c disk_help annulus_help square_help unknown_flag foreign_flag bad_boundary bad_inner_radius bad_corners
+          bad_outer_loop init_only_combination missing_args)
+  au_cli_test(disk.usage.${c} disk_usage.sh ${c})
+endforeach()
+
+foreach(c closed_to_disk closed_to_square disk_to_annulus annulus_to_disk corners_not_on_boundary
+          outer_loop_not_on_boundary)
+  au_cli_test(disk.bad.${c} disk_bad_input.sh ${c})
+endforeach()
+
+foreach(c disk annulus square square_fixed init_only annulus_options)
+  au_cli_test(disk.run.${c} disk_runs.sh ${c})
+endforeach()
