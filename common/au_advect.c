@@ -331,9 +331,9 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
         continue;
       }
       if (k > 0) alpha = fmax(0.5 * alpha, o.shear_tail);
-      /* Done when the vertex cells meet the tolerance and the faces theirs, or when the faces no longer
-       * improve (less than 2% in the last four steps). */
-      int stalled = k >= o.schedule_steps + 4 && ferr > 0.98 * rep->face_err[k - 4];
+      /* Done when the vertex cells meet the tolerance and the faces theirs, or when neither improves any
+       * more (less than 2% in the last four steps). */
+      int stalled = k >= o.schedule_steps + 4 && ferr > 0.98 * rep->face_err[k - 4] && err > 0.98 * rep->err[k - 4];
       if ((err <= o.tol && ferr <= fmax(o.face_tol, o.tol)) || stalled) {
         rep->converged = err <= o.tol;
         break;
