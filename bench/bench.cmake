@@ -1,1 +1,9 @@
 # Benchmark programs (generators for scaling runs); included by the top-level CMakeLists.txt.
+
+# au_mkbig: large closed genus-0 meshes (bumpy geodesic icospheres) for bench/scale.sh.
+add_executable(au_mkbig ${CMAKE_CURRENT_LIST_DIR}/mkbig.c)
+target_link_libraries(au_mkbig PRIVATE ${MATH_LIBRARY})
+
+# au_texture_patches: the acceptance measure of equal-area textures and sampling (issue 4).
+add_executable(au_texture_patches ${CMAKE_CURRENT_LIST_DIR}/texture_patches.c)
+target_link_libraries(au_texture_patches PRIVATE authalic_core)

@@ -1,0 +1,167 @@
+# texture_runs.sh - end-to-end runs of `authalic texture` and `authalic sample` on data/bumpy_star.obj
+# with its sphere map: the OBJ's coordinates (seam, poles), baked pictures of the right size, the
+# sample grids in .npy and .csv, and bad inputs rejected with no file left.
+# sh texture_runs.sh PROG SOURCE_DIR SHARED_DIR CASE
+. "$(dirname "$0")/lib.sh"
+[ -f "$SRC/data/bumpy_star.obj" ] || skip "data/bumpy_star.obj is missing"
+IN=$(stage "$SRC/data/bumpy_star.obj")
+MAP=$T/in/star_map.obj
+NV=$(obj_nv "$IN")
+NF=$(grep -c '^f ' "$IN")
+
+make_map() {
+  run sphere "$IN" "$MAP" --quiet
+  [ "$status" -eq 0 ] || fail "the sphere map of the test mesh failed"
+}
+
+# Width and height of a PNG, from its IHDR chunk.
+png_size() {
+  "$PY" -c 'import struct,sys
+d=open(sys.argv[1],"rb").read(24)
+assert d[:8]==b"\x89PNG\r\n\x1a\n" and d[12:16]==b"IHDR", "not a PNG"
+print("%dx%d" % struct.unpack(">II", d[16:24]))' "$1" 2>"$T/log/py" || fail "$1 is not a PNG: $(cat "$T/log/py")"
+}
+
+# Every face of an OBJ with v/vt corners spans less than half the texture in u and v.
+expect_faces_compact() {
+  awk '$1 == "vt" { n++; u[n] = $2; v[n] = $3 }
+       $1 == "f" { if (NF != 4) { print "face with " NF - 1 " corners"; exit 1 }
+                   lo = 1e9; hi = -1e9; vlo = 1e9; vhi = -1e9
+                   for (i = 2; i <= 4; i++) { if (split($i, c, "/") < 2) { print "corner without vt: " $i; exit 1 }
+                     t = c[2]; if (u[t] < lo) lo = u[t]; if (u[t] > hi) hi = u[t]; if (v[t] < vlo) vlo = v[t]; if (v[t] > vhi) vhi = v[t] }
+                   if (hi - lo >= 0.5 || vhi - vlo >= 0.5) { print "face " $0 " spans " hi - lo " x " vhi - vlo; exit 1 } }' "$1" >"$T/log/faces" 2>&1 \
+    || fail "$1: $(cat "$T/log/faces")"
+}
+
+case $1 in
+obj_cea)
+  make_map
+  run texture "$IN" --map "$MAP" "$T/o/tex.obj" --lonlat "$T/o/ll.txt"
+  expect_status 0
+  expect_err 'texture: V=[0-9]+ F=[0-9]+ projection=cea'
+  nv=$(obj_nv "$T/o/tex.obj")
+  nf=$(grep -c '^f ' "$T/o/tex.obj")
+  # Each pole either splits a face (one vertex and two faces more) or is a vertex.
+  splits=$((nv - NV))
+  [ "$splits" -ge 0 ] && [ "$splits" -le 2 ] || fail "$nv vertices for $NV input vertices"
+  [ "$nf" -eq $((NF + 2 * splits)) ] || fail "$nf faces for $NF input faces and $splits pole splits"
+  # The input's vertices come first, unchanged (as printed with 17 digits).
+  head -n "$(grep -n '^v ' "$IN" | tail -1 | cut -d: -f1)" "$IN" | grep '^v ' | awk '{ printf "%.15g %.15g %.15g\n", $2, $3, $4 }' >"$T/a"
+  grep '^v ' "$T/o/tex.obj" | head -n "$NV" | awk '{ printf "%.15g %.15g %.15g\n", $2, $3, $4 }' >"$T/b"
+  cmp -s "$T/a" "$T/b" || fail "the input's vertices are not the OBJ's first vertices"
+  expect_faces_compact "$T/o/tex.obj"
+  # Some faces cross the seam: their u leaves [0, 1].
+  awk '$1 == "vt" && ($2 < 0 || $2 > 1) { n++ } END { exit !(n > 0) }' "$T/o/tex.obj" || fail "no vt across the seam"
+  [ "$(grep -vc '^#' "$T/o/ll.txt")" -eq "$nv" ] || fail "--lonlat has not one line per vertex"
+  awk '!/^#/ { if ($1 < -180 || $1 > 180 || $2 < -90 || $2 > 90) exit 1 }' "$T/o/ll.txt" || fail "longitude/latitude out of range"
+  [ "$(ls "$T/o" | tr '\n' ' ')" = "ll.txt tex.obj " ] || fail "unexpected files: $(ls "$T/o")"
+  ;;
+laea)
+  make_map
+  run texture "$IN" --map "$MAP" "$T/o/tex.obj" --projection laea --quiet
+  expect_status 0
+  [ "$(obj_nv "$T/o/tex.obj")" -eq "$NV" ] || fail "laea added vertices"
+  awk '$1 == "vt" && ($2 < 0 || $2 > 1 || $3 < 0 || $3 > 1) { exit 1 }' "$T/o/tex.obj" || fail "a vt outside [0, 1]"
+  expect_faces_compact "$T/o/tex.obj"
+  ;;
+bake_normal)
+  make_map
+  run texture "$IN" --map "$MAP" "$T/o/tex.obj" --bake normal --image "$T/o/tex.png" --size 256x128 \
+      --preview "$T/o/prev.png" --render "$T/o/render.png" --quiet
+  expect_status 0
+  [ "$(png_size "$T/o/tex.png")" = 256x128 ] || fail "texture size $(png_size "$T/o/tex.png")"
+  [ "$(png_size "$T/o/prev.png")" = 1024x808 ] || fail "preview size $(png_size "$T/o/prev.png")"
+  [ "$(png_size "$T/o/render.png")" = 1024x512 ] || fail "render size $(png_size "$T/o/render.png")"
+  grep -q '^map_Kd tex.png$' "$T/o/tex.mtl" || fail "the material does not name the texture"
+  grep -q '^mtllib tex.mtl$' "$T/o/tex.obj" || fail "the OBJ does not name its material"
+  ;;
+bake_scalar)
+  make_map
+  # A per-vertex scalar: the height z of each vertex.
+  awk '$1 == "v" { print $4 }' "$IN" >"$T/in/z.txt"
+  run texture "$IN" --map "$MAP" "$T/o/tex.obj" --bake "$T/in/z.txt" --image "$T/o/z.png" --size 64x32
+  expect_status 0
+  expect_err 'range=\[-?[0-9.e-]+, [0-9.e-]+\]'
+  [ "$(png_size "$T/o/z.png")" = 64x32 ] || fail "texture size"
+  # One value too few: rejected as bad input, nothing written.
+  sed '$d' "$T/in/z.txt" >"$T/in/z_short.txt"
+  rm -f "$T"/o/*
+  run texture "$IN" --map "$MAP" "$T/o/tex.obj" --bake "$T/in/z_short.txt" --image "$T/o/z.png"
+  expect_rejected "$((NV - 1)) values for $NV vertices"
+  ;;
+sample)
+  make_map
+  awk '$1 == "v" { print $2 + $3 }' "$IN" >"$T/in/a.txt"
+  run sample "$IN" --map "$MAP" --grid 64x32 "$T/o/s.npy" --normals --attr "$T/in/a.txt" --report "$T/o/r.json"
+  expect_status 0
+  expect_err 'cell area std/mean=0\.0[0-4]'
+  "$PY" - "$T/o/s.npy" "$T/o/r.json" >"$T/log/py" 2>&1 <<'PYEOF' || fail "$(cat "$T/log/py")"
+import json, struct, sys
+d = open(sys.argv[1], "rb").read()
+assert d[:8] == b"\x93NUMPY\x01\x00", "bad magic"
+hl = struct.unpack("<H", d[8:10])[0]
+head = d[10:10 + hl].decode()
+assert (10 + hl) % 64 == 0 and "'shape': (32, 64, 7)" in head and "'<f8'" in head, head
+n = (len(d) - 10 - hl) // 8
+assert n == 32 * 64 * 7, n
+vals = struct.unpack("<%dd" % n, d[10 + hl:])
+for i in range(0, n, 7):
+    x, y, z, nx, ny, nz, a = vals[i:i + 7]
+    assert abs(nx * nx + ny * ny + nz * nz - 1) < 1e-9, "normal not unit"
+r = json.load(open(sys.argv[2]))
+assert r["grid"] == [64, 32] and r["columns"] == 7 and r["cell_area_cv"] < 0.05, r
+try:
+    import numpy
+    a = numpy.load(sys.argv[1])
+    assert a.shape == (32, 64, 7) and a.dtype == numpy.float64
+except ImportError:
+    pass
+PYEOF
+  ;;
+sample_csv)
+  make_map
+  run sample "$IN" --map "$MAP" --grid 16x8 "$T/o/s.csv" --quiet
+  expect_status 0
+  [ "$(wc -l <"$T/o/s.csv")" -eq 129 ] || fail "$(wc -l <"$T/o/s.csv") lines, expected 129"
+  head -1 "$T/o/s.csv" | grep -q '^row,col,lon,lat,x,y,z$' || fail "header: $(head -1 "$T/o/s.csv")"
+  awk -F, 'NR > 1 && NF != 7 { exit 1 }' "$T/o/s.csv" || fail "a line without 7 fields"
+  ;;
+bad_map)
+  # A map of another mesh, a map off the sphere, a folded map: bad input, nothing written.
+  run texture "$IN" --map "$(stage "$SRC/data/spiky_ico.obj")" "$T/o/tex.obj"
+  expect_rejected 'not a map of'
+  awk '$1 == "v" { print "v", 2 * $2, 2 * $3, 2 * $4; next } { print }' "$IN" >"$T/in/big.obj"
+  run texture "$IN" --map "$T/in/big.obj" "$T/o/tex.obj"
+  expect_rejected 'not on the unit sphere'
+  make_map
+  # Send one vertex to its antipode: the triangles around it turn over.
+  awk '$1 == "v" { n++; if (n == 5) { printf "v %.17g %.17g %.17g\n", -$2, -$3, -$4; next } } { print }' "$MAP" >"$T/in/folded.obj"
+  run sample "$IN" --map "$T/in/folded.obj" --grid 8x4 "$T/o/s.npy"
+  expect_rejected 'folded triangle'
+  ;;
+mirrored)
+  # A mirrored map (every triangle reversed, as for a mesh whose faces turn inwards) is a valid
+  # map: the samples are those of the map turned inside out, the cells still equal.
+  make_map
+  awk '$1 == "v" { printf "v %.17g %.17g %.17g\n", $2, -$3, $4; next } { print }' "$MAP" >"$T/in/mirror.obj"
+  run sample "$IN" --map "$T/in/mirror.obj" --grid 32x16 "$T/o/s.csv" --report "$T/o/r.json"
+  expect_status 0
+  expect_err 'cell area std/mean=0\.0[0-4]'
+  # Cell (row r, col c) of the mirrored map is cell (r, W-1-c) of the map itself (y -> -y).
+  run sample "$IN" --map "$MAP" --grid 32x16 "$T/o/t.csv" --quiet
+  expect_status 0
+  awk -F, 'NR == FNR { if (FNR > 1) { a[$1 "," $2] = $5 "," $6 "," $7 }; next }
+           FNR > 1 { k = $1 "," (31 - $2); split(a[k], q, ","); d = ($5 - q[1])^2 + ($6 - q[2])^2 + ($7 - q[3])^2; if (d > 1e-18) { print "cell " $1 "," $2 " differs by " d; exit 1 } }' \
+      "$T/o/t.csv" "$T/o/s.csv" >"$T/log/cmp" || fail "$(cat "$T/log/cmp")"
+  ;;
+on_the_fly)
+  # Without --map the sphere map is computed first.
+  run texture "$(stage "$SRC/data/spiky_ico.obj")" "$T/o/tex.obj" --quiet
+  expect_status 0
+  expect_faces_compact "$T/o/tex.obj"
+  ;;
+*)
+  fail "unknown case $1"
+  ;;
+esac
+exit 0
