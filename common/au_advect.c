@@ -257,22 +257,38 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     goto done;
   }
 
-  /* Target areas: the surface's barycentric vertex areas, times the density weight. */
-  au_dec_vertex_areas(nv, nf, F, m->X, NULL, AM);
-  double SM = 0;
-  for (int i = 0; i < nv; i++) {
-    if (o.weight) {
-      if (!(o.weight[i] > 0) && t->vused[i]) {
-        st = au_msg_set(msg, AU_E_DENSITY, "density of vertex %d is %g; it must be positive", i, o.weight[i]);
-        goto done;
-      }
-      if (t->vused[i]) AM[i] *= o.weight[i];
-    }
-    SM += AM[i];
+  /* Target areas: the surface's barycentric vertex areas, times the density weight; per face, the
+   * mean of its corners' densities (or the face's own density). */
+  if (o.weight && o.face_weight) {
+    st = au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");
+    goto done;
   }
-  /* Per-face target weight: the mean of its corners' densities. */
+  au_dec_face_areas(nf, F, m->X, As);
+  for (int f = 0; f < nf && o.face_weight; f++)
+    if (!(o.face_weight[f] > 0 && o.face_weight[f] < INFINITY)) {
+      st = au_msg_set(msg, AU_E_DENSITY, "density of face %d is %g; it must be positive and finite", f, o.face_weight[f]);
+      goto done;
+    }
+  for (int i = 0; i < nv && o.weight; i++)
+    if (t->vused[i] && !(o.weight[i] > 0 && o.weight[i] < INFINITY)) {
+      st = au_msg_set(msg, AU_E_DENSITY, "density of vertex %d is %g; it must be positive and finite", i, o.weight[i]);
+      goto done;
+    }
   for (int f = 0; f < nf; f++)
-    fw[f] = o.weight ? (o.weight[F[3 * f]] + o.weight[F[3 * f + 1]] + o.weight[F[3 * f + 2]]) / 3.0 : 1.0;
+    fw[f] = o.face_weight ? o.face_weight[f]
+            : o.weight    ? (o.weight[F[3 * f]] + o.weight[F[3 * f + 1]] + o.weight[F[3 * f + 2]]) / 3.0
+                          : 1.0;
+  if (o.face_weight) {
+    memset(AM, 0, sizeof(double) * nv);
+    for (int f = 0; f < nf; f++)
+      for (int k = 0; k < 3; k++) AM[F[3 * f + k]] += As[f] * fw[f] / 3.0;
+  } else {
+    au_dec_vertex_areas(nv, nf, F, m->X, NULL, AM);
+    for (int i = 0; i < nv && o.weight; i++)
+      if (t->vused[i]) AM[i] *= o.weight[i];
+  }
+  double SM = 0;
+  for (int i = 0; i < nv; i++) SM += AM[i];
   if (!(SM > 0)) {
     st = au_msg_set(msg, AU_E_ARG, "advect: the surface has no area");
     goto done;

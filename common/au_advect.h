@@ -54,6 +54,9 @@ typedef struct au_advect_opts {
   /* Progress: called once per step with the step number, max_steps and the current error. May be NULL. */
   void (*progress)(void *user, int step, int max_steps, double err);
   void *user;
+  const double *face_weight; /* per-face target density [0..nf-1] (> 0) instead of the per-vertex one:
+                                face f gets domain area proportional to face_weight[f] x its surface
+                                area; NULL (default). At most one of weight and face_weight. */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);

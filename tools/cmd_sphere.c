@@ -1,6 +1,8 @@
 /* cmd_sphere.c - `authalic sphere IN OUT`: a closed genus-0 mesh onto the unit sphere. */
 #define _POSIX_C_SOURCE 200809L
 
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +21,8 @@ void cli_print_sphere_options(void) {
          "                   map, per-step errors, stage times, warnings\n"
          "  --steps K        most advection steps, 1..%d (default %d)\n"
          "  --tol T          stop when the vertex mean |log area ratio| is below T, T >= 0 (default %g)\n"
+         "  --density FILE   prescribed density: one positive number per vertex (or per face) of IN, in\n"
+         "                   order, whitespace-separated; domain area is proportional to density x surface area\n"
          "  --no-balance     skip the Moebius balancing of the conformal start\n"
          "  --init-only      stop after the conformal start (and balancing), for comparison\n"
          "  --quiet          no progress and no summary on stderr (errors and warnings remain)\n"
@@ -36,7 +40,7 @@ static void print_sphere_help(void) {
 
 /* Everything the sphere command was asked to do. */
 typedef struct sphere_args {
-  const char *in, *out, *report;
+  const char *in, *out, *report, *density;
   int steps, has_steps; /* --steps, and whether it was given */
   double tol;
   int has_tol;
@@ -66,10 +70,15 @@ static int parse_sphere(int argc, char **argv, sphere_args *a) {
       if (a->quiet++) return cli_usage_error(HELP, "option '%s' given twice", s);
     } else if (strcmp(s, "--init-only") == 0) {
       if (a->init_only++) return cli_usage_error(HELP, "option '%s' given twice", s);
-    } else if (strcmp(s, "--report") == 0 || strcmp(s, "--steps") == 0 || strcmp(s, "--tol") == 0) {
+    } else if (strcmp(s, "--report") == 0 || strcmp(s, "--steps") == 0 || strcmp(s, "--tol") == 0 ||
+               strcmp(s, "--density") == 0) {
       if (i + 1 >= argc) return cli_usage_error(HELP, "option '%s' needs a value", s);
       const char *v = argv[++i];
-      if (strcmp(s, "--report") == 0) {
+      if (strcmp(s, "--density") == 0) {
+        if (a->density) return cli_usage_error(HELP, "option '%s' given twice", s);
+        if (!*v) return cli_usage_error(HELP, "option '--density' needs a file name");
+        a->density = v;
+      } else if (strcmp(s, "--report") == 0) {
         if (a->report) return cli_usage_error(HELP, "option '%s' given twice", s);
         if (!*v) return cli_usage_error(HELP, "option '--report' needs a file name");
         a->report = v;
@@ -87,10 +96,54 @@ static int parse_sphere(int argc, char **argv, sphere_args *a) {
   }
   if (npos < 2) return cli_usage_error(HELP, npos == 0 ? "missing input and output files" : "missing output file");
   if (!*a->in || !*a->out) return cli_usage_error(HELP, "empty file name");
-  if (a->init_only && (a->has_steps || a->has_tol))
-    return cli_usage_error(HELP, "--init-only runs no advection: --steps and --tol do not apply");
+  if (a->init_only && (a->has_steps || a->has_tol || a->density))
+    return cli_usage_error(HELP, "--init-only runs no advection: --steps, --tol and --density do not apply");
   int rc = cli_check_outputs(HELP, a->in, a->out, a->report);
   return rc ? rc : -1;
+}
+
+/* Read a density file: whitespace-separated numbers, nv of them (per vertex) or nf (per face), each
+ * positive and finite. On success *out (malloc'ed) and *count are set and -1 is returned; otherwise
+ * the error is printed and the exit code returned. */
+static int read_density(const char *path, int nv, int nf, double **out, int *count) {
+  FILE *fp = fopen(path, "r");
+  if (!fp) {
+    fprintf(stderr, "authalic: error: %s: cannot open the density file: %s\n", path, strerror(errno));
+    return EXIT_USAGE;
+  }
+  int cap = (nv > nf ? nv : nf) + 1, n = 0, rc = -1;
+  double *v = malloc(sizeof(double) * (size_t)cap);
+  char tok[128];
+  if (!v) {
+    fclose(fp);
+    return cli_fail(path, AU_E_NOMEM, NULL);
+  }
+  while (fscanf(fp, "%127s", tok) == 1) {
+    char *end = NULL;
+    double x = strtod(tok, &end);
+    if (*end || !isfinite(x) || !(x > 0)) {
+      fprintf(stderr, "authalic: error: %s: value %d ('%s') is not a positive finite number\n", path, n + 1, tok);
+      rc = EXIT_USAGE;
+      break;
+    }
+    if (n == cap - 1) {
+      fprintf(stderr, "authalic: error: %s: more values than the mesh has vertices (%d) or faces (%d)\n", path, nv, nf);
+      rc = EXIT_USAGE;
+      break;
+    }
+    v[n++] = x;
+  }
+  fclose(fp);
+  if (rc < 0 && n != nv && n != nf) {
+    fprintf(stderr, "authalic: error: %s: %d values; the mesh has %d vertices and %d faces\n", path, n, nv, nf);
+    rc = EXIT_USAGE;
+  }
+  if (rc >= 0) {
+    free(v);
+    return rc;
+  }
+  *out = v, *count = n;
+  return -1;
 }
 
 /* The sphere command after parsing. All resources are released at `done`. */
@@ -102,7 +155,7 @@ static int run_sphere(const sphere_args *a) {
   warn.n = 0;
   au_mesh *m = NULL;
   au_topo *topo = NULL;
-  double *P = NULL, *Pinit = NULL;
+  double *P = NULL, *Pinit = NULL, *density = NULL;
   au_msg msg = {{0}};
   au_status st;
   au_metrics fin, ini;
@@ -121,6 +174,15 @@ static int run_sphere(const sphere_args *a) {
   rc = cli_load(a->in, &ex, &m, &topo, &warn, stages, &nst);
   if (rc >= 0) goto done;
   rc = EXIT_INTERNAL;
+
+  if (a->density) {
+    int nval = 0;
+    rc = read_density(a->density, m->nv, m->nf, &density, &nval);
+    if (rc >= 0) goto done;
+    rc = EXIT_INTERNAL;
+    if (nval == m->nv) opts.flow.weight = density;
+    else opts.flow.face_weight = density;
+  }
 
   size_t n3 = 3 * (size_t)m->nv;
   P = malloc(n3 * sizeof *P);
@@ -196,6 +258,7 @@ done:
   cli_progress_end(&prog);
   free(P);
   free(Pinit);
+  free(density);
   au_topo_free(&topo);
   au_mesh_free(&m);
   return rc;
