@@ -527,6 +527,9 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     }
   }
   rep->steps = k;
+  /* Converged means the vertex error met the tolerance, however the loop ended (the step budget can
+   * run out while the per-face refinement is still going). */
+  rep->converged = rep->err[k] <= o.tol;
   if (!rep->converged) st = AU_W_NOT_CONVERGED;
   if (st == AU_W_NOT_CONVERGED)
     au_msg_set(msg, st, "area error %.3g after %d steps (tolerance %.3g)", rep->err[k], k, o.tol);

@@ -6,6 +6,7 @@
 
 #include <errno.h>
 #include <limits.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -525,6 +526,9 @@ static au_status ply_header(const char *path, const char *buf, size_t len, ply_e
       snprintf(pr->name, sizeof pr->name, "%.*s", (int)(b - a), a);
       el->nprops++;
     } else {
+      if (ts < te && ((*ts >= '0' && *ts <= '9') || *ts == '-' || *ts == '.') && *nelems > 0)
+        return au_msg_set(msg, AU_E_FORMAT, "%s:%d: data line '%.*s' before end_header (the PLY header has no end_header)",
+                          path, t.line, (int)(te - ts), ts);
       return au_msg_set(msg, AU_E_FORMAT, "%s:%d: unknown PLY header line '%.*s'", path, t.line, (int)(te - ts), ts);
     }
   }
@@ -560,6 +564,12 @@ static au_status ply_body(const char *path, const ply_elem *elems, int nelems, p
   /* Every record takes at least a byte per property, so counts beyond the body's size are a broken
    * header, not a reason to allocate gigabytes. */
   size_t body = (size_t)(in->end - in->p);
+  /* A record without properties takes no bytes, so its count cannot be checked against the body:
+   * refuse it rather than loop over billions of empty records. */
+  for (int i = 0; i < nelems; i++)
+    if (elems[i].nprops == 0 && elems[i].n > 0)
+      return au_msg_set(msg, AU_E_FORMAT, "%s: PLY element '%s' has %lld records but no properties", path,
+                        elems[i].name, elems[i].n);
   for (int i = 0; i < nelems; i++)
     if (elems[i].nprops > 0 && (unsigned long long)elems[i].n > body / (size_t)elems[i].nprops)
       return au_msg_set(msg, AU_E_FORMAT, "%s: the PLY header says %lld %s records, more than the file holds", path,
@@ -654,9 +664,18 @@ static au_status stl_facets(const char *path, const char *buf, size_t len, long 
     if (first && !tok_is(ts, te, "solid")) break;
     if (tok_is(ts, te, "facet")) (*n)++;
   }
-  if (r < 0 || (first && len > 0))
-    return au_msg_set(msg, AU_E_FORMAT, "%s: neither a binary STL (its size does not match its facet count) nor an ASCII STL",
-                      path);
+  if (r < 0 || (first && len > 0)) {
+    if (len < 84)
+      return au_msg_set(msg, AU_E_FORMAT, "%s: neither an ASCII STL nor a binary STL (%zu bytes, shorter than the 84-byte header)",
+                        path, len);
+    const unsigned char *c = (const unsigned char *)buf + 80;
+    unsigned long long cnt = c[0] | (unsigned long long)c[1] << 8 | (unsigned long long)c[2] << 16 |
+                             (unsigned long long)c[3] << 24;
+    return au_msg_set(msg, AU_E_FORMAT,
+                      "%s: not an ASCII STL, and as a binary STL its header announces %llu facets (%llu bytes) but "
+                      "the file has %zu bytes (%s?)",
+                      path, cnt, 84 + 50 * cnt, len, 84 + 50 * cnt > len ? "truncated" : "trailing data or not an STL");
+  }
   return AU_OK;
 }
 
@@ -774,6 +793,36 @@ static mode_t new_file_mode(void) {
 
 typedef int (*au_emit_fn)(FILE *fp, const void *ctx);
 
+/* The temporaries being written, for au_io_remove_pending. A slot is published (used = 1) only after
+ * its name is complete, and the handler only reads, so a signal at any point sees either nothing or a
+ * whole name. Writes are not expected from several threads at once; a name that does not fit, or a
+ * write beyond the slots, is simply not tracked. */
+#define AU_PENDING_SLOTS 4
+#define AU_PENDING_LEN 4096
+static char pending_name[AU_PENDING_SLOTS][AU_PENDING_LEN];
+static volatile sig_atomic_t pending_used[AU_PENDING_SLOTS];
+
+static int pending_add(const char *tmp) {
+  size_t n = strlen(tmp);
+  if (n >= AU_PENDING_LEN) return -1;
+  for (int i = 0; i < AU_PENDING_SLOTS; i++)
+    if (!pending_used[i]) {
+      memcpy(pending_name[i], tmp, n + 1);
+      pending_used[i] = 1;
+      return i;
+    }
+  return -1;
+}
+
+static void pending_drop(int slot) {
+  if (slot >= 0) pending_used[slot] = 0;
+}
+
+void au_io_remove_pending(void) {
+  for (int i = 0; i < AU_PENDING_SLOTS; i++)
+    if (pending_used[i]) unlink(pending_name[i]);
+}
+
 /* Write through emit into "<path>.tmpXXXXXX" beside path, then rename it over path. On any failure
  * the temporary file is removed and an existing path is left as it was. */
 static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx, au_msg *msg) {
@@ -788,6 +837,7 @@ static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx
     free(tmp);
     return au_msg_set(msg, AU_E_IO, "cannot create '%s': %s", path, strerror(err));
   }
+  int slot = pending_add(tmp);
   /* mkstemp makes the file private (0600); the result should have the mode a plain fopen would
    * give it, or keep the mode of the file it replaces. */
   struct stat st;
@@ -809,9 +859,11 @@ static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx
   if (err) {
     /* Best effort: the error being reported is the write's, and the name is ours alone. */
     unlink(tmp);
+    pending_drop(slot);
     free(tmp);
     return au_msg_set(msg, AU_E_IO, "cannot %s '%s': %s", what, path, strerror(err));
   }
+  pending_drop(slot);
   free(tmp);
   return AU_OK;
 }

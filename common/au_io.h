@@ -43,6 +43,12 @@ au_status au_io_write(const char *path, const au_mesh *m, const double *P, const
  * then rename. Used by the JSON report writer. Returns AU_OK, AU_E_ARG, AU_E_IO. */
 au_status au_io_write_text(const char *path, const char *buf, size_t len, au_msg *msg);
 
+/* Remove the temporary files of the writes now in progress (au_io_write, au_io_write_text).
+ * Async-signal-safe: meant for a program's SIGINT/SIGTERM/SIGHUP handler, so that an interrupted
+ * run leaves neither a partial output nor a hidden temporary behind. The library installs no
+ * handler itself. */
+void au_io_remove_pending(void);
+
 /* 1 if the extension of path is one au_io_write can produce, else 0. */
 int au_io_can_write(const char *path);
 

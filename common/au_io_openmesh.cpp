@@ -3,12 +3,17 @@
 
 // GCC 12 warns inside OpenMesh's own templates (its vectors are deliberately left uninitialized
 // by their default constructor); the warning is about OpenMesh, not this file.
+// (clang has no such warning and would warn about the unknown option instead.)
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
 
 #include <climits>
 #include <cstdlib>

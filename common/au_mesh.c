@@ -422,7 +422,13 @@ static void au__loop_sizes(const au_topo *t, char *buf, size_t len) {
 static au_status au__boundary_problem(const au_topo *t, const au_mesh_expect *x, au_msg *msg) {
   const char *cmd = x->command;
   if (t->nloops == 0) {
-    if (cmd) return au_msg_set(msg, AU_E_BOUNDARY, "closed mesh given to `authalic %s`: use `authalic sphere`", cmd);
+    if (cmd && t->genus == 0)
+      return au_msg_set(msg, AU_E_BOUNDARY, "closed mesh given to `authalic %s`: use `authalic sphere`", cmd);
+    if (cmd)
+      return au_msg_set(msg, AU_E_BOUNDARY,
+                        "closed mesh of genus %d given to `authalic %s`, which needs %d boundary loop%s (cut the "
+                        "surface open first)",
+                        t->genus, cmd, x->loops, x->loops == 1 ? "" : "s");
     return au_msg_set(msg, AU_E_BOUNDARY, "mesh is closed (no boundary loop; expected %d)", x->loops);
   }
   char sizes[96];
@@ -431,8 +437,10 @@ static au_status au__boundary_problem(const au_topo *t, const au_mesh_expect *x,
   if (x->loops == 0 && cmd)
     return au_msg_set(msg, AU_E_BOUNDARY,
                       "mesh has %d boundary loop%s (%s); `authalic %s` needs a closed surface: use "
-                      "`authalic disk` for a disk-like mesh",
-                      t->nloops, plural, sizes, cmd);
+                      "`authalic %s` for %s",
+                      t->nloops, plural, sizes, cmd, t->nloops == 1 ? "disk" : t->nloops == 2 ? "annulus" : "disk",
+                      t->nloops == 1 ? "a disk-like mesh" : t->nloops == 2 ? "a mesh with two loops" :
+                      "a disk-like mesh (fill all but one hole)");
   if (x->loops == 0)
     return au_msg_set(msg, AU_E_BOUNDARY, "mesh has %d boundary loop%s (%s); a closed surface was expected",
                       t->nloops, plural, sizes);

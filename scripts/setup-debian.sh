@@ -12,6 +12,8 @@ PACKAGES=(
   libopenmesh-dev libgeographiclib-dev libcjson-dev libpng-dev
   python3-numpy  # the shared evaluator (param-eval) and the data and bench scripts
   time  # /usr/bin/time, used by the benchmarks
+  strace  # holds a run at its write in the interrupted-write test
+  clang libclang-rt-14-dev llvm  # libFuzzer and its runtime (make fuzz); llvm-symbolizer for sanitizer stacks
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1; then

@@ -33,6 +33,7 @@ static void print_help(void) {
 
 int main(int argc, char **argv) {
   const char *help = "authalic --help";
+  cli_install_signal_cleanup();
   if (argc < 2) return cli_usage_error(help, "no command given");
   const char *cmd = argv[1];
   if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "--version") == 0) {

@@ -5,6 +5,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -179,6 +180,31 @@ static char *temp_name(const char *out) {
   return t;
 }
 
+/* The finished output waiting under its temporary name, for the signal handler. */
+static char *volatile publishing;
+
+static void on_fatal_signal(int sig) {
+  au_io_remove_pending();
+  char *tmp = publishing;
+  if (tmp) unlink(tmp);
+  signal(sig, SIG_DFL);
+  raise(sig);
+}
+
+void cli_install_signal_cleanup(void) {
+  static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_fatal_signal;
+  sigemptyset(&sa.sa_mask);
+  for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+    struct sigaction old;
+    /* A signal ignored by whoever started us (nohup) stays ignored. */
+    if (sigaction(sigs[i], NULL, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    sigaction(sigs[i], &sa, NULL);
+  }
+}
+
 int cli_publish(const char *out, const au_mesh *m, const double *P, const au_io_write_opts *wopts,
                 const char *report, const au_report_info *info, au_report_stage *write_stage) {
   au_msg msg = {{0}};
@@ -186,6 +212,7 @@ int cli_publish(const char *out, const au_mesh *m, const double *P, const au_io_
   int rc = EXIT_INTERNAL;
   char *tmp = temp_name(out);
   if (!tmp) return cli_fail(out, AU_E_NOMEM, NULL);
+  publishing = tmp;
   au_status st = au_io_write(tmp, m, P, wopts, &msg);
   if (st != AU_OK) {
     rc = cli_fail(out, st, &msg);
@@ -210,6 +237,7 @@ int cli_publish(const char *out, const au_mesh *m, const double *P, const au_io_
   rc = EXIT_OK;
 done:
   if (rc != EXIT_OK) unlink(tmp); /* the temporary may not exist; then there is nothing to remove */
+  publishing = NULL;
   free(tmp);
   return rc;
 }

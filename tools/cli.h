@@ -88,6 +88,10 @@ int cli_load(const char *in, const au_mesh_expect *ex, au_mesh **m, au_topo **t,
 int cli_publish(const char *out, const au_mesh *m, const double *P, const au_io_write_opts *wopts,
                 const char *report, const au_report_info *info, au_report_stage *write_stage);
 
+/* Install SIGINT/SIGTERM/SIGHUP handlers that remove the temporaries of the output being written
+ * (cli_publish's and au_io's), then die of the signal as before: an interrupted run leaves no file. */
+void cli_install_signal_cleanup(void);
+
 /* The fold check every command makes before writing: prints the error and returns the exit code
  * when the metrics report folds, else -1. */
 int cli_refuse_folds(const char *in, const au_metrics *fin);
