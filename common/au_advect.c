@@ -50,6 +50,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.method = AU_ADVECT_LEAST_SHEAR;
   o.shear = 1;
   o.shear_tail = 0.01;
+  o.sphere_areas = 1;
   return o;
 }
 
@@ -313,11 +314,17 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
   if (st != AU_OK) goto done;
 
   int k, face_phase = 0, face_steps = 0;
+  /* sph_phase: the spherical-area part of the flow (o.sphere_areas); phase_start: the first step of
+   * the current part, so that the stall test compares like with like. */
+  int sph_phase = sph && ls && o.sphere_areas, phase_start = 0;
   double alpha = o.shear; /* the least-shear step's current shear weight */
   double prev_err = INFINITY, prev_ferr = INFINITY;
   au_dec_face_areas(nf, F, m->X, As);
   for (k = 0;; k++) {
-    au_dec_face_areas(nf, F, P, af);
+    /* On the sphere the domain's areas are the spherical triangles' (see au_lm.c): they vanish where
+     * the corners come onto one great circle, and they sum to 4 pi. */
+    if (sph_phase) au_dec_sphere_face_areas(nf, F, P, af);
+    else au_dec_face_areas(nf, F, P, af);
     au_dec_vertex_areas(nv, nf, F, P, af, AO);
     double SO = 0;
     for (int f = 0; f < nf; f++) SO += af[f];
@@ -349,8 +356,21 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       if (k > 0) alpha = fmax(0.5 * alpha, o.shear_tail);
       /* Done when the vertex cells meet the tolerance and the faces theirs, or when neither improves any
        * more (less than 2% in the last four steps). */
-      int stalled = k >= o.schedule_steps + 4 && ferr > 0.98 * rep->face_err[k - 4] && err > 0.98 * rep->err[k - 4];
-      if ((err <= o.tol && ferr <= fmax(o.face_tol, o.tol)) || stalled) {
+      int stalled = k >= o.schedule_steps + 4 && k >= phase_start + 4 && ferr > 0.98 * rep->face_err[k - 4] && err > 0.98 * rep->err[k - 4];
+      /* The spherical part ends when it is done, stalls, or has used two thirds of the steps. */
+      int sph_done = sph_phase && (k >= (o.max_steps * 2) / 3 || ferr <= 0.3 * o.face_tol);
+      if ((err <= o.tol && ferr <= fmax(o.face_tol, o.tol)) || stalled || sph_done) {
+        if (sph_phase) {
+          /* Polish the chord triangles' areas from here: measure this map again in their terms (the
+           * step number stays), with the stiff start of the shear weight. */
+          sph_phase = 0;
+          phase_start = k;
+          rep->polish_from = k;
+          prev_err = prev_ferr = INFINITY;
+          alpha = o.shear;
+          k--;
+          continue;
+        }
         rep->converged = err <= o.tol;
         break;
       }
@@ -396,7 +416,7 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       /* Face weights: the target areas (the faces' shares of the surface), at most AU_WEIGHT_CAP times
        * the current area so that the system stays well conditioned. */
       for (int f = 0; f < nf; f++) Gf[f] = fmin(As[f] * fw[f] * scale, AU_WEIGHT_CAP * af[f]);
-      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, D, msg);
+      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, D, msg);
       if (st == AU_E_NOT_SPD && alpha < 1e6) {
         /* Rounding made the system indefinite: retry stiffer (the shear term is definite but for the
          * rotations). Nothing has moved: the next round sees the same map. */
@@ -487,7 +507,6 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       nused++;
     }
     rep->frac[k] = nused ? frac_sum / nused : 0;
-
     memcpy(Pold, P, sizeof(double) * 3 * nv);
     for (int f = 0; f < nf; f++) orient_old[f] = face_orient(P, F, f, sph);
     for (int tries = 0;; tries++) {

@@ -57,6 +57,12 @@ typedef struct au_advect_opts {
   const double *face_weight; /* per-face target density [0..nf-1] (> 0) instead of the per-vertex one:
                                 face f gets domain area proportional to face_weight[f] x its surface
                                 area; NULL (default). At most one of weight and face_weight. */
+  int sphere_areas; /* spherical domains, least-shear method: 1 (default) the flow drives the areas of
+                       the spherical triangles, then polishes those of the chord triangles (the ones
+                       param-eval measures); 0: chord areas throughout. A chord triangle keeps a
+                       sizeable area when its corners come onto one great circle, so the chord-area flow
+                       cannot see that sliver forming and jams on it (measured: cheburashka stalled at
+                       per-face mean |r-1| 0.43; with spherical areas first, 0.035) */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);
@@ -69,6 +75,8 @@ typedef struct au_advect_report {
   double frac[AU_ADVECT_MAX_STEPS];     /* mean fraction of the wanted displacement taken per step */
   int face_steps;                       /* of the steps, how many were per-face refinement steps */
   double t_solve;                       /* seconds in the sparse solves (factor + solve) */
+  int polish_from;                      /* sphere_areas: the step at which the chord-area polish began
+                                           (err and face_err are spherical before it), else 0 */
 } au_advect_report;
 
 /* Advect the domain positions P (nv x 3, in/out: on the domain on entry, and on exit) until the

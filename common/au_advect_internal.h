@@ -31,9 +31,11 @@ au_status au__lm_create(const au_mesh *m, const au_topo *t, au_lm **out, au_msg 
  * change of the face areas at P is closest to dAf [0..nf-1] in sum_f w_f ((change_f - dAf_f) / A_f)^2,
  * plus alpha times the w-weighted shear energy of the motion and eps times its kinetic energy (see
  * au_lm.c). wf [0..nf-1] > 0: face weights (e.g. the target areas); NULL: the current areas A_f.
- * alpha >= 0, eps > 0. Returns AU_OK, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC. */
+ * alpha >= 0, eps > 0. sphere_areas (spherical domains only): A_f and its change are the spherical
+ * triangle's (au_dec_sphere_area) and the shear is measured in the tangent plane at the centroid
+ * direction; 0: the chord triangle's. Returns AU_OK, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC. */
 au_status au__lm_step(au_lm *lm, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
-                      double alpha, double eps, double *D, au_msg *msg);
+                      double alpha, double eps, int sphere_areas, double *D, au_msg *msg);
 
 void au__lm_free(au_lm **lm);
 

@@ -130,3 +130,32 @@ double au_dec_sphere_orient(const double *a, const double *b, const double *c) {
   double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
   return (n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) + n[2] * (a[2] + b[2] + c[2])) / 3.0;
 }
+
+double au_dec_sphere_area(const double *a, const double *b, const double *c, double *grad) {
+  double N = au_dec_sphere_orient(a, b, c);
+  double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2], bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2],
+         ca = c[0] * a[0] + c[1] * a[1] + c[2] * a[2];
+  double Dn = 1 + ab + bc + ca;
+  if (grad) {
+    /* dE = 2 (Dn dN - N dDn) / (N^2 + Dn^2), with dN/da = b x c and dDn/da = b + c (cyclically).
+     * b x c is formed as (b - a) x (c - a) + a x (c - b), from edge differences: the direct cross
+     * product of two nearly equal unit vectors loses all its digits on tiny triangles. */
+    const double *p[3] = {a, b, c};
+    double q = N * N + Dn * Dn, s = q > 0 ? 2 / q : 0;
+    for (int k = 0; k < 3; k++) {
+      const double *w = p[k], *u = p[(k + 1) % 3], *v = p[(k + 2) % 3];
+      double e1[3] = {u[0] - w[0], u[1] - w[1], u[2] - w[2]}, e2[3] = {v[0] - w[0], v[1] - w[1], v[2] - w[2]};
+      double e3[3] = {v[0] - u[0], v[1] - u[1], v[2] - u[2]};
+      double x[3] = {e1[1] * e2[2] - e1[2] * e2[1] + w[1] * e3[2] - w[2] * e3[1],
+                     e1[2] * e2[0] - e1[0] * e2[2] + w[2] * e3[0] - w[0] * e3[2],
+                     e1[0] * e2[1] - e1[1] * e2[0] + w[0] * e3[1] - w[1] * e3[0]};
+      for (int d = 0; d < 3; d++) grad[3 * k + d] = s * (Dn * x[d] - N * (u[d] + v[d]));
+    }
+  }
+  return 2 * atan2(N, Dn);
+}
+
+void au_dec_sphere_face_areas(int nf, const int *F, const double *V, double *area) {
+  for (int f = 0; f < nf; f++)
+    area[f] = au_dec_sphere_area(V + 3 * F[3 * f], V + 3 * F[3 * f + 1], V + 3 * F[3 * f + 2], NULL);
+}

@@ -41,6 +41,16 @@ au_status au_dec_vertex_grad(int nv, int nf, const int *F, const double *V, cons
  * accuracy for tiny triangles (the direct formula loses it below ~1e-16). */
 double au_dec_sphere_orient(const double *a, const double *b, const double *c);
 
+/* Area of the spherical triangle (a, b, c) with corners on the unit sphere (its spherical excess),
+ * signed like au_dec_sphere_orient: E = 2 atan2(det(a, b, c), 1 + a.b + b.c + c.a) (Van Oosterom and
+ * Strackee). Unlike the chord triangle's area it vanishes when the corners come onto one great
+ * circle, and the areas of a fold-free map sum to 4 pi exactly. If grad is not NULL it gets the
+ * gradient of E with respect to a, b and c (3 x 3, row-major), as functions on R^3. */
+double au_dec_sphere_area(const double *a, const double *b, const double *c, double *grad);
+
+/* au_dec_sphere_area of every face: area [0..nf-1]. */
+void au_dec_sphere_face_areas(int nf, const int *F, const double *V, double *area);
+
 #ifdef __cplusplus
 }
 #endif

@@ -13,7 +13,10 @@
  * first term becomes w_f ((d_f . u - dA_f) / A_f)^2), where C_f u = (J11 - J22, J12 + J21) is the anti-conformal part of the velocity's Jacobian on face f
  * (zero for an infinitesimally conformal motion) and the last term only fixes the rigid rotations, which
  * change neither areas nor angles. The first two terms are integrals of (div u - rate)^2 and of the
- * shear rate, so the step is scale invariant. Normal equations: (sum d d^T/A + alpha A C^T C + eps M) u
+ * shear rate, so the step is scale invariant. On the sphere A_f is by default the spherical triangle's
+ * area, whose gradient is exact (au_dec_sphere_area), and C_f is taken in the tangent plane at the
+ * face's centroid direction (the chord triangle's own plane tips over as its corners approach one
+ * great circle). Normal equations: (sum d d^T/A + alpha A C^T C + eps M) u
  * = sum d dA/A, symmetric positive definite with the one-ring pattern of the mesh (2x2 blocks), which is
  * analyzed once. As a Gauss-Newton/Levenberg-Marquardt iteration it converges to exact per-face areas;
  * the shear term only shapes the path (and damps the checkerboard modes a plain Gauss-Newton on the
@@ -23,6 +26,7 @@
 #include <string.h>
 
 #include "au_advect_internal.h"
+#include "au_dec.h"
 #include "au_solver.h"
 
 struct au_lm {
@@ -161,7 +165,7 @@ static void allowed_basis(const au_advect_domain *dom, int i, const double *p, d
 static inline double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
-                      double alpha, double eps, double *D, au_msg *msg) {
+                      double alpha, double eps, int sphere_areas, double *D, au_msg *msg) {
   const int nv = l->nv, nf = l->nf, n = 2 * nv, *F = l->F;
   double *val = au_spd_values(l->spd);
   memset(val, 0, sizeof(double) * (size_t)l->colstart[n]);
@@ -170,15 +174,37 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
   double *mass = l->x; /* scratch: the domain's vertex areas */
   memset(mass, 0, sizeof(double) * (size_t)n);
   static const int pairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {2, 0}};
+  const int sph = dom->spherical && sphere_areas;
   for (int f = 0; f < nf; f++) {
     const int *v = F + 3 * f;
     const double *p0 = P + 3 * v[0], *p1 = P + 3 * v[1], *p2 = P + 3 * v[2];
     double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
     double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    double nn = sqrt(dot3(nrm, nrm)), l1 = sqrt(dot3(e1, e1));
-    if (!(nn > 0) || !(l1 > 0)) continue;
+    double nn = sqrt(dot3(nrm, nrm));
+    if (!(nn > 0)) continue;
     double A = 0.5 * nn;
     for (int d = 0; d < 3; d++) nrm[d] /= nn;
+    /* On the sphere the area is the spherical triangle's (its chord triangle keeps a sizeable area
+     * when the corners come onto one great circle, where the spherical one vanishes), and the frame
+     * of the shear term is the tangent plane at the centroid direction, the plane the step control
+     * measures orientation in. Sg holds the area's gradient per corner. */
+    double Sg[9], Es = 0;
+    if (sph) {
+      Es = au_dec_sphere_area(p0, p1, p2, Sg);
+      double c[3] = {p0[0] + p1[0] + p2[0], p0[1] + p1[1] + p2[1], p0[2] + p1[2] + p2[2]};
+      double cn = sqrt(dot3(c, c));
+      if (!(Es > 0) || !(cn > 0)) continue;
+      for (int d = 0; d < 3; d++) nrm[d] = c[d] / cn;
+      double dd = dot3(e1, nrm);
+      for (int d = 0; d < 3; d++) e1[d] -= dd * nrm[d];
+      dd = dot3(e2, nrm);
+      for (int d = 0; d < 3; d++) e2[d] -= dd * nrm[d];
+      double x[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      A = 0.5 * dot3(x, nrm); /* the projected triangle's area */
+      if (!(A > 0)) continue;
+    }
+    double l1 = sqrt(dot3(e1, e1));
+    if (!(l1 > 0)) continue;
     double u1[3] = {e1[0] / l1, e1[1] / l1, e1[2] / l1};
     double u2[3] = {nrm[1] * u1[2] - nrm[2] * u1[1], nrm[2] * u1[0] - nrm[0] * u1[2], nrm[0] * u1[1] - nrm[1] * u1[0]};
     /* Per corner k: the area gradient g_k (3D), then its rows in the allowed directions. */
@@ -186,6 +212,10 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
     for (int k = 0; k < 3; k++) {
       const double *pa = P + 3 * v[(k + 1) % 3], *pb = P + 3 * v[(k + 2) % 3];
       double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+      if (sph) {
+        double dd = dot3(e, nrm);
+        for (int d = 0; d < 3; d++) e[d] -= dd * nrm[d];
+      }
       double g[3] = {0.5 * (nrm[1] * e[2] - nrm[2] * e[1]), 0.5 * (nrm[2] * e[0] - nrm[0] * e[2]),
                      0.5 * (nrm[0] * e[1] - nrm[1] * e[0])};
       /* grad phi_k = g_k / A; anti-conformal rows h1 = u1 (phi.u1) - u2 (phi.u2), h2 = u1 (phi.u2) + u2 (phi.u1). */
@@ -194,7 +224,7 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
       for (int d = 0; d < 3; d++) h1[d] = u1[d] * a1 - u2[d] * a2, h2[d] = u1[d] * a2 + u2[d] * a1;
       const double *Bk = l->B + 6 * v[k];
       for (int b = 0; b < 2; b++) {
-        rd[2 * k + b] = dot3(g, Bk + 3 * b);
+        rd[2 * k + b] = dot3(sph ? Sg + 3 * k : g, Bk + 3 * b);
         rc1[2 * k + b] = dot3(h1, Bk + 3 * b);
         rc2[2 * k + b] = dot3(h2, Bk + 3 * b);
       }
@@ -202,6 +232,7 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
     }
     /* Each face counts with its weight (its share of the surface): weighting by the current domain
      * area instead would let the squeezed faces, the ones that must change most, count for nothing. */
+    if (sph) A = Es;
     double wgt = wf ? wf[f] : A, wd = wgt / (A * A), wc = alpha * wgt;
     for (int q = 0; q < 6; q++) {
       int a = pairs[q][0], b = pairs[q][1];

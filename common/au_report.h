@@ -29,6 +29,9 @@ typedef struct au_report_info {
   const double *step_frac;    /* per-step fraction of the step taken [0..steps-1]; may be NULL */
   const char **warnings; int nwarnings;
   const double *step_face_err; /* per-step per-face mean |r - 1| [0..steps]; may be NULL */
+  int polish_from;             /* > 0: the step from which step_err/step_face_err measure chord
+                                  triangles (spherical ones before it); written as
+                                  convergence.polish_from. 0: one measure throughout */
 } au_report_info;
 
 /* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.

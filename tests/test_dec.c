@@ -236,11 +236,89 @@ static int cotan_scale_case(void) {
   return 0;
 }
 
+/* Spherical triangle areas: on the refined octahedron projected onto the unit sphere they sum to
+ * 4 pi; an octant is pi/2; corners on one great circle give 0; a tiny triangle's area is its chord
+ * area; the gradient matches central differences, also for a triangle of size 1e-9, where the
+ * direct cross product of its corners would have lost the digits. */
+static int sphere_area_case(void) {
+  au_mesh *m = make_surface(3, 1.0);
+  AU_CHECK(m != NULL);
+  for (int i = 0; i < m->nv; i++) {
+    double *p = m->X + 3 * i, r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (int d = 0; d < 3; d++) p[d] /= r;
+  }
+  double *area = malloc(sizeof(double) * m->nf), sum = 0;
+  au_dec_sphere_face_areas(m->nf, m->F, m->X, area);
+  for (int f = 0; f < m->nf; f++) {
+    AU_CHECK_DBL(area[f], >, 0);
+    sum += area[f];
+  }
+  AU_CHECK_NEAR(sum, 4 * M_PI, 1e-12);
+  free(area);
+  au_mesh_free(&m);
+  const double x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1};
+  AU_CHECK_NEAR(au_dec_sphere_area(x, y, z, NULL), M_PI / 2, 1e-15);
+  AU_CHECK_NEAR(au_dec_sphere_area(y, x, z, NULL), -M_PI / 2, 1e-15);
+  const double g1[3] = {cos(0.3), sin(0.3), 0}, g2[3] = {cos(1.1), sin(1.1), 0};
+  AU_CHECK_NEAR(au_dec_sphere_area(x, g1, g2, NULL), 0, 1e-16);
+  unsigned seed = 7;
+  for (int trial = 0; trial < 200; trial++) {
+    double size = trial < 100 ? 0.3 : 1e-9, p[3][3], grad[9];
+    double c[3] = {rnd(&seed) - 0.5, rnd(&seed) - 0.5, rnd(&seed) - 0.5}, cn = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    for (int k = 0; k < 3; k++) {
+      double r = 0;
+      for (int d = 0; d < 3; d++) p[k][d] = c[d] / cn + size * (rnd(&seed) - 0.5), r += p[k][d] * p[k][d];
+      for (int d = 0; d < 3; d++) p[k][d] /= sqrt(r);
+    }
+    double E = au_dec_sphere_area(p[0], p[1], p[2], grad);
+    if (size < 1e-6) {
+      /* Tiny: the area is the chord triangle's, and the gradient's tangential part is the planar
+       * one, 1/2 n x (opposite edge), both from edge differences (finite differences would need
+       * steps below the coordinates' rounding). */
+      double e1[3], e2[3];
+      for (int d = 0; d < 3; d++) e1[d] = p[1][d] - p[0][d], e2[d] = p[2][d] - p[0][d];
+      double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), chord = 0.5 * nn;
+      AU_CHECK_NEAR(fabs(E), chord, 1e-6 * chord);
+      for (int k = 0; k < 3; k++) {
+        const double *a = p[(k + 1) % 3], *b = p[(k + 2) % 3];
+        double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, g[3], t[3];
+        g[0] = 0.5 * (n[1] * e[2] - n[2] * e[1]) / nn, g[1] = 0.5 * (n[2] * e[0] - n[0] * e[2]) / nn;
+        g[2] = 0.5 * (n[0] * e[1] - n[1] * e[0]) / nn;
+        for (int d = 0; d < 3; d++) g[d] *= E < 0 ? -1 : 1; /* E is signed, the chord area is not */
+        double gd = g[0] * p[k][0] + g[1] * p[k][1] + g[2] * p[k][2];
+        double sd = grad[3 * k] * p[k][0] + grad[3 * k + 1] * p[k][1] + grad[3 * k + 2] * p[k][2];
+        double gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        for (int d = 0; d < 3; d++) {
+          t[d] = (grad[3 * k + d] - sd * p[k][d]) - (g[d] - gd * p[k][d]);
+          AU_CHECK_NEAR(t[d], 0, 1e-6 * gl);
+        }
+      }
+      continue;
+    }
+    /* Central differences with a step proportional to the triangle (the area is cubic-smooth). */
+    double h = 1e-4 * size, gmax = 0;
+    for (int q = 0; q < 9; q++) gmax = fmax(gmax, fabs(grad[q]));
+    for (int k = 0; k < 3; k++)
+      for (int d = 0; d < 3; d++) {
+        double keep = p[k][d];
+        p[k][d] = keep + h;
+        double ep = au_dec_sphere_area(p[0], p[1], p[2], NULL);
+        p[k][d] = keep - h;
+        double em = au_dec_sphere_area(p[0], p[1], p[2], NULL);
+        p[k][d] = keep;
+        AU_CHECK_NEAR(grad[3 * k + d], (ep - em) / (2 * h), 1e-5 * gmax);
+      }
+  }
+  return 0;
+}
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"stiffness_props", stiffness_props_case},       {"stiffness_dirichlet", stiffness_dirichlet_case},
       {"grad_linear", grad_linear_case},               {"areas_sum", areas_sum_case},
       {"cotan_scale", cotan_scale_case},               {"solver_linear_exact", solver_linear_exact},
+      {"sphere_area", sphere_area_case},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }

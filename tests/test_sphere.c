@@ -104,12 +104,15 @@ static int map_quality(const char *name, double max_vertex, double max_rmad) {
   return 0;
 }
 
-/* ellipsoid: measured vertex 0.0016, per-face 0.0166 (least-shear flow, 2026-11-22). */
-static int map_ellipsoid(void) { return map_quality("ellipsoid.obj", 0.003, 0.025); }
-/* spiky_ico: measured vertex 0.047, per-face 0.100: the needles still jam the flow (the paper's
- * Poisson step reached vertex 0.00075 but left per-face 0.238). */
+/* ellipsoid: measured vertex 0.0022, per-face 0.0240 (spherical areas, then chord polish, 2026-12-01;
+ * the chord-only flow crept to 0.0016 / 0.0166 in 60 steps): the per-face residual is a mode the
+ * least-shear step removes only slowly. */
+static int map_ellipsoid(void) { return map_quality("ellipsoid.obj", 0.003, 0.03); }
+/* spiky_ico: measured vertex 0.048, per-face 0.090 (chord-only flow: 0.056 / 0.106): its spikes'
+ * long triangles cannot have their spherical and chord areas right at once (the paper's Poisson
+ * step reached vertex 0.00075 but left per-face 0.238). */
 static int map_spiky(void) { return map_quality("spiky_ico.obj", 0.07, 0.15); }
-/* bumpy_star: measured vertex 0.0012, per-face 0.0067. */
+/* bumpy_star: measured vertex 0.0012, per-face 0.0068. */
 static int map_bumpy(void) { return map_quality("bumpy_star.obj", 0.003, 0.012); }
 
 /* Prescribed density (issue 6): weight 4 on the faces of one half of the ellipsoid (centroid x > 0)
