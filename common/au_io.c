@@ -645,10 +645,10 @@ static au_status read_ply(const char *path, const char *buf, size_t len, au_mesh
  * 80-byte header, a 32-bit little-endian count and 50 bytes per facet; otherwise it must be
  * ASCII ("solid ... facet ... endsolid"). */
 static au_status stl_facets(const char *path, const char *buf, size_t len, long long *n, au_msg *msg) {
+  unsigned long long cnt = 0; /* the binary header's facet count */
   if (len >= 84) {
     const unsigned char *c = (const unsigned char *)buf + 80;
-    unsigned long long cnt = c[0] | (unsigned long long)c[1] << 8 | (unsigned long long)c[2] << 16 |
-                             (unsigned long long)c[3] << 24;
+    cnt = c[0] | (unsigned long long)c[1] << 8 | (unsigned long long)c[2] << 16 | (unsigned long long)c[3] << 24;
     if (84 + 50 * cnt == len) {
       *n = (long long)cnt;
       return AU_OK;
@@ -668,9 +668,6 @@ static au_status stl_facets(const char *path, const char *buf, size_t len, long 
     if (len < 84)
       return au_msg_set(msg, AU_E_FORMAT, "%s: neither an ASCII STL nor a binary STL (%zu bytes, shorter than the 84-byte header)",
                         path, len);
-    const unsigned char *c = (const unsigned char *)buf + 80;
-    unsigned long long cnt = c[0] | (unsigned long long)c[1] << 8 | (unsigned long long)c[2] << 16 |
-                             (unsigned long long)c[3] << 24;
     return au_msg_set(msg, AU_E_FORMAT,
                       "%s: not an ASCII STL, and as a binary STL its header announces %llu facets (%llu bytes) but "
                       "the file has %zu bytes (%s?)",

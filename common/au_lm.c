@@ -164,6 +164,12 @@ static void allowed_basis(const au_advect_domain *dom, int i, const double *p, d
 
 static inline double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+/* x minus its component along the unit vector n. */
+static inline void project_out(double *x, const double *n) {
+  double d = dot3(x, n);
+  x[0] -= d * n[0], x[1] -= d * n[1], x[2] -= d * n[2];
+}
+
 au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
                       double alpha, double eps, int sphere_areas, double *D, au_msg *msg) {
   const int nv = l->nv, nf = l->nf, n = 2 * nv, *F = l->F;
@@ -195,10 +201,8 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
       double cn = sqrt(dot3(c, c));
       if (!(Es > 0) || !(cn > 0)) continue;
       for (int d = 0; d < 3; d++) nrm[d] = c[d] / cn;
-      double dd = dot3(e1, nrm);
-      for (int d = 0; d < 3; d++) e1[d] -= dd * nrm[d];
-      dd = dot3(e2, nrm);
-      for (int d = 0; d < 3; d++) e2[d] -= dd * nrm[d];
+      project_out(e1, nrm);
+      project_out(e2, nrm);
       double x[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
       A = 0.5 * dot3(x, nrm); /* the projected triangle's area */
       if (!(A > 0)) continue;
@@ -212,10 +216,7 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
     for (int k = 0; k < 3; k++) {
       const double *pa = P + 3 * v[(k + 1) % 3], *pb = P + 3 * v[(k + 2) % 3];
       double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
-      if (sph) {
-        double dd = dot3(e, nrm);
-        for (int d = 0; d < 3; d++) e[d] -= dd * nrm[d];
-      }
+      if (sph) project_out(e, nrm);
       double g[3] = {0.5 * (nrm[1] * e[2] - nrm[2] * e[1]), 0.5 * (nrm[2] * e[0] - nrm[0] * e[2]),
                      0.5 * (nrm[0] * e[1] - nrm[1] * e[0])};
       /* grad phi_k = g_k / A; anti-conformal rows h1 = u1 (phi.u1) - u2 (phi.u2), h2 = u1 (phi.u2) + u2 (phi.u1). */
