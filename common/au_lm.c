@@ -255,16 +255,21 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
       for (int b = 0; b < 2; b++) l->rhs[2 * v[k] + b] += wd * rd[2 * k + b] * dAf[f];
   }
   /* The rigid rotations (and any slot without an allowed direction) are fixed by the mass term; an
-   * empty slot gets a unit diagonal so that its zero solution is exact. */
+   * empty slot gets a unit diagonal so that its zero solution is exact.
+   * Planar domains also get a relative 1e-8 on the diagonal: it bounds the condition number where the
+   * shear weight is small and a global mode (a rotation of a sliding boundary) is nearly free; without
+   * it the last pivot of brain_disk's factorization came out non-positive in double precision, and
+   * sophie's annulus ended at per-face 0.57 instead of 0.011. On the sphere it does harm: it pulls
+   * every vertex towards standing still in proportion to its stiffness, and a cluster of 1e-10-sized
+   * triangles that must travel 0.2 is torn by that pull (cow's squeezed legs: 15 faces left too small
+   * for a sign with it, none without). */
+  const double diag_rel = dom->spherical ? 0 : 1e-8;
   for (int i = 0; i < nv; i++) {
     for (int b = 0; b < 2; b++) {
       int c = 2 * i + b, dg = l->colstart[c + 1] - 1;
       const double *Bi = l->B + 6 * i + 3 * b;
-      /* A relative 1e-8 on the diagonal bounds the condition number where the shear weight is small
-       * and a global mode (a rotation of a sliding boundary) is nearly free: without it the last
-       * pivot of brain_disk's factorization came out non-positive in double precision. */
       if (dot3(Bi, Bi) == 0) val[dg] = 1, l->rhs[c] = 0;
-      else val[dg] = val[dg] * (1 + 1e-8) + eps * mass[2 * i] + 1e-300;
+      else val[dg] = val[dg] * (1 + diag_rel) + eps * mass[2 * i] + 1e-300;
     }
   }
   au_status st = au_spd_factor(l->spd, msg);
