@@ -55,6 +55,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.shear = 1;
   o.shear_tail = 0.01;
   o.sphere_areas = 1;
+  o.face_gain = 0.1;
   return o;
 }
 
@@ -234,7 +235,7 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
-      !(o.tol >= 0))
+      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
   au_advect_report local_rep;
   if (!rep) rep = &local_rep;
@@ -360,9 +361,14 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       if (k > 0) alpha = fmax(0.5 * alpha, o.shear_tail);
       /* Done when the vertex cells meet the tolerance and the faces theirs, or when neither improves any
        * more (less than 2% in the last four steps). */
-      int stalled = k >= o.schedule_steps + 4 && k >= phase_start + 4 && ferr > 0.98 * rep->face_err[k - 4] && err > 0.98 * rep->err[k - 4];
-      /* The spherical part ends when it is done, stalls, or has used two thirds of the steps. */
-      int sph_done = sph_phase && (k >= (o.max_steps * 2) / 3 || ferr <= 0.3 * o.face_tol);
+      /* Stalled: neither error gained 2% in the last four steps, or, once the vertex cells meet the
+       * tolerance, face_gain (the refinement must be worth its steps). */
+      double keep = err <= o.tol ? 1 - o.face_gain : 0.98;
+      int stalled = k >= o.schedule_steps + 4 && k >= phase_start + 4 && ferr > keep * rep->face_err[k - 4] &&
+                    err > keep * rep->err[k - 4];
+      /* The spherical part ends when its vertex cells meet the tolerance (the chord polish refines the
+       * faces from there), when it stalls, or when it has used two thirds of the steps. */
+      int sph_done = sph_phase && (k >= (o.max_steps * 2) / 3 || (k >= o.schedule_steps && err <= o.tol));
       if ((err <= o.tol && ferr <= fmax(o.face_tol, o.tol)) || stalled || sph_done) {
         if (sph_phase) {
           /* Polish the chord triangles' areas from here: measure this map again in their terms (the

@@ -63,6 +63,10 @@ typedef struct au_advect_opts {
                        sizeable area when its corners come onto one great circle, so the chord-area flow
                        cannot see that sliver forming and jams on it (measured: cheburashka stalled at
                        per-face mean |r-1| 0.43; with spherical areas first, 0.035) */
+  double face_gain; /* least-shear method: once the vertex cells meet tol, the per-face refinement goes
+                       on while it lowers the per-face error by at least this fraction in four steps
+                       (default 0.1; 0.02 refines as long as anything happens: measured on lion_statue,
+                       per-face 0.0044 in 34 steps against 0.0031 in 60) */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);

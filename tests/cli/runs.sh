@@ -39,18 +39,24 @@ options)
   expect_status 0
   run sphere "$IN" "$T/o/c.obj" --report "$T/o/c.json" --quiet
   expect_status 0
-  for f in a b c; do expect_on_sphere "$T/o/$f.obj" 1e-12; done
+  run sphere "$IN" "$T/o/d.obj" --refine-faces --report "$T/o/d.json" --quiet
+  expect_status 0
+  for f in a b c d; do expect_on_sphere "$T/o/$f.obj" 1e-12; done
   $PY -c '
 import json, sys
-a, b, c = (json.load(open(p)) for p in sys.argv[1:4])
+a, b, c, d = (json.load(open(p)) for p in sys.argv[1:5])
 def err(r): return r["convergence"]["err"][-1]
 if not (a["converged"] and err(a) <= 0.5 and a["steps"] < c["steps"]):
     sys.exit("--tol 0.5: steps %d (default tol: %d), err %g" % (a["steps"], c["steps"], err(a)))
 if b["initial_metrics"] == c["initial_metrics"]:
     sys.exit("--no-balance did not change the initial map")
-if any(r["folds"] for r in (a, b, c)):
+# --refine-faces: more steps, for a lower per-face error.
+fa, fd = c["metrics"]["r_mean_abs_dev"], d["metrics"]["r_mean_abs_dev"]
+if not (d["steps"] > c["steps"] and fd < fa):
+    sys.exit("--refine-faces: steps %d (default %d), per-face %g (default %g)" % (d["steps"], c["steps"], fd, fa))
+if any(r["folds"] for r in (a, b, c, d)):
     sys.exit("folds")
-' "$T/o/a.json" "$T/o/b.json" "$T/o/c.json" || fail "the options did not act"
+' "$T/o/a.json" "$T/o/b.json" "$T/o/c.json" "$T/o/d.json" || fail "the options did not act"
   ;;
 *)
   fail "unknown case '$1'"
