@@ -43,7 +43,7 @@ au_advect_opts au_advect_opts_default(void) {
   au_advect_opts o;
   memset(&o, 0, sizeof o);
   o.max_steps = 60;
-  o.schedule_steps = 12;
+  o.schedule_steps = 6;
   o.tol = 1e-3;
   o.max_move = 0.3;
   o.newton_below = 0.7;

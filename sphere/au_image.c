@@ -384,10 +384,13 @@ au_status au_tex_render(const char *path, const au_tex_mesh *t, const unsigned c
     return au_msg_set(msg, AU_E_NOMEM, "out of memory drawing '%s'", path);
   }
   au_tex_vertex_normals(&mm, N);
+  /* Framed by the input's vertices: the ones the splits add lie on its surface and must not move
+   * the camera (a render of the same mesh in either projection frames it the same way). */
   double ctr[3] = {0, 0, 0}, rad = 0;
-  for (int i = 0; i < t->nv; i++)
-    for (int j = 0; j < 3; j++) ctr[j] += t->X[3 * i + j] / t->nv;
-  for (int i = 0; i < t->nv; i++) {
+  int nin = t->nv_in > 0 ? t->nv_in : t->nv;
+  for (int i = 0; i < nin; i++)
+    for (int j = 0; j < 3; j++) ctr[j] += t->X[3 * i + j] / nin;
+  for (int i = 0; i < nin; i++) {
     double d[3] = {t->X[3 * i] - ctr[0], t->X[3 * i + 1] - ctr[1], t->X[3 * i + 2] - ctr[2]};
     rad = fmax(rad, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
   }
@@ -429,11 +432,12 @@ au_status au_tex_seam_view(const au_tex_mesh *t, double view[3]) {
   if (!t || !view || t->nv < 1) return AU_E_ARG;
   double ctr[3] = {0, 0, 0}, s[3] = {0, 0, 0};
   int n = 0;
-  for (int i = 0; i < t->nv; i++)
-    for (int j = 0; j < 3; j++) ctr[j] += t->X[3 * i + j] / t->nv;
+  int nin = t->nv_in > 0 ? t->nv_in : t->nv;
+  for (int i = 0; i < nin; i++)
+    for (int j = 0; j < 3; j++) ctr[j] += t->X[3 * i + j] / nin;
   /* The vertices within 10 degrees of longitude of the seam, above the equator's latitude band
    * midpoint so the direction does not cancel out between the hemispheres. */
-  for (int i = 0; i < t->nv; i++) {
+  for (int i = 0; i < nin; i++) {
     double lon = t->lonlat[2 * i], lat = t->lonlat[2 * i + 1];
     if (fabs(lon) > 170 && fabs(lat) < 60) {
       for (int j = 0; j < 3; j++) s[j] += t->X[3 * i + j] - ctr[j];

@@ -214,6 +214,135 @@ static au_status split_pole(au_tex_mesh *t, const au_locator *loc, double sz, un
   return AU_OK;
 }
 
+/* (u, v) of the cea layout up to its affine chart, straight from the unit vector p: u follows the
+ * longitude, v = (1 + z) / 2. Enough for orientation tests (the chart scales both positively). */
+static void cea_raw(const double *p, double *u, double *v) {
+  *u = atan2(p[1], p[0]) / (2 * M_PI);
+  *v = 0.5 * (1 + p[2]);
+}
+
+/* 1 if face f, drawn with straight edges in the cea layout (longitudes unwrapped around its first
+ * corner), is not positively oriented. Faces with a pole corner are drawn differently (the pole
+ * takes the middle of the others' u) and are left alone. */
+static int cea_flipped(const au_tex_mesh *t, const unsigned char *is_pole, int f) {
+  const int *c = t->F + 3 * (size_t)f;
+  double u[3], v[3];
+  for (int k = 0; k < 3; k++) {
+    if (is_pole[c[k]]) return 0;
+    cea_raw(t->P + 3 * (size_t)c[k], &u[k], &v[k]);
+    if (k > 0) u[k] = u[0] + (u[k] - u[0] - nearbyint(u[k] - u[0]));
+  }
+  return (u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0]) <= 0;
+}
+
+/* Room for at least nv vertices and nf faces in the arrays the splits grow. */
+static int tex_reserve(au_tex_mesh *t, unsigned char **is_pole, int *nvcap, int *nfcap, int nv, int nf) {
+  if (nv > *nvcap) {
+    int cap = nv + nv / 2 + 16;
+    double *X = realloc(t->X, 3 * (size_t)cap * sizeof *X);
+    if (X) t->X = X;
+    double *P = realloc(t->P, 3 * (size_t)cap * sizeof *P);
+    if (P) t->P = P;
+    unsigned char *ip = realloc(*is_pole, (size_t)cap);
+    if (ip) *is_pole = ip;
+    if (!X || !P || !ip) return 0;
+    memset(*is_pole + *nvcap, 0, (size_t)(cap - *nvcap));
+    *nvcap = cap;
+  }
+  if (nf > *nfcap) {
+    int cap = nf + nf / 2 + 16;
+    int *F = realloc(t->F, 3 * (size_t)cap * sizeof *F);
+    if (F) t->F = F;
+    int *src = realloc(t->src_face, (size_t)cap * sizeof *src);
+    if (src) t->src_face = src;
+    if (!F || !src) return 0;
+    *nfcap = cap;
+  }
+  return 1;
+}
+
+/* Split the edge (a, b) at its midpoint (on the surface: the middle of the straight edge; on the
+ * sphere: the normalized middle of the chord, which is where the map sends that surface point),
+ * and each face on it into two with the same orientation. Room for one vertex and two faces must
+ * be reserved. Returns 0 if the edge is not in the mesh. */
+static int split_edge(au_tex_mesh *t, int a, int b) {
+  int m = t->nv, found = 0;
+  for (int f = 0, nf = t->nf; f < nf; f++) {
+    int *c = t->F + 3 * (size_t)f;
+    for (int k = 0; k < 3; k++) {
+      int p = c[k], q = c[(k + 1) % 3], r = c[(k + 2) % 3];
+      if (!((p == a && q == b) || (p == b && q == a))) continue;
+      if (!found) {
+        double s = 0, *P = t->P + 3 * (size_t)m;
+        for (int j = 0; j < 3; j++) {
+          t->X[3 * (size_t)m + j] = 0.5 * (t->X[3 * (size_t)a + j] + t->X[3 * (size_t)b + j]);
+          P[j] = t->P[3 * (size_t)a + j] + t->P[3 * (size_t)b + j];
+          s += P[j] * P[j];
+        }
+        s = sqrt(s);
+        if (!(s > 0)) return 0;
+        for (int j = 0; j < 3; j++) P[j] /= s;
+        t->nv++;
+        found = 1;
+      }
+      int g = t->nf++;
+      c[0] = p, c[1] = m, c[2] = r;
+      t->F[3 * (size_t)g] = m, t->F[3 * (size_t)g + 1] = q, t->F[3 * (size_t)g + 2] = r;
+      t->src_face[g] = t->src_face[f];
+      break;
+    }
+  }
+  return found;
+}
+
+/* Split until no face is flipped in the cea layout, at most `rounds` times: each flipped face's
+ * longest edge (on the sphere) is split with its neighbour, so every arc of the face gets shorter
+ * and bends less in the projection. A flip happens where a triangle's middle corner lies between a
+ * long edge's great circle and the straight line of its image: slivers, and ordinary triangles
+ * near a pole. */
+static au_status split_flipped(au_tex_mesh *t, unsigned char **is_pole, int *nvcap, int *nfcap, int rounds,
+                               au_msg *msg) {
+  int *edges = NULL, ne = 0, cap = 0;
+  au_status st = AU_OK;
+  for (int round = 0; round < rounds; round++) {
+    ne = 0;
+    for (int f = 0; f < t->nf; f++) {
+      if (!cea_flipped(t, *is_pole, f)) continue;
+      const int *c = t->F + 3 * (size_t)f;
+      int best = 0;
+      double lmax = -1;
+      for (int k = 0; k < 3; k++) {
+        const double *p = t->P + 3 * (size_t)c[k], *q = t->P + 3 * (size_t)c[(k + 1) % 3];
+        double l = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+        if (l > lmax) lmax = l, best = k;
+      }
+      if (ne == cap) {
+        cap = 2 * cap + 16;
+        int *e = realloc(edges, 2 * (size_t)cap * sizeof *e);
+        if (!e) {
+          st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+          goto done;
+        }
+        edges = e;
+      }
+      edges[2 * ne] = c[best], edges[2 * ne + 1] = c[(best + 1) % 3];
+      ne++;
+    }
+    if (ne == 0) break;
+    for (int i = 0; i < ne; i++) {
+      if (!tex_reserve(t, is_pole, nvcap, nfcap, t->nv + 1, t->nf + 2)) {
+        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+        goto done;
+      }
+      /* An edge named twice (both its faces flipped) is split once: the second time it is gone. */
+      t->edge_splits += split_edge(t, edges[2 * i], edges[2 * i + 1]);
+    }
+  }
+done:
+  free(edges);
+  return st;
+}
+
 au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_tex_mesh **out, au_msg *msg) {
   if (!out) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: out is NULL");
   *out = NULL;
@@ -229,18 +358,14 @@ au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_
   int *key = NULL;
   double *buf = NULL;
   if (!t) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  /* Room for the pole splits; the flip splits grow it (tex_reserve). */
   int nvmax = nv + 2, nfmax = nf + 4;
   t->X = malloc(3 * (size_t)nvmax * sizeof *t->X);
   t->P = malloc(3 * (size_t)nvmax * sizeof *t->P);
   t->F = malloc(3 * (size_t)nfmax * sizeof *t->F);
   t->src_face = malloc((size_t)nfmax * sizeof *t->src_face);
-  t->Ft = malloc(3 * (size_t)nfmax * sizeof *t->Ft);
-  t->vt = malloc(2 * (3 * (size_t)nfmax) * sizeof *t->vt);
-  t->lonlat = malloc(2 * (size_t)nvmax * sizeof *t->lonlat);
   is_pole = calloc((size_t)nvmax, 1);
-  key = malloc(3 * (size_t)nvmax * sizeof *key);
-  buf = malloc(4 * (size_t)nvmax * sizeof *buf);
-  if (!t->X || !t->P || !t->F || !t->src_face || !t->Ft || !t->vt || !t->lonlat || !is_pole || !key || !buf) {
+  if (!t->X || !t->P || !t->F || !t->src_face || !is_pole) {
     st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
     goto done;
   }
@@ -270,8 +395,19 @@ au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_
     if (st != AU_OK) goto done;
     t->pole_vertices = 0;
     for (int i = 0; i < t->nv_in; i++) t->pole_vertices += is_pole[i];
+    st = split_flipped(t, &is_pole, &nvmax, &nfmax, 8, msg);
+    if (st != AU_OK) goto done;
   }
   int NV = t->nv;
+  t->Ft = malloc(3 * (size_t)t->nf * sizeof *t->Ft);
+  t->vt = malloc(2 * (3 * (size_t)t->nf) * sizeof *t->vt);
+  t->lonlat = malloc(2 * (size_t)NV * sizeof *t->lonlat);
+  key = malloc(3 * (size_t)NV * sizeof *key);
+  buf = malloc(4 * (size_t)NV * sizeof *buf);
+  if (!t->Ft || !t->vt || !t->lonlat || !key || !buf) {
+    st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+    goto done;
+  }
   st = au_tex_lonlat(NV, t->P, t->lonlat);
   if (st != AU_OK) {
     au_msg_set(msg, st, "au_tex_coords: bad sphere positions");
@@ -432,8 +568,9 @@ au_status au_tex_write_obj(const char *path, const au_tex_mesh *t, const char *m
   if (t->layout.proj == AU_TEX_CEA)
     sb_printf(&b, "# authalic texture: Lambert cylindrical equal-area (cea) coordinates of a sphere map\n"
                   "# u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; %d faces across the seam have u outside [0, 1]:\n"
-                  "# sample the texture with u wrapped (repeat). %d face(s) split at a pole (vertices %d.. added).\n",
-              t->seam_faces, t->pole_splits, t->nv_in + 1);
+                  "# sample the texture with u wrapped (repeat). %d face(s) split at a pole, %d edge(s) split where\n"
+                  "# a face would flip in (u, v): vertices %d.. and faces %d.. added.\n",
+              t->seam_faces, t->pole_splits, t->edge_splits, t->nv_in + 1, t->nf_in + 1);
   else
     sb_printf(&b, "# authalic texture: Lambert azimuthal equal-area (laea) coordinates of a sphere map\n"
                   "# northern hemisphere in the left half, southern in the right half, chart half side %.17g\n",

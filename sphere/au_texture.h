@@ -103,7 +103,7 @@ int au_locator_find(const au_locator *loc, const double p[3], int *hint, double 
  * vertices added at the poles (cea only); the input's faces in order, a face split at a pole keeps
  * its index for its first part and appends the other two. */
 typedef struct au_tex_mesh {
-  int nv, nf;         /* vertices and faces after the pole splits */
+  int nv, nf;         /* vertices and faces after the pole and edge splits */
   int nv_in, nf_in;   /* the input's counts (vertices [0, nv_in) and faces [0, nf_in) are the input's) */
   double *X;          /* X [0..3*nv-1]: positions on the surface (added vertices interpolated) */
   double *P;          /* P [0..3*nv-1]: positions on the sphere */
@@ -118,6 +118,8 @@ typedef struct au_tex_mesh {
   int seam_faces;     /* faces whose corners were shifted across the seam (cea) */
   int pole_splits;    /* faces split at a pole (cea, 0..2) */
   int pole_vertices;  /* input vertices lying on a pole (their corners get one vt per face) */
+  int edge_splits;    /* cea: edges split because a face on them came out flipped in (u, v) with
+                         straight edges (slivers, faces near a pole); their midpoints are added */
 } au_tex_mesh;
 
 /* Compute texture coordinates of the map P of m in the projection proj.

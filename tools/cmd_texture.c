@@ -456,8 +456,8 @@ static int run_texture(const tex_args *a) {
     if (rc >= 0) goto done;
   }
   if (!a->quiet) {
-    fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d mean|r-1|=%.3g",
-            m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : "laea", t->nvt, t->seam_faces, t->pole_splits,
+    fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d edge splits=%d mean|r-1|=%.3g",
+            m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : "laea", t->nvt, t->seam_faces, t->pole_splits, t->edge_splits,
             met.r_mean_abs_dev);
     if (a->bake) fprintf(stderr, " baked=%s %dx%d", a->bake, a->W, a->H);
     if (range[1] > range[0]) fprintf(stderr, " range=[%g, %g]", range[0], range[1]);

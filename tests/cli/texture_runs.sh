@@ -41,10 +41,20 @@ obj_cea)
   expect_err 'texture: V=[0-9]+ F=[0-9]+ projection=cea'
   nv=$(obj_nv "$T/o/tex.obj")
   nf=$(grep -c '^f ' "$T/o/tex.obj")
-  # Each pole either splits a face (one vertex and two faces more) or is a vertex.
-  splits=$((nv - NV))
-  [ "$splits" -ge 0 ] && [ "$splits" -le 2 ] || fail "$nv vertices for $NV input vertices"
-  [ "$nf" -eq $((NF + 2 * splits)) ] || fail "$nf faces for $NF input faces and $splits pole splits"
+  # Each pole either splits a face (one vertex and two faces more) or is a vertex; each edge split
+  # (where a face would flip in (u, v)) adds its midpoint and splits the edge's two faces.
+  ps=$(sed -n 's/.*pole splits=\([0-9]*\).*/\1/p' "$T/log/stderr")
+  es=$(sed -n 's/.*edge splits=\([0-9]*\).*/\1/p' "$T/log/stderr")
+  [ -n "$ps" ] && [ -n "$es" ] && [ "$ps" -le 2 ] || fail "no split counts in the summary"
+  [ "$nv" -eq $((NV + ps + es)) ] || fail "$nv vertices for $NV input vertices, $ps pole and $es edge splits"
+  [ "$nf" -eq $((NF + 2 * ps + 2 * es)) ] || fail "$nf faces for $NF input faces, $ps pole and $es edge splits"
+  # No face is turned over in (u, v).
+  awk '$1 == "vt" { n++; u[n] = $2; v[n] = $3 }
+       $1 == "f" { for (i = 2; i <= 4; i++) { split($i, c, "/"); t[i] = c[2] }
+                   o = (u[t[3]] - u[t[2]]) * (v[t[4]] - v[t[2]]) - (u[t[4]] - u[t[2]]) * (v[t[3]] - v[t[2]])
+                   if (o <= 0) bad++ }
+       END { if (bad) { print bad " faces turned over in (u, v)"; exit 1 } }' "$T/o/tex.obj" >"$T/log/flips" 2>&1 \
+    || fail "$(cat "$T/log/flips")"
   # The input's vertices come first, unchanged (as printed with 17 digits).
   head -n "$(grep -n '^v ' "$IN" | tail -1 | cut -d: -f1)" "$IN" | grep '^v ' | awk '{ printf "%.15g %.15g %.15g\n", $2, $3, $4 }' >"$T/a"
   grep '^v ' "$T/o/tex.obj" | head -n "$NV" | awk '{ printf "%.15g %.15g %.15g\n", $2, $3, $4 }' >"$T/b"
