@@ -15,6 +15,6 @@ foreach(c closed_to_disk closed_to_square disk_to_annulus annulus_to_disk corner
   au_cli_test(disk.bad.${c} disk_bad_input.sh ${c})
 endforeach()
 
-foreach(c disk annulus square square_fixed init_only annulus_options)
+foreach(c disk annulus square square_fixed init_only annulus_options refine_faces)
   au_cli_test(disk.run.${c} disk_runs.sh ${c})
 endforeach()
