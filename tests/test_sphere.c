@@ -117,7 +117,8 @@ static int map_bumpy(void) { return map_quality("bumpy_star.obj", 0.003, 0.012);
 
 /* Prescribed density (issue 6): weight 4 on the faces of one half of the ellipsoid (centroid x > 0)
  * gives that half 4x the domain area per unit surface area. Per vertex: weight 4 on the vertices with
- * x > 0, measured on the faces whose corners all lie in one half. Measured 2026-11-22: per face 3.9968, per vertex 4.0019 (the issue asks 1e-3: not met yet). */
+ * x > 0, measured on the faces whose corners all lie in one half. Measured 2026-12-01: per face 3.99868, per vertex 3.99934, i.e. within 3.3e-4 and 1.6e-4 relative;
+ * the checks ask 1e-3 relative (the issue's bound). */
 static double half_ratio(const loaded *L, const double *P, int by_vertex) {
   const au_mesh *m = L->m;
   double dom[2] = {0, 0}, sur[2] = {0, 0};
@@ -160,12 +161,14 @@ static int density_half(void) {
   AU_CHECK_STATUS(au_metrics_compute(m->nv, m->nf, m->X, L.P, m->F, AU_DOMAIN_SPHERE, &q, NULL, NULL), AU_OK,
                   (au_msg *)NULL);
   AU_CHECK_INT(q.folds, ==, 0);
-  AU_CHECK_NEAR(half_ratio(&L, L.P, 0), 4.0, 5e-3);
+  fprintf(stderr, "per-face density 4: ratio %.5f\n", half_ratio(&L, L.P, 0));
+  AU_CHECK_NEAR(half_ratio(&L, L.P, 0), 4.0, 4e-3);
   o.flow.face_weight = NULL;
   o.flow.weight = vw;
   st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
-  AU_CHECK_NEAR(half_ratio(&L, L.P, 1), 4.0, 5e-3);
+  fprintf(stderr, "per-vertex density 4: ratio %.5f\n", half_ratio(&L, L.P, 1));
+  AU_CHECK_NEAR(half_ratio(&L, L.P, 1), 4.0, 4e-3);
   /* Both densities at once are refused. */
   o.flow.face_weight = fw;
   AU_CHECK_STATUS(au_sphere_map(L.m, L.t, &o, L.P, NULL, &msg), AU_E_ARG, &msg);
