@@ -235,7 +235,7 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
     return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
-      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1))
+      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
   au_advect_report local_rep;
   if (!rep) rep = &local_rep;
@@ -426,7 +426,7 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       /* Face weights: the target areas (the faces' shares of the surface), at most AU_WEIGHT_CAP times
        * the current area so that the system stays well conditioned. */
       for (int f = 0; f < nf; f++) Gf[f] = fmin(As[f] * fw[f] * scale, AU_WEIGHT_CAP * af[f]);
-      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, D, msg);
+      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, sph_phase ? o.restore : 0, D, msg);
       if (st == AU_E_NOT_SPD && alpha < 1e6) {
         /* Rounding made the system indefinite: retry stiffer (the shear term is definite but for the
          * rotations). Nothing has moved: the next round sees the same map. */

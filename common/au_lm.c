@@ -32,6 +32,7 @@
 struct au_lm {
   int nv, nf;
   const int *F;
+  const double *X;      /* the surface's positions (for the shape-restoring target) */
   int *colstart, *rows; /* upper triangle of the 2nv x 2nv matrix, column by column */
   int *fidx;            /* [0..12*nf-1]: per face, per vertex pair (00 11 22 01 12 20), the value index
                            of the block's first column entry and of its second column entry */
@@ -66,7 +67,7 @@ au_status au__lm_create(const au_mesh *m, const au_topo *t, au_lm **out, au_msg 
   const int nv = m->nv, nf = m->nf, n = 2 * nv;
   au_lm *l = calloc(1, sizeof *l);
   if (!l) return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
-  l->nv = nv, l->nf = nf, l->F = m->F;
+  l->nv = nv, l->nf = nf, l->F = m->F, l->X = m->X;
   /* Pattern: vertex i couples with itself and its edge neighbours; each coupling is a 2x2 block. */
   int *deg = calloc((size_t)nv + 1, sizeof(int));
   l->colstart = malloc(sizeof(int) * ((size_t)n + 1));
@@ -171,7 +172,7 @@ static inline void project_out(double *x, const double *n) {
 }
 
 au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
-                      double alpha, double eps, int sphere_areas, double *D, au_msg *msg) {
+                      double alpha, double eps, int sphere_areas, double restore, double *D, au_msg *msg) {
   const int nv = l->nv, nf = l->nf, n = 2 * nv, *F = l->F;
   double *val = au_spd_values(l->spd);
   memset(val, 0, sizeof(double) * (size_t)l->colstart[n]);
@@ -253,6 +254,27 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
     }
     for (int k = 0; k < 3; k++)
       for (int b = 0; b < 2; b++) l->rhs[2 * v[k] + b] += wd * rd[2 * k + b] * dAf[f];
+    if (restore > 0) {
+      /* Shape restoring: the shear target is the fraction `restore` of the linear motion that would
+       * take the domain triangle to the similar copy of the surface triangle closest to it. */
+      const double *x0 = l->X + 3 * v[0], *x1 = l->X + 3 * v[1], *x2 = l->X + 3 * v[2];
+      double f1[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]}, f2[3] = {x2[0] - x0[0], x2[1] - x0[1], x2[2] - x0[2]};
+      double ns[3] = {f1[1] * f2[2] - f1[2] * f2[1], f1[2] * f2[0] - f1[0] * f2[2], f1[0] * f2[1] - f1[1] * f2[0]};
+      double nsl = sqrt(dot3(ns, ns)), fl = sqrt(dot3(f1, f1));
+      double d2x = dot3(e2, u1), d2y = dot3(e2, u2);
+      if (nsl > 0 && fl > 0 && d2y > 0) {
+        double s1x = fl, s2x = dot3(f2, f1) / fl, s2y = nsl / fl;
+        double den = s1x * s1x + s2x * s2x + s2y * s2y;
+        double zr = (s1x * l1 + s2x * d2x + s2y * d2y) / den, zi = (s2x * d2y - s2y * d2x) / den;
+        /* M = Z S D^-1, S = [s1x s2x; 0 s2y], D = [l1 d2x; 0 d2y]. */
+        double SD11 = s1x / l1, SD12 = (s2x - s1x * d2x / l1) / d2y, SD21 = 0, SD22 = s2y / d2y;
+        double M11 = zr * SD11 - zi * SD21, M12 = zr * SD12 - zi * SD22, M21 = zi * SD11 + zr * SD21,
+               M22 = zi * SD12 + zr * SD22;
+        double t1 = restore * (M11 - M22), t2 = restore * (M12 + M21);
+        for (int k = 0; k < 3; k++)
+          for (int b = 0; b < 2; b++) l->rhs[2 * v[k] + b] += wc * (rc1[2 * k + b] * t1 + rc2[2 * k + b] * t2);
+      }
+    }
   }
   /* The rigid rotations (and any slot without an allowed direction) are fixed by the mass term; an
    * empty slot gets a unit diagonal so that its zero solution is exact.
