@@ -23,6 +23,9 @@ void cli_print_sphere_options(void) {
          "  --tol T          stop when the vertex mean |log area ratio| is below T, T >= 0 (default %g)\n"
          "  --density FILE   prescribed density: one positive number per vertex (or per face) of IN, in\n"
          "                   order, whitespace-separated; domain area is proportional to density x surface area\n"
+         "  --restore-shapes F  while the spherical areas are driven, aim each step's shear a fraction\n"
+         "                   F (0..1, default 0: off) back at the surface's triangle shapes: fewer long, thin\n"
+         "                   triangles on hard meshes (hand_closed per-face 0.051 -> 0.019 with 0.1), more steps\n"
          "  --refine-faces   once the vertex cells meet the tolerance, go on refining the triangles'\n"
          "                   areas as long as it helps at all (default: while it gains %g%% in 4 steps)\n"
          "  --no-balance     skip the Moebius balancing of the conformal start\n"
@@ -47,6 +50,8 @@ typedef struct sphere_args {
   double tol;
   int has_tol;
   int no_balance, quiet, init_only, refine_faces;
+  double restore;
+  int has_restore;
 } sphere_args;
 
 /* Parse `authalic sphere ...` (argv[0] is "sphere"). Returns -1 to go on, else an exit code. */
@@ -75,10 +80,14 @@ static int parse_sphere(int argc, char **argv, sphere_args *a) {
     } else if (strcmp(s, "--refine-faces") == 0) {
       if (a->refine_faces++) return cli_usage_error(HELP, "option '%s' given twice", s);
     } else if (strcmp(s, "--report") == 0 || strcmp(s, "--steps") == 0 || strcmp(s, "--tol") == 0 ||
-               strcmp(s, "--density") == 0) {
+               strcmp(s, "--density") == 0 || strcmp(s, "--restore-shapes") == 0) {
       if (i + 1 >= argc) return cli_usage_error(HELP, "option '%s' needs a value", s);
       const char *v = argv[++i];
-      if (strcmp(s, "--density") == 0) {
+      if (strcmp(s, "--restore-shapes") == 0) {
+        if (a->has_restore++) return cli_usage_error(HELP, "option '%s' given twice", s);
+        if (cli_parse_nonneg(v, &a->restore) || a->restore > 1)
+          return cli_usage_error(HELP, "--restore-shapes '%s': expected a number from 0 to 1", v);
+      } else if (strcmp(s, "--density") == 0) {
         if (a->density) return cli_usage_error(HELP, "option '%s' given twice", s);
         if (!*v) return cli_usage_error(HELP, "option '--density' needs a file name");
         a->density = v;
@@ -100,9 +109,9 @@ static int parse_sphere(int argc, char **argv, sphere_args *a) {
   }
   if (npos < 2) return cli_usage_error(HELP, npos == 0 ? "missing input and output files" : "missing output file");
   if (!*a->in || !*a->out) return cli_usage_error(HELP, "empty file name");
-  if (a->init_only && (a->has_steps || a->has_tol || a->density || a->refine_faces))
-    return cli_usage_error(HELP,
-                           "--init-only runs no advection: --steps, --tol, --density and --refine-faces do not apply");
+  if (a->init_only && (a->has_steps || a->has_tol || a->density || a->refine_faces || a->has_restore))
+    return cli_usage_error(HELP, "--init-only runs no advection: --steps, --tol, --density, --refine-faces and "
+                                 "--restore-shapes do not apply");
   int rc = cli_check_outputs(HELP, a->in, a->out, a->report);
   return rc ? rc : -1;
 }
@@ -172,6 +181,7 @@ static int run_sphere(const sphere_args *a) {
   if (a->has_steps) opts.flow.max_steps = a->steps;
   if (a->has_tol) opts.flow.tol = a->tol;
   if (a->refine_faces) opts.flow.face_gain = 0.02;
+  if (a->has_restore) opts.flow.restore = a->restore;
   if (a->no_balance) opts.balance = 0;
   if (!a->quiet) opts.flow.progress = cli_progress, opts.flow.user = &prog;
 

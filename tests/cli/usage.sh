@@ -67,6 +67,10 @@ bad_number)
     run sphere "$IN" "$OUT" --tol "$v"
     expect_rejected "--tol '$v'"
   done
+  for v in abc '' -0.1 1.5 nan; do
+    run sphere "$IN" "$OUT" --restore-shapes "$v"
+    expect_rejected "--restore-shapes '$v'"
+  done
   ;;
 duplicate_flag)
   run sphere "$IN" "$OUT" --steps 5 --steps 6
