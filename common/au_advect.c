@@ -35,6 +35,11 @@
  * too small for a sign; with 1e6 it takes full steps and ends fold-free. */
 #define AU_WEIGHT_CAP 1e6
 
+/* The shape restoring (au_advect_opts.restore) acts in full while the vertex error is above this and
+ * fades in proportion below it: at full strength to the end it kept the areas from converging
+ * (bunny: 53 steps instead of 23, vertex 0.0054 instead of 0.0014); faded, 25 steps and 0.00064. */
+#define AU_RESTORE_FADE 0.1
+
 /* Kinetic-energy weight of the least-shear step: only fixes the rigid rotations, which change neither
  * areas nor angles. */
 #define AU_ROTATION_EPS 1e-6
@@ -56,6 +61,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.shear_tail = 0.01;
   o.sphere_areas = 1;
   o.face_gain = 0.1;
+  o.restore = 0.1;
   return o;
 }
 
@@ -426,7 +432,9 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       /* Face weights: the target areas (the faces' shares of the surface), at most AU_WEIGHT_CAP times
        * the current area so that the system stays well conditioned. */
       for (int f = 0; f < nf; f++) Gf[f] = fmin(As[f] * fw[f] * scale, AU_WEIGHT_CAP * af[f]);
-      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, sph_phase ? o.restore : 0, D, msg);
+      /* Shape restoring, faded out as the vertex cells approach their areas (it would hold them off). */
+      double restore = sph_phase ? o.restore * fmin(1, err / AU_RESTORE_FADE) : 0;
+      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, restore, D, msg);
       if (st == AU_E_NOT_SPD && alpha < 1e6) {
         /* Rounding made the system indefinite: retry stiffer (the shear term is definite but for the
          * rotations). Nothing has moved: the next round sees the same map. */

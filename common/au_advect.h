@@ -69,14 +69,15 @@ typedef struct au_advect_opts {
                        on while it lowers the per-face error by at least this fraction in four steps
                        (default 0.1; 0.02 refines as long as anything happens: measured on lion_statue,
                        per-face 0.0044 in 34 steps against 0.0031 in 60) */
-  double restore;   /* sphere, spherical-area part of the flow: each step's shear aims to take this
-                       fraction of the way back to triangles similar to the surface's (0..1; default
-                       0: off). Measured with 0.1 (param-eval per-face / vertex error, mean angle
-                       difference): hand_closed 0.051 / 0.034 / 35.4 deg -> 0.019 / 0.0079 / 36.7,
-                       spiky_ico 0.086 / 0.045 / 49.1 -> 0.070 / 0.029 / 47.5, but bunny needs 53
-                       steps instead of 23 and bumpy_star ends at 0.0076 instead of 0.0057: not yet
-                       a default. Off the spherical part (the polish, planar domains) it keeps the
-                       areas from converging (brain_disk 0.17). */
+  double restore;   /* sphere, spherical-area part of the flow: each step's shear aims this fraction of
+                       the way back to triangles similar to the surface's, fading out as the vertex
+                       error falls below 0.1 (0..1; default 0.1; 0: off). Measured against 0 on the 14
+                       shared genus-0 meshes (param-eval per-face / vertex error): hand_closed 0.051 /
+                       0.034 -> 0.018 / 0.010, cheburashka 0.030 / 0.015 -> 0.026 / 0.011, cow 0.050 /
+                       0.025 -> 0.046 / 0.024, bunny 0.0058 / 0.0014 -> 0.0051 / 0.00064 (25 steps
+                       instead of 23), ellipsoid 0.024 -> 0.010; blub 0.0098 -> 0.0113 the one loss.
+                       Off the spherical part (the polish, planar domains) it kept the areas from
+                       converging (brain_disk 0.17), so it is not applied there. */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);

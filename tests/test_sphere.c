@@ -104,17 +104,16 @@ static int map_quality(const char *name, double max_vertex, double max_rmad) {
   return 0;
 }
 
-/* ellipsoid: measured vertex 0.0022, per-face 0.0240 (spherical areas, then chord polish, 2026-12-01;
- * the chord-only flow crept to 0.0016 / 0.0166 in 60 steps): the per-face residual is a mode the
- * least-shear step removes only slowly. */
+/* ellipsoid: measured vertex 0.00075, per-face 0.0100 (2026-12-01, with shape restoring; without it
+ * 0.0022 / 0.0240: the per-face residual was a mode the least-shear step removed only slowly). */
 static int map_ellipsoid(void) { return map_quality("ellipsoid.obj", 0.003, 0.03); }
-/* spiky_ico: measured vertex 0.048, per-face 0.090 (chord-only flow: 0.056 / 0.106): its spikes'
+/* spiky_ico: measured vertex 0.037, per-face 0.077 (chord-only flow: 0.056 / 0.106): its spikes'
  * long triangles cannot have their spherical and chord areas right at once (the paper's Poisson
  * step reached vertex 0.00075 but left per-face 0.238). */
 static int map_spiky(void) { return map_quality("spiky_ico.obj", 0.07, 0.15); }
-/* au_advect_opts.restore: aiming the shear back at the surface's triangle shapes lowers the angle
- * distortion and, on spiky_ico's needles, the area error too. Measured 2026-12-01: mean angle
- * difference 49.1 -> 47.5 degrees, per-face 0.086 -> 0.070, vertex 0.045 -> 0.029. */
+/* au_advect_opts.restore (0.1, the default, against 0): aiming the shear back at the surface's
+ * triangle shapes lowers the angle distortion and, on spiky_ico's needles, the area error too.
+ * Measured 2026-12-01: mean angle difference 49.1 -> 47.9 degrees, per-face 0.086 -> 0.077. */
 static int restore_shapes(void) {
   loaded L;
   if (load("spiky_ico.obj", 1, &L)) return 1;
@@ -140,7 +139,7 @@ static int restore_shapes(void) {
   return 0;
 }
 
-/* bumpy_star: measured vertex 0.0012, per-face 0.0068. */
+/* bumpy_star: measured vertex 0.0011, per-face 0.0059. */
 static int map_bumpy(void) { return map_quality("bumpy_star.obj", 0.003, 0.012); }
 
 /* Prescribed density (issue 6): weight 4 on the faces of one half of the ellipsoid (centroid x > 0)

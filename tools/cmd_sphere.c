@@ -24,15 +24,15 @@ void cli_print_sphere_options(void) {
          "  --density FILE   prescribed density: one positive number per vertex (or per face) of IN, in\n"
          "                   order, whitespace-separated; domain area is proportional to density x surface area\n"
          "  --restore-shapes F  while the spherical areas are driven, aim each step's shear a fraction\n"
-         "                   F (0..1, default 0: off) back at the surface's triangle shapes: fewer long, thin\n"
-         "                   triangles on hard meshes (hand_closed per-face 0.051 -> 0.019 with 0.1), more steps\n"
+         "                   F (0..1, default %g; 0: off) back at the surface's triangle shapes: fewer long,\n"
+         "                   thin triangles (hand_closed per-face 0.051 with 0, 0.018 with 0.1)\n"
          "  --refine-faces   once the vertex cells meet the tolerance, go on refining the triangles'\n"
          "                   areas as long as it helps at all (default: while it gains %g%% in 4 steps)\n"
          "  --no-balance     skip the Moebius balancing of the conformal start\n"
          "  --init-only      stop after the conformal start (and balancing), for comparison\n"
          "  --quiet          no progress and no summary on stderr (errors and warnings remain)\n"
          "  --help           this text\n",
-         AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol, 100 * d.flow.face_gain);
+         AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol, d.flow.restore, 100 * d.flow.face_gain);
 }
 
 static void print_sphere_help(void) {
