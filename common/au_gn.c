@@ -111,7 +111,7 @@ au_status au__gn_create(const au_mesh *m, const au_topo *t, int faces, au_gn **o
   }
   free(start), free(buf), free(cnt);
   cnt = NULL;
-  au_status st = au_spd_create(nc, g->colstart, g->rows, &g->spd, msg);
+  au_status st = au_spd_create(nc, g->colstart, g->rows, NULL, &g->spd, msg);
   if (st != AU_OK) {
     au__gn_free(&g);
     return st;

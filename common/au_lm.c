@@ -127,7 +127,16 @@ au_status au__lm_create(const au_mesh *m, const au_topo *t, au_lm **out, au_msg 
       l->fidx[12 * f + 2 * q + 1] = find(l, 2 * i, 2 * k + 1);
     }
   }
-  au_status st = au_spd_create(n, l->colstart, l->rows, &l->spd, msg);
+  /* The elimination order: the vertex graph's, each vertex's two unknowns side by side. */
+  int *perm = malloc(sizeof(int) * (size_t)n), *vperm = malloc(sizeof(int) * (size_t)nv);
+  if (!perm || !vperm) {
+    free(perm), free(vperm);
+    goto nomem;
+  }
+  au_status st = au_graph_order(nv, t->ne, t->E, vperm, msg);
+  for (int k = 0; k < nv && st == AU_OK; k++) perm[2 * k] = 2 * vperm[k], perm[2 * k + 1] = 2 * vperm[k] + 1;
+  if (st == AU_OK) st = au_spd_create(n, l->colstart, l->rows, perm, &l->spd, msg);
+  free(perm), free(vperm);
   if (st != AU_OK) {
     au__lm_free(&l);
     return st;

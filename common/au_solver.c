@@ -222,7 +222,48 @@ struct au_spd {
   int factored;
 };
 
-au_status au_spd_create(int n, const int *colstart, const int *rows, au_spd **out, au_msg *msg) {
+au_status au_graph_order(int n, int ne, const int *E, int *perm, au_msg *msg) {
+  if (n <= 0 || ne < 0 || (ne > 0 && !E) || !perm) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
+  for (int e = 0; e < ne; e++)
+    if (E[2 * e] < 0 || E[2 * e] >= n || E[2 * e + 1] < 0 || E[2 * e + 1] >= n || E[2 * e] == E[2 * e + 1])
+      return au_msg_set(msg, AU_E_ARG, "solver: edge %d is invalid", e);
+  cholmod_common c;
+  cholmod_start(&c);
+  configure(&c);
+  au_status st = AU_OK;
+  /* The upper triangle, column by column (rows unsorted: METIS does not mind). */
+  cholmod_sparse *A = cholmod_allocate_sparse((size_t)n, (size_t)n, (size_t)ne + (size_t)n, 0, 1, 1, CHOLMOD_PATTERN, &c);
+  if (!A) {
+    st = au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+    goto done;
+  }
+  int *Ap = A->p, *Ai = A->i;
+  memset(Ap, 0, sizeof(int) * ((size_t)n + 1));
+  for (int e = 0; e < ne; e++) Ap[(E[2 * e] > E[2 * e + 1] ? E[2 * e] : E[2 * e + 1]) + 1]++;
+  for (int j = 0; j < n; j++) Ap[j + 1] += Ap[j] + 1;
+  for (int j = 0; j < n; j++) Ai[Ap[j + 1] - 1] = j; /* the diagonal, last */
+  int *fill = malloc(sizeof(int) * (size_t)n);
+  if (!fill) {
+    st = au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+    goto done;
+  }
+  memcpy(fill, Ap, sizeof(int) * (size_t)n);
+  for (int e = 0; e < ne; e++) {
+    int a = E[2 * e], b = E[2 * e + 1];
+    int lo = a < b ? a : b, hi = a < b ? b : a;
+    Ai[fill[hi]++] = lo;
+  }
+  free(fill);
+  if (!cholmod_metis(A, NULL, 0, 1, perm, &c) || c.status < CHOLMOD_OK)
+    st = au_msg_set(msg, c.status == CHOLMOD_OUT_OF_MEMORY ? AU_E_NOMEM : AU_E_NUMERIC, "solver: ordering failed (CHOLMOD status %d)",
+                    c.status);
+done:
+  cholmod_free_sparse(&A, &c);
+  cholmod_finish(&c);
+  return st;
+}
+
+au_status au_spd_create(int n, const int *colstart, const int *rows, const int *perm, au_spd **out, au_msg *msg) {
   if (!out || n <= 0 || !colstart || !rows) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
   *out = NULL;
   au_spd *s = calloc(1, sizeof *s);
@@ -239,7 +280,12 @@ au_status au_spd_create(int n, const int *colstart, const int *rows, au_spd **ou
   memcpy(s->A->p, colstart, sizeof(int) * ((size_t)n + 1));
   memcpy(s->A->i, rows, sizeof(int) * nnz);
   memset(s->A->x, 0, sizeof(double) * nnz);
-  s->L = cholmod_analyze(s->A, &s->c);
+  if (perm) {
+    s->c.method[0].ordering = CHOLMOD_GIVEN;
+    s->L = cholmod_analyze_p(s->A, (int *)perm, NULL, 0, &s->c);
+  } else {
+    s->L = cholmod_analyze(s->A, &s->c);
+  }
   if (!s->L || s->c.status < CHOLMOD_OK) {
     int st = s->c.status;
     au_spd_free(&s);

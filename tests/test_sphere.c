@@ -139,8 +139,31 @@ static int restore_shapes(void) {
   return 0;
 }
 
-/* bumpy_star: measured vertex 0.0011, per-face 0.0059. */
-static int map_bumpy(void) { return map_quality("bumpy_star.obj", 0.003, 0.012); }
+/* bumpy_star: measured vertex 0.0019, per-face 0.0138 with the default tolerance 2e-3 (2026-12-01;
+ * 0.0011 / 0.0055 with 1e-3). */
+static int map_bumpy(void) { return map_quality("bumpy_star.obj", 0.004, 0.025); }
+/* dumbbell: measured vertex 0.0018, per-face 0.0175. A step undone for making the areas worse is
+ * retried without the shape restoring; retried with it, ever stiffer, the flow stuck at 0.21. */
+static int map_dumbbell(void) { return map_quality("dumbbell.obj", 0.004, 0.035); }
+
+/* The chord-area polish runs only where the chord triangles' areas fall behind the spherical ones':
+ * not on the smooth ellipsoid (measured: no polish, 17 steps), but on spiky_ico's needles. */
+static int polish_when_needed(void) {
+  const char *names[2] = {"ellipsoid.obj", "spiky_ico.obj"};
+  for (int i = 0; i < 2; i++) {
+    loaded L;
+    if (load(names[i], 1, &L)) return 1;
+    au_msg msg = {{0}};
+    au_sphere_report rep;
+    au_status st = au_sphere_map(L.m, L.t, NULL, L.P, &rep, &msg);
+    AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+    fprintf(stderr, "%s: %d steps, polish from %d\n", names[i], rep.flow.steps, rep.flow.polish_from);
+    if (i == 0) AU_CHECK_INT(rep.flow.polish_from, ==, 0);
+    else AU_CHECK_INT(rep.flow.polish_from, >, 0);
+    unload(&L);
+  }
+  return 0;
+}
 
 /* Prescribed density (issue 6): weight 4 on the faces of one half of the ellipsoid (centroid x > 0)
  * gives that half 4x the domain area per unit surface area. Per vertex: weight 4 on the vertices with
@@ -257,7 +280,7 @@ int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"conformal_ellipsoid", conformal_ellipsoid}, {"balance_centroid", balance_centroid},
       {"map_ellipsoid", map_ellipsoid},             {"map_spiky", map_spiky},
-      {"map_bumpy", map_bumpy},                     {"restore_shapes", restore_shapes},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
+      {"map_bumpy", map_bumpy}, {"map_dumbbell", map_dumbbell}, {"polish_when_needed", polish_when_needed},                     {"restore_shapes", restore_shapes},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
       {"folded_start_refused", folded_start_refused},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));

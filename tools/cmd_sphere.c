@@ -180,7 +180,7 @@ static int run_sphere(const sphere_args *a) {
   au_sphere_opts opts = au_sphere_opts_default();
   if (a->has_steps) opts.flow.max_steps = a->steps;
   if (a->has_tol) opts.flow.tol = a->tol;
-  if (a->refine_faces) opts.flow.face_gain = 0.02;
+  if (a->refine_faces) opts.flow.face_gain = 0.02, opts.flow.polish_gap = 0;
   if (a->has_restore) opts.flow.restore = a->restore;
   if (a->no_balance) opts.balance = 0;
   if (!a->quiet) opts.flow.progress = cli_progress, opts.flow.user = &prog;

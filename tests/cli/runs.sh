@@ -22,7 +22,7 @@ not_converged)
   # One step cannot reach the tolerance: still exit 0, with a warning on stderr and in the report.
   run sphere "$IN" "$OUT" --steps 1 --report "$REP" --quiet
   expect_status 0
-  expect_err "^authalic: warning: $IN: tolerance 0.001 not reached in 1 steps"
+  expect_err "^authalic: warning: $IN: tolerance 0.002 not reached in 1 steps"
   $PY -c '
 import json, sys
 r = json.load(open(sys.argv[1]))
