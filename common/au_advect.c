@@ -252,17 +252,10 @@ static void chord_errors(int nv, int nf, const int *F, const unsigned char *used
   *ferr = e / nf, *verr = n ? v / n : 0;
 }
 
-au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
-                        double *P, au_advect_report *rep, au_msg *msg) {
-  if (!m || !t || !dom || !dom->constrain || !dom->retract || !P || m->nv <= 0 || m->nf <= 0 || t->nv != m->nv)
-    return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
-  au_advect_opts o = opts ? *opts : au_advect_opts_default();
-  if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
-      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) ||
-      !(o.polish_gap >= 0))
-    return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
-  au_advect_report local_rep;
-  if (!rep) rep = &local_rep;
+/* The flow itself, on arguments and options au_advect_run has checked. */
+static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
+                             double *P, au_advect_report *rep, au_msg *msg) {
+  const au_advect_opts o = *opts;
   memset(rep, 0, sizeof *rep);
 
   const int nv = m->nv, nf = m->nf, *F = m->F;
@@ -282,29 +275,14 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
   double *dA_f = malloc(sizeof(double) * nf), *orient_old = malloc(sizeof(double) * nf);
   adjacency adj = {NULL, NULL};
   if (!AM || !AO || !b || !g || !lim || !af || !Gf || !D || !Pold || !w || !fixed || !bad || !heap || !hpos || !inr || !As || !fw || !dA_f || !orient_old ||
-
       !adjacency_build(t, &adj)) {
     st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
     goto done;
   }
 
-  /* Target areas: the surface's barycentric vertex areas, times the density weight; per face, the
-   * mean of its corners' densities (or the face's own density). */
-  if (o.weight && o.face_weight) {
-    st = au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");
-    goto done;
-  }
+  /* Target areas: the surface's triangle areas times the density (per face: the face's own, or the
+   * mean of its corners'). */
   au_dec_face_areas(nf, F, m->X, As);
-  for (int f = 0; f < nf && o.face_weight; f++)
-    if (!(o.face_weight[f] > 0 && o.face_weight[f] < INFINITY)) {
-      st = au_msg_set(msg, AU_E_DENSITY, "density of face %d is %g; it must be positive and finite", f, o.face_weight[f]);
-      goto done;
-    }
-  for (int i = 0; i < nv && o.weight; i++)
-    if (t->vused[i] && !(o.weight[i] > 0 && o.weight[i] < INFINITY)) {
-      st = au_msg_set(msg, AU_E_DENSITY, "density of vertex %d is %g; it must be positive and finite", i, o.weight[i]);
-      goto done;
-    }
   for (int f = 0; f < nf; f++)
     fw[f] = o.face_weight ? o.face_weight[f]
             : o.weight    ? (o.weight[F[3 * f]] + o.weight[F[3 * f + 1]] + o.weight[F[3 * f + 2]]) / 3.0
@@ -625,5 +603,150 @@ done:
   au__gn_free(&gnf);
   au__lm_free(&lm);
   adjacency_free(&adj);
+  return st;
+}
+
+/* Below this many vertices the mesh is worked on in its own order. */
+#define AU_REORDER_MIN 4096
+
+/* The domain's callbacks, called with the caller's vertex numbers. */
+typedef struct reordered_domain {
+  const au_advect_domain *dom;
+  const int *orig; /* orig[i]: the caller's number of vertex i of the reordered mesh */
+} reordered_domain;
+
+static void reordered_constrain(void *ctx, int i, const double *p, double *d) {
+  const reordered_domain *r = ctx;
+  r->dom->constrain(r->dom->ctx, r->orig[i], p, d);
+}
+
+static void reordered_retract(void *ctx, int i, double *p) {
+  const reordered_domain *r = ctx;
+  r->dom->retract(r->dom->ctx, r->orig[i], p);
+}
+
+/* Spread the low 10 bits of x to every third bit. */
+static unsigned long long spread3(unsigned long long x) {
+  x &= 0x3ff;
+  x = (x | (x << 16)) & 0x30000ffULL;
+  x = (x | (x << 8)) & 0x300f00fULL;
+  x = (x | (x << 4)) & 0x30c30c3ULL;
+  x = (x | (x << 2)) & 0x9249249ULL;
+  return x;
+}
+
+typedef struct morton_key {
+  unsigned long long code;
+  double x, y, z; /* ties (vertices in one cell) go by position, so the order depends on the mesh, not its numbering */
+  int i;
+} morton_key;
+
+static int cmp_morton(const void *a, const void *b) {
+  const morton_key *p = a, *q = b;
+  if (p->code != q->code) return p->code < q->code ? -1 : 1;
+  if (p->x != q->x) return p->x < q->x ? -1 : 1;
+  if (p->y != q->y) return p->y < q->y ? -1 : 1;
+  if (p->z != q->z) return p->z < q->z ? -1 : 1;
+  return (p->i > q->i) - (p->i < q->i);
+}
+
+/* A cache-friendly order of m: vertices along a Morton (Z-order) curve through their surface
+ * positions, faces by their first vertex in that order. orig [0..nv-1]: the caller's number of each new
+ * vertex; forig [0..nf-1]: of each new face. Returns 0 when out of memory. */
+static int locality_order(const au_mesh *m, int *orig, int *forig) {
+  const int nv = m->nv, nf = m->nf;
+  morton_key *key = malloc(sizeof(morton_key) * (size_t)nv);
+  int *inv = malloc(sizeof(int) * (size_t)nv), *count = calloc((size_t)nv + 1, sizeof(int));
+  if (!key || !inv || !count) {
+    free(key), free(inv), free(count);
+    return 0;
+  }
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int i = 0; i < nv; i++)
+    for (int d = 0; d < 3; d++) lo[d] = fmin(lo[d], m->X[3 * i + d]), hi[d] = fmax(hi[d], m->X[3 * i + d]);
+  double ext = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+  double sc = ext > 0 ? 1023.0 / ext : 0;
+  for (int i = 0; i < nv; i++) {
+    unsigned long long c = 0;
+    for (int d = 0; d < 3; d++) c |= spread3((unsigned long long)((m->X[3 * i + d] - lo[d]) * sc)) << d;
+    key[i] = (morton_key){c, m->X[3 * i], m->X[3 * i + 1], m->X[3 * i + 2], i};
+  }
+  qsort(key, (size_t)nv, sizeof(morton_key), cmp_morton);
+  for (int k = 0; k < nv; k++) orig[k] = key[k].i, inv[orig[k]] = k;
+  /* Faces by their smallest new vertex number (a counting sort keeps it stable). */
+  for (int f = 0; f < nf; f++) {
+    const int *v = m->F + 3 * f;
+    int a = inv[v[0]], b = inv[v[1]], c = inv[v[2]];
+    int mn = a < b ? (a < c ? a : c) : (b < c ? b : c);
+    count[mn + 1]++;
+  }
+  for (int k = 0; k < nv; k++) count[k + 1] += count[k];
+  for (int f = 0; f < nf; f++) {
+    const int *v = m->F + 3 * f;
+    int a = inv[v[0]], b = inv[v[1]], c = inv[v[2]];
+    int mn = a < b ? (a < c ? a : c) : (b < c ? b : c);
+    forig[count[mn]++] = f;
+  }
+  free(key), free(inv), free(count);
+  return 1;
+}
+
+au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
+                        double *P, au_advect_report *rep, au_msg *msg) {
+  if (!m || !t || !dom || !dom->constrain || !dom->retract || !P || m->nv <= 0 || m->nf <= 0 || t->nv != m->nv)
+    return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
+  au_advect_opts o = opts ? *opts : au_advect_opts_default();
+  if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
+      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) ||
+      !(o.polish_gap >= 0))
+    return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
+  if (o.weight && o.face_weight) return au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");
+  for (int f = 0; f < m->nf && o.face_weight; f++)
+    if (!(o.face_weight[f] > 0 && o.face_weight[f] < INFINITY))
+      return au_msg_set(msg, AU_E_DENSITY, "density of face %d is %g; it must be positive and finite", f, o.face_weight[f]);
+  for (int i = 0; i < m->nv && o.weight; i++)
+    if (t->vused[i] && !(o.weight[i] > 0 && o.weight[i] < INFINITY))
+      return au_msg_set(msg, AU_E_DENSITY, "density of vertex %d is %g; it must be positive and finite", i, o.weight[i]);
+  au_advect_report local_rep;
+  if (!rep) rep = &local_rep;
+  if (m->nv < AU_REORDER_MIN) return advect_core(m, t, dom, &o, P, rep, msg);
+
+  /* Large meshes are worked on in a cache-friendly copy: the step's assembly and the area and step
+   * control loops read each face's corners, and in a mesh stored in scan order those reads miss the
+   * cache (measured: lion_statue's flow 5.1-5.5 s in its own order, 4.0-4.3 s along a Morton curve). */
+  const int nv = m->nv, nf = m->nf;
+  int *orig = malloc(sizeof(int) * (size_t)nv), *forig = malloc(sizeof(int) * (size_t)nf);
+  int *inv = malloc(sizeof(int) * (size_t)nv);
+  double *P2 = malloc(sizeof(double) * 3 * (size_t)nv);
+  double *w2 = o.weight ? malloc(sizeof(double) * (size_t)nv) : NULL, *fw2 = o.face_weight ? malloc(sizeof(double) * (size_t)nf) : NULL;
+  au_mesh *m2 = NULL;
+  au_topo *t2 = NULL;
+  au_status st = AU_OK;
+  if (!orig || !forig || !inv || !P2 || (o.weight && !w2) || (o.face_weight && !fw2) || au_mesh_alloc(nv, nf, &m2) != AU_OK ||
+      !locality_order(m, orig, forig)) {
+    st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
+    goto done;
+  }
+  for (int k = 0; k < nv; k++) {
+    inv[orig[k]] = k;
+    memcpy(m2->X + 3 * k, m->X + 3 * orig[k], 3 * sizeof(double));
+    memcpy(P2 + 3 * k, P + 3 * orig[k], 3 * sizeof(double));
+    if (w2) w2[k] = o.weight[orig[k]];
+  }
+  for (int f = 0; f < nf; f++) {
+    for (int c = 0; c < 3; c++) m2->F[3 * f + c] = inv[m->F[3 * forig[f] + c]];
+    if (fw2) fw2[f] = o.face_weight[forig[f]];
+  }
+  st = au_mesh_topology(m2, &t2, msg);
+  if (st != AU_OK) goto done;
+  reordered_domain rd = {dom, orig};
+  au_advect_domain dom2 = {reordered_constrain, reordered_retract, dom->spherical, &rd};
+  o.weight = w2, o.face_weight = fw2;
+  st = advect_core(m2, t2, &dom2, &o, P2, rep, msg);
+  for (int k = 0; k < nv; k++) memcpy(P + 3 * orig[k], P2 + 3 * k, 3 * sizeof(double));
+done:
+  au_topo_free(&t2);
+  au_mesh_free(&m2);
+  free(orig), free(forig), free(inv), free(P2), free(w2), free(fw2);
   return st;
 }
