@@ -43,9 +43,10 @@ au_status au_sphere_balance(const au_mesh *m, const au_topo *t, double *P, au_ms
 
 /* The whole map: conformal start, balancing, advection.
  * opts may be NULL for defaults; rep may be NULL. P: out, nv x 3 (caller-allocated), |p| = 1.
+ * P0: out, the starting map (conformal and balanced), nv x 3; may be NULL.
  * Returns AU_OK, AU_W_NOT_CONVERGED (the map is valid and fold-free but the tolerance was not met
  * in max_steps), or an error as au_sphere_conformal / au_advect_run. */
-au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P,
+au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P, double *P0,
                         au_sphere_report *rep, au_msg *msg);
 
 #ifdef __cplusplus

@@ -34,7 +34,7 @@ static double now_s(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P,
+au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P, double *P0,
                         au_sphere_report *rep, au_msg *msg) {
   if (!m || !t || !P) return au_msg_set(msg, AU_E_ARG, "sphere: bad arguments");
   au_sphere_opts o = opts ? *opts : au_sphere_opts_default();
@@ -46,6 +46,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
   if (st == AU_OK && o.balance) st = au_sphere_balance(m, t, P, msg);
   rep->t_init = now_s() - t0;
   if (st != AU_OK) return st;
+  if (P0) memcpy(P0, P, sizeof(double) * 3 * (size_t)m->nv);
   au_advect_domain dom = {sphere_constrain, sphere_retract, 1, NULL};
   t0 = now_s();
   st = au_advect_run(m, t, &dom, &o.flow, P, &rep->flow, msg);

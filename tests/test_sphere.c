@@ -89,7 +89,7 @@ static int map_quality(const char *name, double max_vertex, double max_rmad) {
   if (load(name, 1, &L)) return 1;
   au_msg msg = {{0}};
   au_sphere_report rep;
-  au_status st = au_sphere_map(L.m, L.t, NULL, L.P, &rep, &msg);
+  au_status st = au_sphere_map(L.m, L.t, NULL, L.P, NULL, &rep, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
   au_metrics q;
   AU_CHECK_STATUS(au_metrics_compute(L.m->nv, L.m->nf, L.m->X, L.P, L.m->F, AU_DOMAIN_SPHERE, &q, NULL, NULL), AU_OK,
@@ -122,7 +122,7 @@ static int restore_shapes(void) {
   for (int r = 0; r < 2; r++) {
     au_sphere_opts o = au_sphere_opts_default();
     o.flow.restore = r ? 0.1 : 0;
-    au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &msg);
+    au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg);
     AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
     AU_CHECK_STATUS(au_metrics_compute(L.m->nv, L.m->nf, L.m->X, L.P, L.m->F, AU_DOMAIN_SPHERE, &q[r], NULL, NULL),
                     AU_OK, (au_msg *)NULL);
@@ -134,7 +134,7 @@ static int restore_shapes(void) {
   AU_CHECK_DBL(q[1].r_mean_abs_dev, <, q[0].r_mean_abs_dev);
   au_sphere_opts o = au_sphere_opts_default();
   o.flow.restore = 1.5;
-  AU_CHECK_STATUS(au_sphere_map(L.m, L.t, &o, L.P, NULL, &msg), AU_E_ARG, &msg);
+  AU_CHECK_STATUS(au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg), AU_E_ARG, &msg);
   unload(&L);
   return 0;
 }
@@ -223,7 +223,7 @@ static int polish_when_needed(void) {
     if (load(names[i], 1, &L)) return 1;
     au_msg msg = {{0}};
     au_sphere_report rep;
-    au_status st = au_sphere_map(L.m, L.t, NULL, L.P, &rep, &msg);
+    au_status st = au_sphere_map(L.m, L.t, NULL, L.P, NULL, &rep, &msg);
     AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
     fprintf(stderr, "%s: %d steps, polish from %d\n", names[i], rep.flow.steps, rep.flow.polish_from);
     if (i == 0) AU_CHECK_INT(rep.flow.polish_from, ==, 0);
@@ -273,7 +273,7 @@ static int density_half(void) {
   for (int i = 0; i < m->nv; i++) vw[i] = m->X[3 * i] > 0 ? 4 : 1;
   au_sphere_opts o = au_sphere_opts_default();
   o.flow.face_weight = fw;
-  au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &msg);
+  au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
   au_metrics q;
   AU_CHECK_STATUS(au_metrics_compute(m->nv, m->nf, m->X, L.P, m->F, AU_DOMAIN_SPHERE, &q, NULL, NULL), AU_OK,
@@ -283,13 +283,13 @@ static int density_half(void) {
   AU_CHECK_NEAR(half_ratio(&L, L.P, 0), 4.0, 4e-3);
   o.flow.face_weight = NULL;
   o.flow.weight = vw;
-  st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &msg);
+  st = au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
   fprintf(stderr, "per-vertex density 4: ratio %.5f\n", half_ratio(&L, L.P, 1));
   AU_CHECK_NEAR(half_ratio(&L, L.P, 1), 4.0, 4e-3);
   /* Both densities at once are refused. */
   o.flow.face_weight = fw;
-  AU_CHECK_STATUS(au_sphere_map(L.m, L.t, &o, L.P, NULL, &msg), AU_E_ARG, &msg);
+  AU_CHECK_STATUS(au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg), AU_E_ARG, &msg);
   free(fw), free(vw);
   unload(&L);
   return 0;
@@ -302,9 +302,9 @@ static int scale_invariance(void) {
   au_msg msg = {{0}};
   au_sphere_opts o = au_sphere_opts_default();
   o.flow.max_steps = 10;
-  au_status s1 = au_sphere_map(a.m, a.t, &o, a.P, NULL, &msg);
-  au_status s2 = au_sphere_map(b.m, b.t, &o, b.P, NULL, &msg);
-  au_status s3 = au_sphere_map(c.m, c.t, &o, c.P, NULL, &msg);
+  au_status s1 = au_sphere_map(a.m, a.t, &o, a.P, NULL, NULL, &msg);
+  au_status s2 = au_sphere_map(b.m, b.t, &o, b.P, NULL, NULL, &msg);
+  au_status s3 = au_sphere_map(c.m, c.t, &o, c.P, NULL, NULL, &msg);
   AU_CHECK(s1 >= 0 && s2 >= 0 && s3 >= 0);
   double worst = 0;
   for (int i = 0; i < 3 * a.m->nv; i++) worst = fmax(worst, fmax(fabs(a.P[i] - b.P[i]), fabs(a.P[i] - c.P[i])));

@@ -753,7 +753,7 @@ static int star_cells(void) {
   AU_CHECK_STATUS(au_io_read(path, &m, &msg), AU_OK, &msg);
   AU_CHECK_STATUS(au_mesh_validate(m, NULL, &topo, &msg), AU_OK, &msg);
   double *P = malloc(3 * (size_t)m->nv * sizeof *P);
-  au_status st = au_sphere_map(m, topo, NULL, P, NULL, &msg);
+  au_status st = au_sphere_map(m, topo, NULL, P, NULL, NULL, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
   au_tex_mesh *t = NULL;
   AU_CHECK_STATUS(au_tex_coords(m, P, AU_TEX_CEA, &t, &msg), AU_OK, &msg);
@@ -812,7 +812,7 @@ static int render_seam(void) {
   AU_CHECK_STATUS(au_io_read(path, &m, &msg), AU_OK, &msg);
   AU_CHECK_STATUS(au_mesh_validate(m, NULL, &topo, &msg), AU_OK, &msg);
   double *P = malloc(3 * (size_t)m->nv * sizeof *P);
-  au_status st = au_sphere_map(m, topo, NULL, P, NULL, &msg);
+  au_status st = au_sphere_map(m, topo, NULL, P, NULL, NULL, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
   au_locator *loc = NULL;
   AU_CHECK_STATUS(au_locator_build(m->nv, P, m->nf, m->F, &loc, &msg), AU_OK, &msg);

@@ -209,34 +209,34 @@ static int run_sphere(const sphere_args *a) {
 
   au_sphere_report rep;
   memset(&rep, 0, sizeof rep);
-  double t_extra = 0; /* the initial map computed again only for the report's initial metrics */
   if (a->init_only) {
     t0 = cli_now();
     st = au_sphere_conformal(m, topo, P, &msg);
     if (st == AU_OK && opts.balance) st = au_sphere_balance(m, topo, P, &msg);
     rep.t_init = cli_now() - t0;
   } else {
-    /* au_sphere_map does not hand out its starting point, so the initial map's metrics cost one
-     * more conformal solve; only a run that asks for a report pays for it. */
-    if (a->report) {
-      t0 = cli_now();
-      Pinit = malloc(n3 * sizeof *Pinit);
-      st = Pinit ? au_sphere_conformal(m, topo, Pinit, &msg) : AU_E_NOMEM;
-      if (st == AU_OK && opts.balance) st = au_sphere_balance(m, topo, Pinit, &msg);
-      if (st == AU_OK) st = au_metrics_compute(m->nv, m->nf, m->X, Pinit, m->F, AU_DOMAIN_SPHERE, &ini, NULL, NULL);
-      if (st != AU_OK) {
-        rc = cli_fail(a->in, st, &msg);
-        goto done;
-      }
-      have_init = 1;
-      t_extra = cli_now() - t0;
+    /* The report also gives the starting map's metrics. */
+    if (a->report && !(Pinit = malloc(n3 * sizeof *Pinit))) {
+      rc = cli_fail(a->in, AU_E_NOMEM, NULL);
+      goto done;
     }
-    st = au_sphere_map(m, topo, &opts, P, &rep, &msg);
+    st = au_sphere_map(m, topo, &opts, P, Pinit, &rep, &msg);
     cli_progress_end(&prog);
   }
   if (st < 0) {
     rc = cli_fail(a->in, st, &msg);
     goto done;
+  }
+  t0 = cli_now();
+  double t_init_metrics = 0;
+  if (Pinit) {
+    au_status mst = au_metrics_compute(m->nv, m->nf, m->X, Pinit, m->F, AU_DOMAIN_SPHERE, &ini, NULL, NULL);
+    if (mst != AU_OK) {
+      rc = cli_fail(a->in, mst, NULL);
+      goto done;
+    }
+    have_init = 1;
+    t_init_metrics = cli_now() - t0;
   }
   if (st == AU_W_NOT_CONVERGED) {
     int k = rep.flow.steps;
@@ -254,7 +254,7 @@ static int run_sphere(const sphere_args *a) {
   /* A folded map is never written: zero folds is the tool's promise, not a hope. */
   rc = cli_refuse_folds(a->in, &fin);
   if (rc >= 0) goto done;
-  stages[nst++] = (au_report_stage){"metrics", cli_now() - t0 + t_extra};
+  stages[nst++] = (au_report_stage){"metrics", cli_now() - t0 + t_init_metrics};
   stages[nst] = (au_report_stage){"write", 0};
   au_report_info info = {AU_VERSION, "sphere", a->in, a->out, m->nv, m->nf,
                          rep.flow.steps, a->init_only ? 0 : rep.flow.converged,

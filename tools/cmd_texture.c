@@ -256,7 +256,7 @@ static int get_map(const tex_args *a, const au_mesh *m, const au_topo *topo, dou
     if (!a->quiet) opts.flow.progress = cli_progress, opts.flow.user = &prog;
     au_sphere_report rep;
     memset(&rep, 0, sizeof rep);
-    st = au_sphere_map(m, topo, &opts, P, &rep, &msg);
+    st = au_sphere_map(m, topo, &opts, P, NULL, &rep, &msg);
     cli_progress_end(&prog);
     if (st < 0) return cli_fail(a->in, st, &msg);
     if (st == AU_W_NOT_CONVERGED)
