@@ -510,7 +510,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
         /* The paper's step: C g = -dA, move along the angle-weighted vertex gradient. */
         for (int i = 0; i < nv; i++) b[i] = -b[i];
         au_dec_cotan(t, F, P, w);
-        if (!solver) st = au_solver_create(nv, t->ne, t->E, fixed, &solver, msg); /* analyzed once */
+        if (!solver) st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FILL, &solver, msg); /* analyzed once */
         if (st == AU_OK) st = au_solver_factor(solver, w, NULL, msg);
         if (st == AU_OK) {
           memset(g, 0, sizeof(double) * nv);

@@ -48,7 +48,8 @@ static int cmp_int(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fixed, au_solver **out, au_msg *msg) {
+au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fixed, au_order order, au_solver **out,
+                           au_msg *msg) {
   if (!out || n <= 0 || ne < 0 || (ne > 0 && !E)) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
   *out = NULL;
   au_solver *s = calloc(1, sizeof *s);
@@ -89,6 +90,7 @@ au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fix
   s->started = 1;
   s->c.print = 0;
   configure(&s->c);
+  if (order == AU_ORDER_FAST) s->c.method[0].ordering = CHOLMOD_AMD;
   s->A = cholmod_allocate_sparse((size_t)nf, (size_t)nf, nnz, 1, 1, 1, CHOLMOD_REAL, &s->c);
   s->diag_pos = malloc(sizeof(int) * (size_t)nf);
   if (!s->A || !s->diag_pos) {

@@ -72,7 +72,7 @@ au_status au__disk_dirichlet(const au_topo *t, const double *w, const unsigned c
     goto done;
   }
   for (int i = 0; i < nv; i++) x[i] = P[3 * i], x[nv + i] = P[3 * i + 1];
-  st = au_solver_create(nv, t->ne, t->E, fixed, &s, msg);
+  st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &s, msg);
   if (st == AU_OK) st = au_solver_factor(s, w, NULL, msg);
   if (st == AU_OK) st = au_solver_solve(s, 2, b, x, msg);
   if (st == AU_OK)
@@ -235,7 +235,7 @@ au_status au_annulus_init(const au_mesh *m, const au_topo *t, int outer, double 
     /* u: 0 on the inner loop, 1 on the outer one. */
     for (int i = 0; i < nv; i++) fixed[i] = !t->vused[i] || on_in[i] || on_out[i], u[i] = on_out[i] ? 1 : 0;
     memset(b, 0, sizeof(double) * (size_t)nv);
-    st = au_solver_create(nv, ne, t->E, fixed, &s, msg);
+    st = au_solver_create(nv, ne, t->E, fixed, AU_ORDER_FAST, &s, msg);
     if (st == AU_OK) st = au_solver_factor(s, w, NULL, msg);
     if (st == AU_OK) st = au_solver_solve(s, 1, b, u, msg);
     au_solver_free(&s);
@@ -267,7 +267,7 @@ au_status au_annulus_init(const au_mesh *m, const au_topo *t, int outer, double 
       if (!fixed[i] && pinned < 0) pinned = i, fixed[i] = 1;
       th[i] = 0;
     }
-    st = au_solver_create(nv, ne, t->E, fixed, &s, msg);
+    st = au_solver_create(nv, ne, t->E, fixed, AU_ORDER_FAST, &s, msg);
     if (st == AU_OK) st = au_solver_factor(s, w, NULL, msg);
     if (st == AU_OK) st = au_solver_solve(s, 1, b, th, msg);
     au_solver_free(&s);

@@ -221,7 +221,7 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
         b[c[k]] = -(gr[0] * u[0] + gr[1] * u[1] + gr[2] * u[2]);
         b[nv + c[k]] = gr[0] * v[0] + gr[1] * v[1] + gr[2] * v[2];
       }
-      st = au_solver_create(nv, t->ne, t->E, fixed, &solver, msg);
+      st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &solver, msg);
     } else {
       /* Last resort: the punctured triangle fixed as the outer boundary of a Tutte embedding. */
       memset(fixed, 0, (size_t)nv);
@@ -231,7 +231,7 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
         z[c[k]] = cos(2 * M_PI * k / 3.0);
         z[nv + c[k]] = sin(2 * M_PI * k / 3.0);
       }
-      st = au_solver_create(nv, t->ne, t->E, fixed, &solver, msg);
+      st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &solver, msg);
     }
     if (st == AU_OK) st = au_solver_factor(solver, w, NULL, msg);
     if (st == AU_OK) st = solve_refined(solver, t, fixed, w, b, z, zx, r, dz, msg);

@@ -181,7 +181,7 @@ static int solver_linear_exact(void) {
   au_dec_cotan(t, m->F, m->X, w);
   au_solver *sv = NULL;
   au_msg msg = {{0}};
-  AU_CHECK_STATUS(au_solver_create(nv, t->ne, t->E, t->vb, &sv, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_solver_create(nv, t->ne, t->E, t->vb, AU_ORDER_FILL, &sv, &msg), AU_OK, &msg);
   AU_CHECK_STATUS(au_solver_factor(sv, w, NULL, &msg), AU_OK, &msg);
   for (int i = 0; i < nv; i++)
     if (t->vb[i]) x[i] = 2 * m->X[3 * i] - 3 * m->X[3 * i + 1] + 1;
@@ -199,7 +199,7 @@ static int solver_linear_exact(void) {
   /* An indefinite matrix (negated weights) must be reported, not factored into garbage
    * (cholmod_factorize itself returns TRUE on it). */
   au_solver *sv2 = NULL;
-  AU_CHECK_STATUS(au_solver_create(nv, t->ne, t->E, t->vb, &sv2, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_solver_create(nv, t->ne, t->E, t->vb, AU_ORDER_FILL, &sv2, &msg), AU_OK, &msg);
   for (int e = 0; e < t->ne; e++) w[e] = -w[e];
   au_status st = au_solver_factor(sv2, w, NULL, &msg);
   if (st != AU_E_NOT_SPD) fprintf(stderr, "factor of an indefinite matrix returned %s (%s)\n", au_status_name(st), msg.text);
