@@ -85,6 +85,10 @@ au_disk_opts au_disk_opts_default(void) {
    * running all 60, and every map ends below mean |r-1| = 0.01. */
   o.flow.tol = 3e-3;
   o.flow.face_tol = 1e-2;
+  /* In the plane a vertex may move up to 0.45 of its triangles' inradius per step (the loop's bound
+   * is 1/2; the sphere keeps 0.3, with which lion_statue took 12 steps instead of 29): brain_disk
+   * 22 -> 19 steps, sophie 60 -> 57, the same quality (param-eval). */
+  o.flow.max_move = 0.45;
   o.boundary = AU_DISK_SLIDE;
   o.inner_radius = 0;
   o.outer_loop = -1;
