@@ -322,7 +322,8 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   int sph_phase = sph && ls && o.sphere_areas, phase_start = 0;
   double alpha = o.shear; /* the least-shear step's current shear weight */
   double prev_err = INFINITY, prev_ferr = INFINITY, prev_flog = INFINITY;
-  int retry = 0; /* this step retries an undone one */
+  int retry = 0;                 /* this step retries an undone one */
+  int undo_left = o.max_steps;   /* undone steps that may still be taken back without counting */
   au_dec_face_areas(nf, F, m->X, As);
   for (k = 0;; k++) {
     /* On the sphere the domain's areas are the spherical triangles' (see au_lm.c): they vanish where
@@ -358,15 +359,23 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       if (k > 0 && !(flog <= prev_flog * (1 + 1e-9))) {
         memcpy(P, Pold, sizeof(double) * 3 * nv);
         alpha = alpha * 4;
+        retry = 1;
+        /* The undone step leaves no trace: the loop goes back to the step it was taken from, which
+         * is measured again (the same map) and solved again, stiffer (up to max_steps undone steps in
+         * all). Counted, each cost two steps of the budget, and the stall test read their copies of
+         * the last errors as no progress. */
+        if (undo_left-- > 0) {
+          rep->undone++;
+          k -= 2;
+          continue;
+        }
         rep->err[k] = err = prev_err;
         rep->face_err[k] = ferr = prev_ferr;
-        retry = 1;
         if (k == o.max_steps) break;
         continue;
       }
       if (k > 0) alpha = fmax(0.5 * alpha, o.shear_tail);
       prev_flog = flog;
-      retry = 0;
       /* Stalled: neither error gained 2% in the last four steps, or, once the vertex cells meet the
        * tolerance, face_gain (the refinement must be worth its steps). */
       double keep = err <= o.tol ? 1 - o.face_gain : 0.98;
@@ -457,6 +466,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
        * areas worse would be retried ever more purely as shape restoring, and undone again (measured:
        * dumbbell stuck at 0.21 for 35 steps). */
       double restore = sph_phase && !retry ? o.restore * fmin(1, err / AU_RESTORE_FADE) : 0;
+      retry = 0;
       st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, restore, D, msg);
       if (st == AU_E_NOT_SPD && alpha < 1e6) {
         /* Rounding made the system indefinite: retry stiffer (the shear term is definite but for the

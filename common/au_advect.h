@@ -97,6 +97,8 @@ typedef struct au_advect_report {
   double t_solve;                       /* seconds in the sparse solves (factor + solve) */
   int polish_from;                      /* sphere_areas: the step at which the chord-area polish began
                                            (err and face_err are spherical before it), else 0 */
+  int undone;                           /* steps solved, then undone for making the areas worse (not in
+                                           steps: the solves are steps + undone) */
 } au_advect_report;
 
 /* Advect the domain positions P (nv x 3, in/out: on the domain on entry, and on exit) until the

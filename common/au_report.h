@@ -32,6 +32,7 @@ typedef struct au_report_info {
   int polish_from;             /* > 0: the step from which step_err/step_face_err measure chord
                                   triangles (spherical ones before it); written as
                                   convergence.polish_from. 0: one measure throughout */
+  int undone;                  /* steps solved and undone (not in steps); written as convergence.undone */
 } au_report_info;
 
 /* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.

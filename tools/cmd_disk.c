@@ -333,6 +333,7 @@ static int run_disk(const disk_args *a) {
   info.tool_version = AU_VERSION, info.command = name, info.input = a->in, info.output = a->out;
   info.nv = mm->nv, info.nf = mm->nf;
   info.steps = rep.flow.steps, info.converged = a->init_only ? 0 : rep.flow.converged;
+  info.undone = a->init_only ? 0 : rep.flow.undone;
   info.init = a->init_only ? NULL : &ini, info.final = &fin;
   info.stages = stages, info.nstages = nst + 1;
   info.step_err = a->init_only ? NULL : rep.flow.err, info.step_frac = a->init_only ? NULL : rep.flow.frac;
