@@ -44,6 +44,9 @@
  * areas nor angles. */
 #define AU_ROTATION_EPS 1e-6
 
+/* The stiffest shear weight an undone step is retried with. */
+#define AU_SHEAR_MAX 1e4
+
 au_advect_opts au_advect_opts_default(void) {
   au_advect_opts o;
   memset(&o, 0, sizeof o);
@@ -323,7 +326,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   double alpha = o.shear; /* the least-shear step's current shear weight */
   double prev_err = INFINITY, prev_ferr = INFINITY, prev_flog = INFINITY;
   int retry = 0;                 /* this step retries an undone one */
-  int undo_left = o.max_steps;   /* undone steps that may still be taken back without counting */
+  int exhausted = 0;             /* no stiffer step is worth a try: this part of the flow ends */
   au_dec_face_areas(nf, F, m->X, As);
   for (k = 0;; k++) {
     /* On the sphere the domain's areas are the spherical triangles' (see au_lm.c): they vanish where
@@ -357,21 +360,18 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       for (int f = 0; f < nf; f++) flog += fabs(log(af[f] / (As[f] * fw[f] * scale)));
       flog /= nf;
       if (k > 0 && !(flog <= prev_flog * (1 + 1e-9))) {
-        memcpy(P, Pold, sizeof(double) * 3 * nv);
-        alpha = alpha * 4;
-        retry = 1;
         /* The undone step leaves no trace: the loop goes back to the step it was taken from, which
-         * is measured again (the same map) and solved again, stiffer (up to max_steps undone steps in
-         * all). Counted, each cost two steps of the budget, and the stall test read their copies of
-         * the last errors as no progress. */
-        if (undo_left-- > 0) {
-          rep->undone++;
-          k -= 2;
-          continue;
-        }
-        rep->err[k] = err = prev_err;
-        rep->face_err[k] = ferr = prev_ferr;
-        if (k == o.max_steps) break;
+         * is measured again (the same map) and solved again, stiffer. Counted, each cost two steps of
+         * the budget, and the stall test read their copies of the last errors as no progress. Past
+         * AU_SHEAR_MAX, or with the budget spent (max_steps solves, undone ones included), no stiffer
+         * step is worth a try: this part of the flow ends at the last accepted map (hand_closed:
+         * retried without end, the weight reached 1e6 and the last pivots went non-positive). */
+        memcpy(P, Pold, sizeof(double) * 3 * nv);
+        retry = 1;
+        rep->undone++;
+        if (alpha * 4 <= AU_SHEAR_MAX && k + rep->undone <= o.max_steps) alpha *= 4;
+        else exhausted = 1;
+        k -= 2;
         continue;
       }
       if (k > 0) alpha = fmax(0.5 * alpha, o.shear_tail);
@@ -379,14 +379,15 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       /* Stalled: neither error gained 2% in the last four steps, or, once the vertex cells meet the
        * tolerance, face_gain (the refinement must be worth its steps). */
       double keep = err <= o.tol ? 1 - o.face_gain : 0.98;
-      int stalled = k >= o.schedule_steps + 4 && k >= phase_start + 4 && ferr > keep * rep->face_err[k - 4] &&
-                    err > keep * rep->err[k - 4];
+      int stalled = exhausted || (k >= o.schedule_steps + 4 && k >= phase_start + 4 && ferr > keep * rep->face_err[k - 4] &&
+                                  err > keep * rep->err[k - 4]);
+      exhausted = 0;
       /* In the polish, with the vertex cells within the tolerance, two steps tell: half the gain in two. */
       if (!sph_phase && phase_start > 0 && err <= o.tol && k >= phase_start + 2 && ferr > (1 - 0.5 * o.face_gain) * rep->face_err[k - 2])
         stalled = 1;
       /* The spherical part ends when its vertex cells meet the tolerance (the chord polish refines the
        * faces from there), when it stalls, or when it has used two thirds of the steps. */
-      int sph_done = sph_phase && ((k > 0 && k >= (o.max_steps * 2) / 3) || (k >= o.schedule_steps && err <= o.tol));
+      int sph_done = sph_phase && ((k > 0 && k + rep->undone >= (o.max_steps * 2) / 3) || (k >= o.schedule_steps && err <= o.tol));
       if ((err <= o.tol && ferr <= fmax(o.face_tol, o.tol)) || stalled || sph_done) {
         /* The chord triangles' areas (the ones a reader of the output sees) need a polish only where
          * they differ from the spherical ones: on long, thin triangles, or if their vertex cells miss the
@@ -428,7 +429,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       else break;
     }
     prev_err = err, prev_ferr = ferr;
-    if (k == o.max_steps) break;
+    if (k + rep->undone >= o.max_steps) break; /* the budget counts undone solves too */
 
     t0 = now_s();
     if (ls) {
@@ -468,12 +469,14 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       double restore = sph_phase && !retry ? o.restore * fmin(1, err / AU_RESTORE_FADE) : 0;
       retry = 0;
       st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, restore, D, msg);
-      if (st == AU_E_NOT_SPD && alpha < 1e6) {
+      if (st == AU_E_NOT_SPD) {
         /* Rounding made the system indefinite: retry stiffer (the shear term is definite but for the
-         * rotations). Nothing has moved: the next round sees the same map. */
-        alpha *= 16;
-        memcpy(Pold, P, sizeof(double) * 3 * nv);
+         * rotations), or, as stiff as it gets, end this part of the flow here. Nothing has moved: the
+         * next round sees the same map. */
         rep->frac[k] = 0;
+        if (alpha < 1e6) alpha *= 16;
+        else exhausted = 1, k--;
+        memcpy(Pold, P, sizeof(double) * 3 * nv);
         msg ? (void)(msg->text[0] = '\0') : (void)0;
         st = AU_OK;
         continue;
