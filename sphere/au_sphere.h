@@ -41,6 +41,10 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
 au_status au_sphere_balance(const au_mesh *m, const au_topo *t, double *P, au_msg *msg);
 
+/* The unit sphere as the advection's domain: displacements kept in the tangent plane (eq. 22),
+ * positions pulled back onto the sphere. */
+au_advect_domain au_sphere_domain(void);
+
 /* The whole map: conformal start, balancing, advection.
  * opts may be NULL for defaults; rep may be NULL. P: out, nv x 3 (caller-allocated), |p| = 1.
  * P0: out, the starting map (conformal and balanced), nv x 3; may be NULL.

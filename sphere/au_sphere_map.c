@@ -28,6 +28,11 @@ static void sphere_retract(void *ctx, int i, double *p) {
   if (r > 0) p[0] /= r, p[1] /= r, p[2] /= r;
 }
 
+au_advect_domain au_sphere_domain(void) {
+  au_advect_domain d = {sphere_constrain, sphere_retract, 1, NULL};
+  return d;
+}
+
 static double now_s(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -47,7 +52,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
   rep->t_init = now_s() - t0;
   if (st != AU_OK) return st;
   if (P0) memcpy(P0, P, sizeof(double) * 3 * (size_t)m->nv);
-  au_advect_domain dom = {sphere_constrain, sphere_retract, 1, NULL};
+  au_advect_domain dom = au_sphere_domain();
   t0 = now_s();
   st = au_advect_run(m, t, &dom, &o.flow, P, &rep->flow, msg);
   rep->t_flow = now_s() - t0;

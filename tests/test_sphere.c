@@ -146,17 +146,6 @@ static int map_bumpy(void) { return map_quality("bumpy_star.obj", 0.004, 0.025);
  * retried without the shape restoring; retried with it, ever stiffer, the flow stuck at 0.21. */
 static int map_dumbbell(void) { return map_quality("dumbbell.obj", 0.004, 0.035); }
 
-static void sph_constrain(void *ctx, int i, const double *p, double *d) {
-  (void)ctx, (void)i;
-  double s = d[0] * p[0] + d[1] * p[1] + d[2] * p[2];
-  d[0] -= s * p[0], d[1] -= s * p[1], d[2] -= s * p[2];
-}
-static void sph_retract(void *ctx, int i, double *p) {
-  (void)ctx, (void)i;
-  double r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-  p[0] /= r, p[1] /= r, p[2] /= r;
-}
-
 /* Large meshes are advected in a cache-friendly order of their own (au_advect_run): the map must not
  * depend on the input's numbering. bumpy_star split 1-to-4 (10242 vertices, above the threshold) is
  * advected from the same start once as it is and once with its vertices and faces renumbered. */
@@ -193,7 +182,7 @@ static int order_independent(void) {
   AU_CHECK_STATUS(au_sphere_conformal(a, ta, Pa, &msg), AU_OK, &msg);
   AU_CHECK_STATUS(au_sphere_balance(a, ta, Pa, &msg), AU_OK, &msg);
   for (int i = 0; i < nv; i++) memcpy(Pb + 3 * to[i], Pa + 3 * i, 3 * sizeof(double));
-  au_advect_domain dom = {sph_constrain, sph_retract, 1, NULL};
+  au_advect_domain dom = au_sphere_domain();
   au_advect_report ra, rb;
   au_status sa = au_advect_run(a, ta, &dom, NULL, Pa, &ra, &msg), sb = au_advect_run(b, tb, &dom, NULL, Pb, &rb, &msg);
   AU_CHECK(sa == AU_OK || sa == AU_W_NOT_CONVERGED);
