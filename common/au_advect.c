@@ -340,9 +340,14 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
     /* b temporarily holds the target areas of this domain's total. */
     for (int i = 0; i < nv; i++) b[i] = AM[i] * scale;
     double err = vertex_error(nv, t->vused, b, AO);
-    double ferr = 0;
-    for (int f = 0; f < nf; f++) ferr += fabs(af[f] / (As[f] * fw[f] * scale) - 1);
-    ferr /= nf;
+    /* Per face: the mean |r - 1| (reported) and, for the least-shear step's control, the mean |log r|. */
+    double ferr = 0, flog = 0;
+    for (int f = 0; f < nf; f++) {
+      double r = af[f] / (As[f] * fw[f] * scale);
+      ferr += fabs(r - 1);
+      if (ls) flog += fabs(log(r));
+    }
+    ferr /= nf, flog /= nf;
     rep->err[k] = err;
     rep->face_err[k] = ferr;
     if (!(err == err) || !(ferr == ferr)) {
@@ -356,9 +361,6 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
        * error is the mean |log r| over the faces, the quantity the steps' targets are set in: the mean
        * |r - 1| barely sees a squeezed face grow (r from 1e-6 to 1e-5) and punishes an overgrown one
        * without bound, so it undid good steps (bunny: 9 of the first 12 with max_log_step 2). */
-      double flog = 0;
-      for (int f = 0; f < nf; f++) flog += fabs(log(af[f] / (As[f] * fw[f] * scale)));
-      flog /= nf;
       if (k > 0 && !(flog <= prev_flog * (1 + 1e-9))) {
         /* The undone step leaves no trace: the loop goes back to the step it was taken from, which
          * is measured again (the same map) and solved again, stiffer. Counted, each cost two steps of
@@ -663,15 +665,22 @@ static int cmp_morton(const void *a, const void *b) {
   return (p->i > q->i) - (p->i < q->i);
 }
 
+/* The smallest new number among face v's corners. */
+static int first_corner(const int *inv, const int *v) {
+  int a = inv[v[0]], b = inv[v[1]], c = inv[v[2]];
+  return a < b ? (a < c ? a : c) : (b < c ? b : c);
+}
+
 /* A cache-friendly order of m: vertices along a Morton (Z-order) curve through their surface
  * positions, faces by their first vertex in that order. orig [0..nv-1]: the caller's number of each new
- * vertex; forig [0..nf-1]: of each new face. Returns 0 when out of memory. */
-static int locality_order(const au_mesh *m, int *orig, int *forig) {
+ * vertex, inv [0..nv-1] its inverse; forig [0..nf-1]: the caller's number of each new face.
+ * Returns 0 when out of memory. */
+static int locality_order(const au_mesh *m, int *orig, int *inv, int *forig) {
   const int nv = m->nv, nf = m->nf;
   morton_key *key = malloc(sizeof(morton_key) * (size_t)nv);
-  int *inv = malloc(sizeof(int) * (size_t)nv), *count = calloc((size_t)nv + 1, sizeof(int));
-  if (!key || !inv || !count) {
-    free(key), free(inv), free(count);
+  int *count = calloc((size_t)nv + 1, sizeof(int));
+  if (!key || !count) {
+    free(key), free(count);
     return 0;
   }
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -687,20 +696,10 @@ static int locality_order(const au_mesh *m, int *orig, int *forig) {
   qsort(key, (size_t)nv, sizeof(morton_key), cmp_morton);
   for (int k = 0; k < nv; k++) orig[k] = key[k].i, inv[orig[k]] = k;
   /* Faces by their smallest new vertex number (a counting sort keeps it stable). */
-  for (int f = 0; f < nf; f++) {
-    const int *v = m->F + 3 * f;
-    int a = inv[v[0]], b = inv[v[1]], c = inv[v[2]];
-    int mn = a < b ? (a < c ? a : c) : (b < c ? b : c);
-    count[mn + 1]++;
-  }
+  for (int f = 0; f < nf; f++) count[first_corner(inv, m->F + 3 * f) + 1]++;
   for (int k = 0; k < nv; k++) count[k + 1] += count[k];
-  for (int f = 0; f < nf; f++) {
-    const int *v = m->F + 3 * f;
-    int a = inv[v[0]], b = inv[v[1]], c = inv[v[2]];
-    int mn = a < b ? (a < c ? a : c) : (b < c ? b : c);
-    forig[count[mn]++] = f;
-  }
-  free(key), free(inv), free(count);
+  for (int f = 0; f < nf; f++) forig[count[first_corner(inv, m->F + 3 * f)]++] = f;
+  free(key), free(count);
   return 1;
 }
 
@@ -736,12 +735,11 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
   au_topo *t2 = NULL;
   au_status st = AU_OK;
   if (!orig || !forig || !inv || !P2 || (o.weight && !w2) || (o.face_weight && !fw2) || au_mesh_alloc(nv, nf, &m2) != AU_OK ||
-      !locality_order(m, orig, forig)) {
+      !locality_order(m, orig, inv, forig)) {
     st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
     goto done;
   }
   for (int k = 0; k < nv; k++) {
-    inv[orig[k]] = k;
     memcpy(m2->X + 3 * k, m->X + 3 * orig[k], 3 * sizeof(double));
     memcpy(P2 + 3 * k, P + 3 * orig[k], 3 * sizeof(double));
     if (w2) w2[k] = o.weight[orig[k]];
