@@ -12,9 +12,13 @@
  *    less than twice that, which cannot overturn the triangle); the rest of the excess is taken by
  *    later steps. A final orientation check backtracks any vertex whose triangle still flipped
  *    (possible only through the curvature of the sphere's retraction). */
+#define _POSIX_C_SOURCE 200809L
+
 #include "au_advect.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -257,7 +261,7 @@ static void chord_errors(int nv, int nf, const int *F, const unsigned char *used
 
 /* The flow itself, on arguments and options au_advect_run has checked. */
 static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
-                             double *P, au_advect_report *rep, au_msg *msg) {
+                             au_lm **lmp, double *P, au_advect_report *rep, au_msg *msg) {
   const au_advect_opts o = *opts;
   memset(rep, 0, sizeof *rep);
 
@@ -266,7 +270,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   au_status st = AU_OK;
   au_solver *solver = NULL;
   au_gn *gn = NULL, *gnf = NULL;
-  au_lm *lm = NULL;
+  au_lm *lm = *lmp; /* the plan's: analyzed once, perhaps while the start was being computed */
   const int ls = o.method == AU_ADVECT_LEAST_SHEAR;
   double *AM = malloc(sizeof(double) * nv), *AO = malloc(sizeof(double) * nv), *b = malloc(sizeof(double) * nv);
   double *g = malloc(sizeof(double) * nv), *lim = malloc(sizeof(double) * nv), *af = malloc(sizeof(double) * nf);
@@ -458,8 +462,9 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       }
       for (int f = 0; f < nf; f++) dA_f[f] -= af[f] * (tot / SO);
       if (!lm) {
-        st = au__lm_create(m, t, &lm, msg);
+        st = au__lm_create(m, t, lmp, msg);
         if (st != AU_OK) goto done;
+        lm = *lmp;
       }
       /* Face weights: the target areas (the faces' shares of the surface), at most AU_WEIGHT_CAP times
        * the current area so that the system stays well conditioned. */
@@ -616,7 +621,6 @@ done:
   free(AM), free(AO), free(b), free(g), free(lim), free(af), free(Gf), free(D), free(Pold), free(w), free(fixed), free(bad);
   free(heap), free(hpos), free(inr), free(As), free(fw), free(dA_f), free(orient_old);
   au__gn_free(&gnf);
-  au__lm_free(&lm);
   adjacency_free(&adj);
   return st;
 }
@@ -703,9 +707,147 @@ static int locality_order(const au_mesh *m, int *orig, int *inv, int *forig) {
   return 1;
 }
 
+/* What a flow needs that depends only on the mesh's connectivity (and positions, for the order):
+ * the cache-friendly copy of a large mesh and the least-shear system's analysis. */
+struct au_advect_plan {
+  const au_mesh *m; /* the caller's mesh and topology */
+  const au_topo *t;
+  /* Meshes of AU_REORDER_MIN vertices or more: the copy in locality order (else NULL). */
+  au_mesh *m2;
+  au_topo *t2;
+  int *orig, *inv, *forig;
+  au_lm *lm; /* the least-shear system of the mesh the flow runs on, or NULL until needed */
+  /* au_advect_plan_start: the thread preparing the plan and what it reports. */
+  pthread_t thread;
+  int running;
+  sigset_t caller_mask;
+  au_status st;
+  au_msg msg;
+};
+
+void au_advect_plan_free(au_advect_plan **pp) {
+  if (!pp || !*pp) return;
+  au_advect_plan *p = *pp;
+  if (p->running) {
+    pthread_join(p->thread, NULL);
+    pthread_sigmask(SIG_SETMASK, &p->caller_mask, NULL);
+  }
+  au_topo_free(&p->t2);
+  au_mesh_free(&p->m2);
+  free(p->orig), free(p->inv), free(p->forig);
+  au__lm_free(&p->lm);
+  free(p);
+  *pp = NULL;
+}
+
+/* Fill the plan: the reordered copy, then (least-shear method) the system's analysis. */
+static au_status plan_fill(au_advect_plan *p, int least_shear, au_msg *msg) {
+  const au_mesh *m = p->m;
+  const int nv = m->nv, nf = m->nf;
+  if (nv >= AU_REORDER_MIN) {
+    /* Large meshes are worked on in a cache-friendly copy: the step's assembly and the area and step
+     * control loops read each face's corners, and in a mesh stored in scan order those reads miss the
+     * cache (measured: lion_statue's flow 5.1-5.5 s in its own order, 4.0-4.3 s along a Morton curve). */
+    p->orig = malloc(sizeof(int) * (size_t)nv), p->forig = malloc(sizeof(int) * (size_t)nf);
+    p->inv = malloc(sizeof(int) * (size_t)nv);
+    if (!p->orig || !p->forig || !p->inv || au_mesh_alloc(nv, nf, &p->m2) != AU_OK || !locality_order(m, p->orig, p->inv, p->forig))
+      return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
+    for (int k = 0; k < nv; k++) memcpy(p->m2->X + 3 * k, m->X + 3 * p->orig[k], 3 * sizeof(double));
+    for (int f = 0; f < nf; f++)
+      for (int c = 0; c < 3; c++) p->m2->F[3 * f + c] = p->inv[m->F[3 * p->forig[f] + c]];
+    au_status st = au_mesh_topology(p->m2, &p->t2, msg);
+    if (st != AU_OK) return st;
+  }
+  if (!least_shear) return AU_OK;
+  return au__lm_create(p->m2 ? p->m2 : p->m, p->t2 ? p->t2 : p->t, &p->lm, msg);
+}
+
+au_status au_advect_plan_create(const au_mesh *m, const au_topo *t, const au_advect_opts *opts, au_advect_plan **out,
+                                au_msg *msg) {
+  if (!out) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
+  *out = NULL;
+  if (!m || !t || m->nv <= 0 || m->nf <= 0 || t->nv != m->nv) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
+  au_advect_plan *p = calloc(1, sizeof *p);
+  if (!p) return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
+  p->m = m, p->t = t;
+  au_advect_opts o = opts ? *opts : au_advect_opts_default();
+  au_status st = plan_fill(p, o.method == AU_ADVECT_LEAST_SHEAR, msg);
+  if (st != AU_OK) {
+    au_advect_plan_free(&p);
+    return st;
+  }
+  *out = p;
+  return AU_OK;
+}
+
+static void *plan_thread(void *arg) {
+  au_advect_plan *p = arg;
+  p->st = plan_fill(p, 1, &p->msg);
+  return NULL;
+}
+
+au_status au_advect_plan_start(const au_mesh *m, const au_topo *t, const au_advect_opts *opts, au_advect_plan **out,
+                               au_msg *msg) {
+  au_advect_opts o = opts ? *opts : au_advect_opts_default();
+  /* Small meshes, or another method: no thread is worth it. */
+  if (!m || m->nv < AU_REORDER_MIN || o.method != AU_ADVECT_LEAST_SHEAR) return au_advect_plan_create(m, t, opts, out, msg);
+  if (!out) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
+  *out = NULL;
+  if (!t || m->nf <= 0 || t->nv != m->nv) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
+  au_advect_plan *p = calloc(1, sizeof *p);
+  if (!p) return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
+  p->m = m, p->t = t;
+  /* The ordering (METIS, through GKlib) traps SIGTERM for its length and jumps back into itself from
+   * the handler: delivered to this thread, that jump would cross threads. So this thread holds SIGTERM
+   * back until the plan is done (au_advect_plan_wait); the new thread inherits the mask. */
+  sigset_t term;
+  sigemptyset(&term);
+  sigaddset(&term, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &term, &p->caller_mask);
+  if (pthread_create(&p->thread, NULL, plan_thread, p) != 0) {
+    pthread_sigmask(SIG_SETMASK, &p->caller_mask, NULL);
+    au_status st = plan_fill(p, 1, msg); /* no thread: prepare it here */
+    if (st != AU_OK) {
+      au_advect_plan_free(&p);
+      return st;
+    }
+  } else {
+    p->running = 1;
+  }
+  *out = p;
+  return AU_OK;
+}
+
+au_status au_advect_plan_wait(au_advect_plan *p, au_msg *msg) {
+  if (!p) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
+  if (!p->running) return AU_OK;
+  pthread_join(p->thread, NULL);
+  p->running = 0;
+  pthread_sigmask(SIG_SETMASK, &p->caller_mask, NULL); /* a SIGTERM that came meanwhile arrives now */
+  if (p->st != AU_OK) {
+    if (msg) *msg = p->msg;
+    return p->st;
+  }
+  return AU_OK;
+}
+
 au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
                         double *P, au_advect_report *rep, au_msg *msg) {
-  if (!m || !t || !dom || !dom->constrain || !dom->retract || !P || m->nv <= 0 || m->nf <= 0 || t->nv != m->nv)
+  au_advect_plan *plan = NULL;
+  au_status st = au_advect_plan_create(m, t, opts, &plan, msg);
+  if (st == AU_OK) st = au_advect_run_plan(plan, dom, opts, P, rep, msg);
+  au_advect_plan_free(&plan);
+  return st;
+}
+
+au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, const au_advect_opts *opts, double *P,
+                             au_advect_report *rep, au_msg *msg) {
+  if (!plan) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
+  au_status st = au_advect_plan_wait(plan, msg);
+  if (st != AU_OK) return st;
+  const au_mesh *m = plan->m;
+  const au_topo *t = plan->t;
+  if (!dom || !dom->constrain || !dom->retract || !P)
     return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
@@ -721,43 +863,29 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
       return au_msg_set(msg, AU_E_DENSITY, "density of vertex %d is %g; it must be positive and finite", i, o.weight[i]);
   au_advect_report local_rep;
   if (!rep) rep = &local_rep;
-  if (m->nv < AU_REORDER_MIN) return advect_core(m, t, dom, &o, P, rep, msg);
+  if (!plan->m2) return advect_core(m, t, dom, &o, &plan->lm, P, rep, msg);
 
-  /* Large meshes are worked on in a cache-friendly copy: the step's assembly and the area and step
-   * control loops read each face's corners, and in a mesh stored in scan order those reads miss the
-   * cache (measured: lion_statue's flow 5.1-5.5 s in its own order, 4.0-4.3 s along a Morton curve). */
+  /* The flow runs on the plan's reordered copy; positions and densities go over and back. */
   const int nv = m->nv, nf = m->nf;
-  int *orig = malloc(sizeof(int) * (size_t)nv), *forig = malloc(sizeof(int) * (size_t)nf);
-  int *inv = malloc(sizeof(int) * (size_t)nv);
+  const int *orig = plan->orig, *forig = plan->forig;
   double *P2 = malloc(sizeof(double) * 3 * (size_t)nv);
   double *w2 = o.weight ? malloc(sizeof(double) * (size_t)nv) : NULL, *fw2 = o.face_weight ? malloc(sizeof(double) * (size_t)nf) : NULL;
-  au_mesh *m2 = NULL;
-  au_topo *t2 = NULL;
-  au_status st = AU_OK;
-  if (!orig || !forig || !inv || !P2 || (o.weight && !w2) || (o.face_weight && !fw2) || au_mesh_alloc(nv, nf, &m2) != AU_OK ||
-      !locality_order(m, orig, inv, forig)) {
+  st = AU_OK;
+  if (!P2 || (o.weight && !w2) || (o.face_weight && !fw2)) {
     st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
     goto done;
   }
   for (int k = 0; k < nv; k++) {
-    memcpy(m2->X + 3 * k, m->X + 3 * orig[k], 3 * sizeof(double));
     memcpy(P2 + 3 * k, P + 3 * orig[k], 3 * sizeof(double));
     if (w2) w2[k] = o.weight[orig[k]];
   }
-  for (int f = 0; f < nf; f++) {
-    for (int c = 0; c < 3; c++) m2->F[3 * f + c] = inv[m->F[3 * forig[f] + c]];
-    if (fw2) fw2[f] = o.face_weight[forig[f]];
-  }
-  st = au_mesh_topology(m2, &t2, msg);
-  if (st != AU_OK) goto done;
+  for (int f = 0; f < nf && fw2; f++) fw2[f] = o.face_weight[forig[f]];
   reordered_domain rd = {dom, orig};
   au_advect_domain dom2 = {reordered_constrain, reordered_retract, dom->spherical, &rd};
   o.weight = w2, o.face_weight = fw2;
-  st = advect_core(m2, t2, &dom2, &o, P2, rep, msg);
+  st = advect_core(plan->m2, plan->t2, &dom2, &o, &plan->lm, P2, rep, msg);
   for (int k = 0; k < nv; k++) memcpy(P + 3 * orig[k], P2 + 3 * k, 3 * sizeof(double));
 done:
-  au_topo_free(&t2);
-  au_mesh_free(&m2);
-  free(orig), free(forig), free(inv), free(P2), free(w2), free(fw2);
+  free(P2), free(w2), free(fw2);
   return st;
 }

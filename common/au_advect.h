@@ -110,6 +110,33 @@ typedef struct au_advect_report {
 au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_domain *dom,
                         const au_advect_opts *opts, double *P, au_advect_report *rep, au_msg *msg);
 
+/* ---- the same in two parts, so that the part that needs only the mesh can run beside the start ----
+ * A plan holds what depends on the mesh alone: a cache-friendly copy of a large mesh and the analysis
+ * (fill-reducing order, symbolic factorization) of the least-shear step's system, about 0.4 s of
+ * lion_statue's run. m and t must outlive the plan. opts (may be NULL) tells the method. */
+typedef struct au_advect_plan au_advect_plan;
+
+/* Prepare a plan here. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
+au_status au_advect_plan_create(const au_mesh *m, const au_topo *t, const au_advect_opts *opts, au_advect_plan **out,
+                                au_msg *msg);
+
+/* Prepare a plan in a thread of its own (large meshes; small ones are prepared here and now) and
+ * return at once. Until au_advect_plan_wait (or au_advect_run_plan, or au_advect_plan_free) the calling
+ * thread holds SIGTERM back (the ordering traps it, see au_solver.c); one that comes meanwhile is
+ * delivered then. Call those from the same thread. Returns as au_advect_plan_create. */
+au_status au_advect_plan_start(const au_mesh *m, const au_topo *t, const au_advect_opts *opts, au_advect_plan **out,
+                               au_msg *msg);
+
+/* Wait for a plan started with au_advect_plan_start; returns its status (AU_OK at once for a plan
+ * that is ready). */
+au_status au_advect_plan_wait(au_advect_plan *plan, au_msg *msg);
+
+/* au_advect_run on the plan's mesh (waits for it first). A plan can serve several runs. */
+au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, const au_advect_opts *opts, double *P,
+                             au_advect_report *rep, au_msg *msg);
+
+void au_advect_plan_free(au_advect_plan **plan);
+
 #ifdef __cplusplus
 }
 #endif

@@ -153,10 +153,12 @@ au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fix
     s->edge_pos[e] = (int)(hit - Ai);
   }
   /* Duplicate edges would share an entry; that is fine, weights accumulate. */
+  /* Only METIS traps SIGTERM: AMD orders without holding it (a plan may be ordering with METIS in
+   * another thread meanwhile, and the handler saved here would be GKlib's). */
   held_term held;
-  hold_term(&held);
+  if (order != AU_ORDER_FAST) hold_term(&held);
   s->L = cholmod_analyze(s->A, &s->c);
-  release_term(&held);
+  if (order != AU_ORDER_FAST) release_term(&held);
   if (!s->L || s->c.status < CHOLMOD_OK) {
     int st = s->c.status;
     au_solver_free(&s);

@@ -97,12 +97,12 @@ au_disk_opts au_disk_opts_default(void) {
 }
 
 /* Run the flow from the initial map in P with constraints bc; fills rep's flow part. */
-static au_status run_flow(const au_mesh *m, const au_topo *t, const au_disk_opts *o, const au_disk_bc *bc, double *P,
+static au_status run_flow(const au_mesh *m, au_advect_plan *plan, const au_disk_opts *o, const au_disk_bc *bc, double *P,
                           double *P0, au_disk_report *rep, au_msg *msg) {
   if (P0) memcpy(P0, P, sizeof(double) * 3 * (size_t)m->nv);
   au_advect_domain dom = au_disk_bc_domain(bc);
   double t0 = au__disk_now();
-  au_status st = au_advect_run(m, t, &dom, &o->flow, P, &rep->flow, msg);
+  au_status st = au_advect_run_plan(plan, &dom, &o->flow, P, &rep->flow, msg);
   rep->t_flow = au__disk_now() - t0;
   return st;
 }
@@ -117,7 +117,14 @@ static au_status run_flow(const au_mesh *m, const au_topo *t, const au_disk_opts
   memset(rep, 0, sizeof *rep);                                                                      \
   au_disk_bc *bc = NULL;                                                                            \
   if (au_disk_bc_alloc(m->nv, &bc) != AU_OK) return au_msg_set(msg, AU_E_NOMEM, name ": out of memory"); \
-  double t0 = au__disk_now();
+  double t0 = au__disk_now();                                                                       \
+  /* The flow's analysis needs only the mesh: it runs in a second thread beside the initial map. */  \
+  au_advect_plan *plan = NULL;                                                                      \
+  au_status st0 = au_advect_plan_start(m, t, &o.flow, &plan, msg);                                  \
+  if (st0 != AU_OK) {                                                                               \
+    au_disk_bc_free(&bc);                                                                           \
+    return st0;                                                                                     \
+  }
 
 au_status au_disk_map(const au_mesh *m, const au_topo *t, const au_disk_opts *opts, double *P, double *P0,
                       au_disk_report *rep, au_msg *msg) {
@@ -133,8 +140,9 @@ au_status au_disk_map(const au_mesh *m, const au_topo *t, const au_disk_opts *op
      * exact null mode of the flow's step system, held only by the loop's small kinetic term. Holding
      * one boundary vertex removes it and costs nothing, the map being defined up to rotation. */
     bc->kind[t->loop_vert[t->loop_start[0]]] = AU_BC_FIXED;
-    st = run_flow(m, t, &o, bc, P, P0, rep, msg);
+    st = run_flow(m, plan, &o, bc, P, P0, rep, msg);
   }
+  au_advect_plan_free(&plan);
   au_disk_bc_free(&bc);
   return st;
 }
@@ -160,8 +168,9 @@ au_status au_annulus_map(const au_mesh *m, const au_topo *t, const au_disk_opts 
       }
     /* The rigid rotation, as for the disk: one vertex of the outer loop holds still. */
     bc->kind[t->loop_vert[t->loop_start[outer]]] = AU_BC_FIXED;
-    st = run_flow(m, t, &o, bc, P, P0, rep, msg);
+    st = run_flow(m, plan, &o, bc, P, P0, rep, msg);
   }
+  au_advect_plan_free(&plan);
   au_disk_bc_free(&bc);
   return st;
 }
@@ -198,8 +207,9 @@ au_status au_square_map(const au_mesh *m, const au_topo *t, const au_disk_opts *
         bc->kind[v] = AU_BC_XSIDE, bc->value[v] = side == 1 ? 1 : 0;
       }
     }
-    st = run_flow(m, t, &o, bc, P, P0, rep, msg);
+    st = run_flow(m, plan, &o, bc, P, P0, rep, msg);
   }
+  au_advect_plan_free(&plan);
   au_disk_bc_free(&bc);
   return st;
 }

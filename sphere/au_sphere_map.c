@@ -47,14 +47,19 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
   if (!rep) rep = &local;
   memset(rep, 0, sizeof *rep);
   double t0 = now_s();
-  au_status st = au_sphere_conformal(m, t, P, msg);
+  /* The flow's analysis needs only the mesh: it runs in a second thread beside the conformal start. */
+  au_advect_plan *plan = NULL;
+  au_status st = au_advect_plan_start(m, t, &o.flow, &plan, msg);
+  if (st == AU_OK) st = au_sphere_conformal(m, t, P, msg);
   if (st == AU_OK && o.balance) st = au_sphere_balance(m, t, P, msg);
   rep->t_init = now_s() - t0;
-  if (st != AU_OK) return st;
-  if (P0) memcpy(P0, P, sizeof(double) * 3 * (size_t)m->nv);
-  au_advect_domain dom = au_sphere_domain();
-  t0 = now_s();
-  st = au_advect_run(m, t, &dom, &o.flow, P, &rep->flow, msg);
-  rep->t_flow = now_s() - t0;
+  if (st == AU_OK) {
+    if (P0) memcpy(P0, P, sizeof(double) * 3 * (size_t)m->nv);
+    au_advect_domain dom = au_sphere_domain();
+    t0 = now_s();
+    st = au_advect_run_plan(plan, &dom, &o.flow, P, &rep->flow, msg);
+    rep->t_flow = now_s() - t0;
+  }
+  au_advect_plan_free(&plan);
   return st;
 }

@@ -1,5 +1,8 @@
 /* test_sphere.c - the sphere map: conformal start, balancing, and map quality on data/ meshes. */
+#define _POSIX_C_SOURCE 200809L
+
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -149,16 +152,12 @@ static int map_dumbbell(void) { return map_quality("dumbbell.obj", 0.004, 0.035)
 /* Large meshes are advected in a cache-friendly order of their own (au_advect_run): the map must not
  * depend on the input's numbering. bumpy_star split 1-to-4 (10242 vertices, above the threshold) is
  * advected from the same start once as it is and once with its vertices and faces renumbered. */
-static int order_independent(void) {
-  loaded L;
-  if (load("bumpy_star.obj", 1, &L)) return 1;
-  au_msg msg = {{0}};
-  const au_mesh *m = L.m;
-  const au_topo *t = L.t;
-  au_mesh *a = NULL, *b = NULL;
+/* The mesh with every triangle split in four at its edges' midpoints (vertices: m's, then one per edge). */
+static au_status subdivide(const au_mesh *m, const au_topo *t, au_mesh **out) {
   const int nv = m->nv + t->ne, nf = 4 * m->nf;
-  AU_CHECK_STATUS(au_mesh_alloc(nv, nf, &a), AU_OK, &msg);
-  AU_CHECK_STATUS(au_mesh_alloc(nv, nf, &b), AU_OK, &msg);
+  au_mesh *a = NULL;
+  au_status st = au_mesh_alloc(nv, nf, &a);
+  if (st != AU_OK) return st;
   memcpy(a->X, m->X, sizeof(double) * 3 * m->nv);
   for (int e = 0; e < t->ne; e++)
     for (int d = 0; d < 3; d++) a->X[3 * (m->nv + e) + d] = 0.5 * (m->X[3 * t->E[2 * e] + d] + m->X[3 * t->E[2 * e + 1] + d]);
@@ -169,6 +168,79 @@ static int order_independent(void) {
     int q[4][3] = {{v[0], mid[2], mid[1]}, {v[1], mid[0], mid[2]}, {v[2], mid[1], mid[0]}, {mid[0], mid[1], mid[2]}};
     memcpy(a->F + 12 * f, q, sizeof q);
   }
+  *out = a;
+  return AU_OK;
+}
+
+static volatile sig_atomic_t terms;
+static void count_term(int sig) {
+  (void)sig;
+  terms++;
+}
+
+/* A plan prepared in a thread beside other work gives the map au_advect_run gives, bit for bit, and
+ * the calling thread's SIGTERM waits for the plan: one that comes meanwhile reaches the program's own
+ * handler afterwards (the ordering in the thread traps SIGTERM; delivered here, its handler would jump
+ * into the other thread). */
+static int plan_in_thread(void) {
+  loaded L;
+  if (load("bumpy_star.obj", 1, &L)) return 1;
+  au_msg msg = {{0}};
+  au_mesh *a = NULL;
+  au_topo *ta = NULL;
+  AU_CHECK_STATUS(subdivide(L.m, L.t, &a), AU_OK, &msg);
+  AU_CHECK_STATUS(au_mesh_validate(a, NULL, &ta, &msg), AU_OK, &msg);
+  const int nv = a->nv;
+  AU_CHECK_INT(nv, >=, 4096); /* large enough for the thread and the reordered copy */
+  double *P1 = malloc(sizeof(double) * 3 * nv), *P2 = malloc(sizeof(double) * 3 * nv);
+  AU_CHECK(P1 && P2);
+  struct sigaction sa, old;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = count_term;
+  sigemptyset(&sa.sa_mask);
+  AU_CHECK(sigaction(SIGTERM, &sa, &old) == 0);
+  terms = 0;
+  au_advect_opts o = au_advect_opts_default();
+  o.max_steps = 8;
+  au_advect_plan *plan = NULL;
+  AU_CHECK_STATUS(au_advect_plan_start(a, ta, &o, &plan, &msg), AU_OK, &msg);
+  raise(SIGTERM); /* held back while the plan is prepared */
+  AU_CHECK_INT((int)terms, ==, 0);
+  AU_CHECK_STATUS(au_sphere_conformal(a, ta, P1, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_sphere_balance(a, ta, P1, &msg), AU_OK, &msg);
+  memcpy(P2, P1, sizeof(double) * 3 * nv);
+  AU_CHECK_STATUS(au_advect_plan_wait(plan, &msg), AU_OK, &msg);
+  AU_CHECK_INT((int)terms, ==, 1); /* delivered when the plan was done */
+  raise(SIGTERM);
+  AU_CHECK_INT((int)terms, ==, 2); /* and the handler is still the program's */
+  au_advect_domain dom = au_sphere_domain();
+  au_advect_report r1, r2;
+  au_status s1 = au_advect_run_plan(plan, &dom, &o, P1, &r1, &msg);
+  au_status s2 = au_advect_run(a, ta, &dom, &o, P2, &r2, &msg);
+  AU_CHECK(s1 == AU_OK || s1 == AU_W_NOT_CONVERGED);
+  AU_CHECK_INT(s2, ==, s1);
+  AU_CHECK_INT(r1.steps, >, 0);
+  AU_CHECK_INT(r2.steps, ==, r1.steps);
+  AU_CHECK(memcmp(P1, P2, sizeof(double) * 3 * nv) == 0);
+  AU_CHECK(sigaction(SIGTERM, &old, NULL) == 0);
+  au_advect_plan_free(&plan);
+  free(P1), free(P2);
+  au_topo_free(&ta);
+  au_mesh_free(&a);
+  unload(&L);
+  return 0;
+}
+
+static int order_independent(void) {
+  loaded L;
+  if (load("bumpy_star.obj", 1, &L)) return 1;
+  au_msg msg = {{0}};
+  const au_mesh *m = L.m;
+  const au_topo *t = L.t;
+  au_mesh *a = NULL, *b = NULL;
+  const int nv = m->nv + t->ne, nf = 4 * m->nf;
+  AU_CHECK_STATUS(subdivide(m, t, &a), AU_OK, &msg);
+  AU_CHECK_STATUS(au_mesh_alloc(nv, nf, &b), AU_OK, &msg);
   /* b: vertex i of a is vertex (7919 i) mod nv of b, and the faces come in reverse order. */
   int *to = malloc(sizeof(int) * nv);
   for (int i = 0; i < nv; i++) to[i] = (int)((7919LL * i) % nv);
@@ -355,7 +427,7 @@ int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"conformal_ellipsoid", conformal_ellipsoid}, {"balance_centroid", balance_centroid},
       {"map_ellipsoid", map_ellipsoid},             {"map_spiky", map_spiky},
-      {"map_bumpy", map_bumpy}, {"map_dumbbell", map_dumbbell}, {"polish_when_needed", polish_when_needed}, {"order_independent", order_independent}, {"undone_steps_leave_no_trace", undone_steps_leave_no_trace},                     {"restore_shapes", restore_shapes},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
+      {"map_bumpy", map_bumpy}, {"map_dumbbell", map_dumbbell}, {"polish_when_needed", polish_when_needed}, {"order_independent", order_independent}, {"plan_in_thread", plan_in_thread}, {"undone_steps_leave_no_trace", undone_steps_leave_no_trace},                     {"restore_shapes", restore_shapes},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
       {"folded_start_refused", folded_start_refused},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
