@@ -388,8 +388,9 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       int stalled = exhausted || (k >= o.schedule_steps + 4 && k >= phase_start + 4 && ferr > keep * rep->face_err[k - 4] &&
                                   err > keep * rep->err[k - 4]);
       exhausted = 0;
-      /* In the polish, with the vertex cells within the tolerance, two steps tell: half the gain in two. */
-      if (!sph_phase && phase_start > 0 && err <= o.tol && k >= phase_start + 2 && ferr > (1 - 0.5 * o.face_gain) * rep->face_err[k - 2])
+      /* In the polish, with the vertex cells within the tolerance, one step tells: a quarter of the gain.
+       * (Two steps for half the gain cost lion_statue a 12th step for per-face 0.00801 -> 0.00796.) */
+      if (!sph_phase && phase_start > 0 && err <= o.tol && k >= phase_start + 1 && ferr > (1 - 0.25 * o.face_gain) * rep->face_err[k - 1])
         stalled = 1;
       /* The spherical part ends when its vertex cells meet the tolerance (the chord polish refines the
        * faces from there), when it stalls, or when it has used two thirds of the steps. */
