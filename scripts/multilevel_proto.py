@@ -85,12 +85,19 @@ def main():
         _, near = tree.query(Q, k=3)
         face, bary = -np.ones(len(Q), int), np.zeros((len(Q), 3))
         for q, p in enumerate(Q):
+            # The triangle whose smallest relative barycentric coordinate is largest: >= 0 inside it.
+            # (An absolute tolerance accepts wrong triangles where the start is squeezed to 1e-7.)
+            best, bt, bd = -np.inf, -1, None
             for t in [t for s in near[q] for t in incident[s]] + list(range(len(T))):
                 a, b, c = PS[T[t]]
                 d = np.array([np.dot(np.cross(b, c), p), np.dot(np.cross(c, a), p), np.dot(np.cross(a, b), p)])
-                if (d >= -1e-15).all():
-                    face[q], bary[q] = t, d / d.sum()
+                score = d.min() / np.abs(d).sum()
+                if score > best:
+                    best, bt, bd = score, t, d
+                if score >= 0:
                     break
+            bd = np.maximum(bd, 0)
+            face[q], bary[q] = bt, bd / bd.sum()
         return face, bary
 
     vf, vb = locate(P0)
