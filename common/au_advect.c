@@ -726,13 +726,19 @@ struct au_advect_plan {
   au_msg msg;
 };
 
+/* Wait for the plan's thread, if it runs, and give the calling thread its SIGTERM back (one that came
+ * meanwhile arrives now). */
+static void plan_join(au_advect_plan *p) {
+  if (!p->running) return;
+  pthread_join(p->thread, NULL);
+  p->running = 0;
+  pthread_sigmask(SIG_SETMASK, &p->caller_mask, NULL);
+}
+
 void au_advect_plan_free(au_advect_plan **pp) {
   if (!pp || !*pp) return;
   au_advect_plan *p = *pp;
-  if (p->running) {
-    pthread_join(p->thread, NULL);
-    pthread_sigmask(SIG_SETMASK, &p->caller_mask, NULL);
-  }
+  plan_join(p);
   au_topo_free(&p->t2);
   au_mesh_free(&p->m2);
   free(p->orig), free(p->inv), free(p->forig);
@@ -763,16 +769,25 @@ static au_status plan_fill(au_advect_plan *p, int least_shear, au_msg *msg) {
   return au__lm_create(p->m2 ? p->m2 : p->m, p->t2 ? p->t2 : p->t, &p->lm, msg);
 }
 
-au_status au_advect_plan_create(const au_mesh *m, const au_topo *t, const au_advect_opts *opts, au_advect_plan **out,
-                                au_msg *msg) {
+/* An empty plan for m and t, after checking the arguments (*out is set to NULL first). */
+static au_status plan_new(const au_mesh *m, const au_topo *t, au_advect_plan **out, au_advect_plan **pp, au_msg *msg) {
   if (!out) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   *out = NULL;
   if (!m || !t || m->nv <= 0 || m->nf <= 0 || t->nv != m->nv) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_plan *p = calloc(1, sizeof *p);
   if (!p) return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
   p->m = m, p->t = t;
+  *pp = p;
+  return AU_OK;
+}
+
+au_status au_advect_plan_create(const au_mesh *m, const au_topo *t, const au_advect_opts *opts, au_advect_plan **out,
+                                au_msg *msg) {
+  au_advect_plan *p = NULL;
+  au_status st = plan_new(m, t, out, &p, msg);
+  if (st != AU_OK) return st;
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
-  au_status st = plan_fill(p, o.method == AU_ADVECT_LEAST_SHEAR, msg);
+  st = plan_fill(p, o.method == AU_ADVECT_LEAST_SHEAR, msg);
   if (st != AU_OK) {
     au_advect_plan_free(&p);
     return st;
@@ -792,12 +807,9 @@ au_status au_advect_plan_start(const au_mesh *m, const au_topo *t, const au_adve
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   /* Small meshes, or another method: no thread is worth it. */
   if (!m || m->nv < AU_REORDER_MIN || o.method != AU_ADVECT_LEAST_SHEAR) return au_advect_plan_create(m, t, opts, out, msg);
-  if (!out) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
-  *out = NULL;
-  if (!t || m->nf <= 0 || t->nv != m->nv) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
-  au_advect_plan *p = calloc(1, sizeof *p);
-  if (!p) return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
-  p->m = m, p->t = t;
+  au_advect_plan *p = NULL;
+  au_status st = plan_new(m, t, out, &p, msg);
+  if (st != AU_OK) return st;
   /* The ordering (METIS, through GKlib) traps SIGTERM for its length and jumps back into itself from
    * the handler: delivered to this thread, that jump would cross threads. So this thread holds SIGTERM
    * back until the plan is done (au_advect_plan_wait); the new thread inherits the mask. */
@@ -807,7 +819,7 @@ au_status au_advect_plan_start(const au_mesh *m, const au_topo *t, const au_adve
   pthread_sigmask(SIG_BLOCK, &term, &p->caller_mask);
   if (pthread_create(&p->thread, NULL, plan_thread, p) != 0) {
     pthread_sigmask(SIG_SETMASK, &p->caller_mask, NULL);
-    au_status st = plan_fill(p, 1, msg); /* no thread: prepare it here */
+    st = plan_fill(p, 1, msg); /* no thread: prepare it here */
     if (st != AU_OK) {
       au_advect_plan_free(&p);
       return st;
@@ -822,9 +834,7 @@ au_status au_advect_plan_start(const au_mesh *m, const au_topo *t, const au_adve
 au_status au_advect_plan_wait(au_advect_plan *p, au_msg *msg) {
   if (!p) return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   if (!p->running) return AU_OK;
-  pthread_join(p->thread, NULL);
-  p->running = 0;
-  pthread_sigmask(SIG_SETMASK, &p->caller_mask, NULL); /* a SIGTERM that came meanwhile arrives now */
+  plan_join(p);
   if (p->st != AU_OK) {
     if (msg) *msg = p->msg;
     return p->st;
