@@ -159,3 +159,22 @@ void au_dec_sphere_face_areas(int nf, const int *F, const double *V, double *are
   for (int f = 0; f < nf; f++)
     area[f] = au_dec_sphere_area(V + 3 * F[3 * f], V + 3 * F[3 * f + 1], V + 3 * F[3 * f + 2], NULL);
 }
+
+double au_dec_sphere_chord_floor(const double *a, const double *b, const double *c) {
+  const double *q[3] = {a, b, c};
+  double l2 = 0;
+  int e = 0;
+  for (int k = 0; k < 3; k++) {
+    const double *u = q[k], *v = q[(k + 1) % 3];
+    double d2 = (u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) + (u[2] - v[2]) * (u[2] - v[2]);
+    if (d2 > l2) l2 = d2, e = k;
+  }
+  if (!(l2 > 0)) return 0;
+  const double *u = q[e], *v = q[(e + 1) % 3], *w = q[(e + 2) % 3];
+  double d[3] = {v[0] - u[0], v[1] - u[1], v[2] - u[2]};
+  double t = ((w[0] - u[0]) * d[0] + (w[1] - u[1]) * d[1] + (w[2] - u[2]) * d[2]) / l2;
+  t = t < 0 ? 0 : t > 1 ? 1 : t;
+  double m[3] = {u[0] + t * d[0], u[1] + t * d[1], u[2] + t * d[2]};
+  double depth = 1 - sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+  return depth > 0 ? 0.5 * sqrt(l2) * depth : 0;
+}

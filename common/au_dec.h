@@ -48,6 +48,14 @@ double au_dec_sphere_orient(const double *a, const double *b, const double *c);
  * gradient of E with respect to a, b and c (3 x 3, row-major), as functions on R^3. */
 double au_dec_sphere_area(const double *a, const double *b, const double *c, double *grad);
 
+/* The least area the chord triangle (a, b, c), corners on the unit sphere, can have while its longest
+ * edge stays as it is and its third corner stays on the sphere above the same point of that edge:
+ * half the edge's length times the depth of that point below the sphere. A long edge's chord runs
+ * deep under the sphere (about l^2/8 at its middle), so a long, thin triangle keeps a chord area near
+ * l^3/16 however flat it gets on the sphere (a Schwarz lantern): its area share cannot be met with
+ * that edge. 0 for a degenerate edge. */
+double au_dec_sphere_chord_floor(const double *a, const double *b, const double *c);
+
 /* au_dec_sphere_area of every face: area [0..nf-1]. */
 void au_dec_sphere_face_areas(int nf, const int *F, const double *V, double *area);
 

@@ -1,6 +1,8 @@
 /* au_metrics.c - distortion (Upsilon, Lambda), area-ratio and fold statistics of a map, as param-eval. */
 #include "au_metrics.h"
 
+#include "au_dec.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -278,6 +280,11 @@ au_status au_metrics_compute(int nv, int nf, const double *X, const double *P, c
     for (size_t f = 0; f < n; f++) ok[f] = As[f] > AU_DEGEN_REL * sAs && Ao[f] > AU_DEGEN_REL * sAo;
     ratio_stats(n, Ao, As, ok, W, NULL, NULL, &out->sph_r_mean_abs_dev, &out->sph_r_cv, NULL);
     vertex_stats(nvs, n, F, Ao, As, vd, vs, &out->sph_vertex_logr_mean_abs, NULL);
+    for (size_t f = 0; f < n; f++) {
+      const double *a = P + 3 * (size_t)F[3 * f], *b = P + 3 * (size_t)F[3 * f + 1], *c = P + 3 * (size_t)F[3 * f + 2];
+      double over = au_dec_sphere_chord_floor(a, b, c) - As[f] / sAs * sAd;
+      if (over > 0) out->chord_floor_faces++, out->chord_floor_excess += over / sAd;
+    }
     for (size_t v = 0; v < nvs; v++) {
       if (!used[v]) continue;
       double dev = fabs(norm3(P + 3 * v) - 1);

@@ -31,6 +31,12 @@ typedef struct au_metrics {
   /* sphere only (zero otherwise): same statistics with exact spherical triangle areas */
   double sph_r_mean_abs_dev, sph_r_cv, sph_vertex_logr_mean_abs;
   double sphere_radius_max_dev;             /* max | |p| - 1 | over referenced vertices */
+  /* Faces whose chord area cannot come down to their share with their longest edge as it is
+   * (au_dec_sphere_chord_floor above the share), and the sum of those floors' excess over the shares
+   * as a fraction of the domain's total: the part of the area error the map's long, thin triangles
+   * fix (a finer mesh there, or shorter edges, lowers it). */
+  int chord_floor_faces;
+  double chord_floor_excess;
   int folds;                                /* faces with orientation <= 0 (sphere: triple product) */
   int excluded;                             /* faces left out as degenerate */
   double surface_area, domain_area;         /* totals (domain: sum of chordal/planar triangles) */

@@ -66,7 +66,7 @@ static const metric_key metric_keys[] = {
 static const metric_key sphere_keys[] = {
     AU_MK("sph_r_mean_abs_dev", sph_r_mean_abs_dev), AU_MK("sph_r_cv", sph_r_cv),
     AU_MK("sph_vertex_logr_mean_abs", sph_vertex_logr_mean_abs),
-    AU_MK("sphere_radius_max_dev", sphere_radius_max_dev),
+    AU_MK("sphere_radius_max_dev", sphere_radius_max_dev), AU_MK("chord_floor_excess", chord_floor_excess),
 };
 #undef AU_MK
 
@@ -86,6 +86,7 @@ static cJSON *metrics_json(const au_metrics *m) {
   ok = ok && (!sphere || put_keys(o, m, sphere_keys, sizeof sphere_keys / sizeof *sphere_keys));
   ok = ok && put(o, "folds", cJSON_CreateNumber(m->folds));
   ok = ok && put(o, "excluded_faces", cJSON_CreateNumber(m->excluded));
+  ok = ok && (!sphere || put(o, "chord_floor_faces", cJSON_CreateNumber(m->chord_floor_faces)));
   if (!ok) cJSON_Delete(o);
   return ok ? o : NULL;
 }

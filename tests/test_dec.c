@@ -367,13 +367,65 @@ static int ordering_holds_sigterm(void) {
   return 0;
 }
 
+/* The chord floor (au_dec_sphere_chord_floor): never above the chord triangle's area, for random
+ * triangles of every size on the unit sphere; reached when the third corner sits right above its
+ * foot on the long edge; for a long edge l with the corner above its middle it is l/2 times the
+ * chord's depth 1 - sqrt(1 - l^2/4) (about l^3/16), however flat the triangle; a small, round
+ * triangle's floor is a small part of its area (about l / 7, l its edge). */
+static int sphere_chord_floor_case(void) {
+  unsigned seed = 11;
+  for (int trial = 0; trial < 3000; trial++) {
+    double size = trial % 3 == 0 ? 1.5 : trial % 3 == 1 ? 0.2 : 1e-3, p[3][3];
+    double c[3] = {rnd(&seed) - 0.5, rnd(&seed) - 0.5, rnd(&seed) - 0.5}, cn = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    for (int k = 0; k < 3; k++) {
+      double r = 0;
+      for (int d = 0; d < 3; d++) p[k][d] = c[d] / cn + size * (rnd(&seed) - 0.5), r += p[k][d] * p[k][d];
+      for (int d = 0; d < 3; d++) p[k][d] /= sqrt(r);
+    }
+    double e1[3], e2[3];
+    for (int d = 0; d < 3; d++) e1[d] = p[1][d] - p[0][d], e2[d] = p[2][d] - p[0][d];
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double chord = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    double fl = au_dec_sphere_chord_floor(p[0], p[1], p[2]);
+    AU_CHECK_DBL(fl, >=, 0);
+    AU_CHECK_DBL(fl, <=, chord * (1 + 1e-12) + 1e-300);
+    /* Invariant under the order of the corners. */
+    AU_CHECK_NEAR(au_dec_sphere_chord_floor(p[2], p[0], p[1]), fl, 1e-15);
+  }
+  /* A long edge on the equator, the third corner above its middle, a little off the great circle:
+   * the chord area tends to the floor as the triangle flattens. */
+  for (int i = 0; i < 4; i++) {
+    double l = 0.1 + 0.2 * i, h = asin(l / 2);
+    double a[3] = {cos(h), -sin(h), 0}, b[3] = {cos(h), sin(h), 0}, c[3] = {cos(1e-6), 0, sin(1e-6)};
+    double want = 0.5 * l * (1 - sqrt(1 - l * l / 4));
+    AU_CHECK_NEAR(au_dec_sphere_chord_floor(a, b, c), want, 1e-12);
+    AU_CHECK_NEAR(want, l * l * l / 16, 0.02 * l * l * l / 16 + l * l * l * l * l / 100);
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double chord = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    AU_CHECK_NEAR(chord, want, 1e-3 * want);
+  }
+  /* A small equilateral triangle: its floor is a tiny part of its area. */
+  double s = 0.01, q[3][3];
+  for (int k = 0; k < 3; k++) {
+    double ang = 2 * M_PI * k / 3;
+    q[k][0] = s * cos(ang), q[k][1] = s * sin(ang), q[k][2] = 1;
+    double r = sqrt(q[k][0] * q[k][0] + q[k][1] * q[k][1] + 1);
+    for (int d = 0; d < 3; d++) q[k][d] /= r;
+  }
+  double area = 0.75 * sqrt(3.0) * s * s; /* about: the corners were pushed onto the sphere */
+  AU_CHECK_DBL(au_dec_sphere_chord_floor(q[0], q[1], q[2]), <, 0.01 * area); /* about l / 7 of it */
+  AU_CHECK_DBL(au_dec_sphere_chord_floor(q[0], q[1], q[2]), >, 0);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"ordering_holds_sigterm", ordering_holds_sigterm},
       {"stiffness_props", stiffness_props_case},       {"stiffness_dirichlet", stiffness_dirichlet_case},
       {"grad_linear", grad_linear_case},               {"areas_sum", areas_sum_case},
       {"cotan_scale", cotan_scale_case},               {"solver_linear_exact", solver_linear_exact},
-      {"sphere_area", sphere_area_case},
+      {"sphere_area", sphere_area_case},               {"sphere_chord_floor", sphere_chord_floor_case},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }

@@ -290,6 +290,8 @@ static int test_sphere_identity(void) {
   AU_CHECK_NEAR(a.sph_vertex_logr_mean_abs, 0, 1e-14);
   AU_CHECK_DBL(a.sphere_radius_max_dev, ==, 0);
   AU_CHECK_NEAR(a.domain_area, 8 * sqrt(3.0) / 2, 1e-14); /* eight equilateral triangles of side sqrt 2 */
+  AU_CHECK_INT(a.chord_floor_faces, ==, 0);
+  AU_CHECK_DBL(a.chord_floor_excess, ==, 0);
   tmesh_free(&m);
   /* A finer sphere onto itself: chordal and spherical ratios are 1, no folds. Its surface is
    * mirrored in x, so every surface triangle turns the other way round: orientation is the
@@ -307,6 +309,34 @@ static int test_sphere_identity(void) {
   m.P[3 * 5 + 0] *= 1.01, m.P[3 * 5 + 1] *= 1.01, m.P[3 * 5 + 2] *= 1.01;
   AU_CHECK_STATUS(compute(&m, AU_DOMAIN_SPHERE, &a), AU_OK, NULL);
   AU_CHECK_NEAR(a.sphere_radius_max_dev, 0.01, 1e-12);
+  tmesh_free(&m);
+  return 0;
+}
+
+/* The chord floor count: a flat tetrahedron (two faces of area ~1/2, two of area h/2) mapped onto the
+ * regular tetrahedron in the sphere. Every face there has edges of length sqrt(8/3), whose chords run
+ * 1 - 1/sqrt(3) under the sphere at their middles, where the opposite corner sits above: floor
+ * sqrt(8/3)/2 * (1 - 1/sqrt(3)) = 0.345. The two small faces' shares (about 1% of the total 2.05 each)
+ * are far below it, the large ones' far above. */
+static int test_chord_floor(void) {
+  tmesh m = {0};
+  AU_CHECK(tmesh_alloc(&m, 4, 4));
+  const double h = 0.01, X[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, h};
+  const int F[12] = {0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3};
+  const double s = 1 / sqrt(3.0), P[12] = {s, s, s, s, -s, -s, -s, s, -s, -s, -s, s};
+  memcpy(m.X, X, sizeof X), memcpy(m.F, F, sizeof F), memcpy(m.P, P, sizeof P);
+  au_metrics a;
+  AU_CHECK_STATUS(compute(&m, AU_DOMAIN_SPHERE, &a), AU_OK, NULL);
+  AU_CHECK_INT(a.folds, ==, 0);
+  AU_CHECK_INT(a.chord_floor_faces, ==, 2);
+  double fl = sqrt(8.0 / 3) / 2 * (1 - s), face = sqrt(3.0) / 4 * 8.0 / 3, tot = 4 * face;
+  double small = h / 2, big = 0.5, big2 = 0.5 * sqrt(2 * h * h + 1), stot = 2 * small + big + big2;
+  AU_CHECK_NEAR(a.domain_area, tot, 1e-14);
+  AU_CHECK_NEAR(a.chord_floor_excess, 2 * (fl - small / stot * tot) / tot, 1e-12);
+  /* The same map of a surface of four equal faces (its own regular tetrahedron): nothing to say. */
+  memcpy(m.X, P, sizeof P);
+  AU_CHECK_STATUS(compute(&m, AU_DOMAIN_SPHERE, &a), AU_OK, NULL);
+  AU_CHECK_INT(a.chord_floor_faces, ==, 0);
   tmesh_free(&m);
   return 0;
 }
@@ -586,6 +616,7 @@ static int check_report(const char *json, const au_metrics *fin) {
   AU_CHECK(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(mt, "r_cv"))); /* NaN became null */
   AU_CHECK(!cJSON_GetObjectItemCaseSensitive(mt, "sph_r_cv"));        /* planar: no sphere keys */
   AU_CHECK(!cJSON_GetObjectItemCaseSensitive(mt, "sphere_radius_max_dev"));
+  AU_CHECK(!cJSON_GetObjectItemCaseSensitive(mt, "chord_floor_faces"));
   AU_CHECK_INT(cJSON_GetArraySize(mt), ==, 23);
 
   const cJSON *im = cJSON_GetObjectItemCaseSensitive(r, "initial_metrics");
@@ -593,7 +624,9 @@ static int check_report(const char *json, const au_metrics *fin) {
   AU_CHECK(strcmp(cJSON_GetObjectItemCaseSensitive(im, "domain")->valuestring, "sphere") == 0);
   AU_CHECK_DBL(num_at(im, "sphere_radius_max_dev"), ==, 0);
   AU_CHECK(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(im, "sph_r_cv")));
-  AU_CHECK_INT(cJSON_GetArraySize(im), ==, 27);
+  AU_CHECK(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(im, "chord_floor_faces")));
+  AU_CHECK(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(im, "chord_floor_excess")));
+  AU_CHECK_INT(cJSON_GetArraySize(im), ==, 29);
 
   const cJSON *cv = cJSON_GetObjectItemCaseSensitive(r, "convergence");
   const cJSON *err = cJSON_GetObjectItemCaseSensitive(cv, "err"), *frac = cJSON_GetObjectItemCaseSensitive(cv, "frac");
@@ -675,7 +708,7 @@ int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"identity_plane", test_identity_plane},   {"uniform_scale", test_uniform_scale},
       {"anisotropic", test_anisotropic},         {"flipped", test_flipped},
-      {"sphere_identity", test_sphere_identity}, {"excluded", test_excluded},
+      {"sphere_identity", test_sphere_identity}, {"chord_floor", test_chord_floor}, {"excluded", test_excluded},
       {"percentiles", test_percentiles},         {"scale_invariance", test_scale_invariance},
       {"bad_args", test_bad_args},               {"agree_plane", test_agree_plane},
       {"agree_sphere", test_agree_sphere},       {"report_json", test_report_json},

@@ -238,7 +238,8 @@ static int run_sphere(const sphere_args *a) {
     have_init = 1;
     t_init_metrics = cli_now() - t0;
   }
-  if (st == AU_W_NOT_CONVERGED) {
+  const int not_converged = st == AU_W_NOT_CONVERGED;
+  if (not_converged) {
     int k = rep.flow.steps;
     cli_warn(&warn, a->in, "tolerance %g not reached in %d steps (error %.3e)", opts.flow.tol, k, rep.flow.err[k]);
   }
@@ -254,6 +255,12 @@ static int run_sphere(const sphere_args *a) {
   /* A folded map is never written: zero folds is the tool's promise, not a hope. */
   rc = cli_refuse_folds(a->in, &fin);
   if (rc >= 0) goto done;
+  if (not_converged && fin.chord_floor_faces > 0)
+    cli_warn(&warn, a->in,
+             "%d long, thin triangles of the map cannot bring their chord area down to their share without shorter "
+             "long edges (a long edge's chord runs under the sphere; excess %.2g%% of the area): a finer mesh there "
+             "lowers that error",
+             fin.chord_floor_faces, 100 * fin.chord_floor_excess);
   stages[nst++] = (au_report_stage){"metrics", cli_now() - t0 + t_init_metrics};
   stages[nst] = (au_report_stage){"write", 0};
   au_report_info info = {AU_VERSION, "sphere", a->in, a->out, m->nv, m->nf,
