@@ -251,6 +251,35 @@ void au_solver_free(au_solver **sp) {
  * factor order is the one form cholmod_factorize takes as it is. Given A itself it would transpose and
  * permute a copy at every factorization (measured on lion_statue: cholmod_transpose_sym 6.7% of a
  * whole run, and the allocations of the copy). */
+/* A factorization split in two halves that run on two cores (au_spd_factor): B's columns are S (the
+ * top separator of the elimination tree, eliminated last) and two sets of whole subtrees below it,
+ * H0 and H1, which share no entry of B or of its factor. M_h = B restricted to H_h then S, factored as
+ * it stands: its first block is the factor of B on H_h, and the block L22 of its last |S| columns
+ * satisfies L22 L22' = C - B_h' A_h^-1 B_h (C: B's S block), so that B's Schur complement on S is
+ * L22(0) L22(0)' + L22(1) L22(1)' - C, a dense matrix factored with LAPACK. */
+typedef struct spd_half {
+  int nm;               /* columns of M: |H| + |S| */
+  int *cols;            /* [0..nm-1]: the column of B that is column k of M */
+  int *vmap;            /* [0..nnz(M)-1]: the entry of B->x that is entry q of M->x */
+  cholmod_common c;
+  cholmod_sparse *M;    /* lower triangle, natural order */
+  cholmod_factor *L;
+  double *G;            /* ns x ns column-major: L22 (lower) */
+  double *GG;           /* ns x ns column-major: L22 L22', as the upper triangle of its index-reversed copy */
+  au_status st;         /* the factorization's outcome (factored in a thread) */
+  au_msg msg;
+} spd_half;
+
+typedef struct spd_split {
+  int ns;               /* |S| */
+  int *scol;            /* [0..ns-1]: the columns of B in S, in order */
+  int nc;               /* entries of C (B's S block, lower) */
+  int *cpos, *cdst;     /* [0..nc-1]: entry of B->x and position in the dense ns x ns matrix */
+  double *Sch;          /* ns x ns column-major: the Schur complement, then its Cholesky factor */
+  double *y;            /* ns scratch */
+  spd_half h[2];
+} spd_split;
+
 struct au_spd {
   int n;
   cholmod_common c;
@@ -258,9 +287,14 @@ struct au_spd {
   cholmod_sparse *B; /* tril(P A P') */
   int *map;          /* [0..nnz-1]: entry p of A is entry map[p] of B */
   int *perm;         /* [0..n-1]: P, the unknown eliminated k-th */
-  cholmod_factor *L; /* of B, natural order */
+  cholmod_factor *L; /* of B, natural order (the symbolic one only, when split) */
+  spd_split *split;  /* NULL: one factorization on one core */
   int factored;
 };
+
+/* Below this many unknowns a system is factored whole (the split's thread and dense Schur block
+ * cost more than they save). Tests lower it. */
+int au__spd_split_min = 40000;
 
 au_status au_graph_order(int n, int ne, const int *E, int *perm, au_msg *msg) {
   if (n <= 0 || ne < 0 || (ne > 0 && !E) || !perm) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
@@ -305,6 +339,335 @@ done:
   cholmod_free_sparse(&A, &c);
   cholmod_finish(&c);
   return st;
+}
+
+/* BLAS and LAPACK (the dense Schur block of a split factorization). */
+extern void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
+extern void dpotrs_(const char *uplo, const int *n, const int *nrhs, const double *a, const int *lda, double *b,
+                    const int *ldb, int *info);
+extern void dlauum_(const char *uplo, const int *n, double *a, const int *lda, int *info);
+extern void dtrmv_(const char *uplo, const char *trans, const char *diag, const int *n, const double *a, const int *lda,
+                   double *x, const int *incx);
+
+static void split_free(spd_split **sp) {
+  if (!sp || !*sp) return;
+  spd_split *q = *sp;
+  for (int h = 0; h < 2; h++) {
+    spd_half *a = q->h + h;
+    if (a->M || a->L) {
+      cholmod_free_factor(&a->L, &a->c);
+      cholmod_free_sparse(&a->M, &a->c);
+      cholmod_finish(&a->c);
+    }
+    free(a->cols), free(a->vmap), free(a->G), free(a->GG);
+  }
+  free(q->scol), free(q->cpos), free(q->cdst), free(q->Sch), free(q->y);
+  free(q);
+  *sp = NULL;
+}
+
+/* Build the split of s (see spd_split) from the symbolic supernodal factor of B. Returns 1 when built,
+ * 0 when B does not split well (no separator at the root, unbalanced halves, a separator too large
+ * for a dense block), -1 when out of memory. */
+static int split_build(au_spd *s) {
+  const cholmod_factor *L = s->L;
+  if (!L->is_super || L->nsuper < 3) return 0;
+  const int n = s->n, ns_ = (int)L->nsuper;
+  const int *super = L->super, *pi = L->pi, *Ls = L->s;
+  int *snode = malloc(sizeof(int) * (size_t)n), *parent = malloc(sizeof(int) * (size_t)ns_);
+  int *head = malloc(sizeof(int) * (size_t)ns_), *next = malloc(sizeof(int) * (size_t)ns_), *nchild = calloc((size_t)ns_, sizeof(int));
+  int *unit = malloc(sizeof(int) * (size_t)ns_), *bin = malloc(sizeof(int) * (size_t)n), *loc = malloc(sizeof(int) * (size_t)n);
+  double *sw = calloc((size_t)ns_, sizeof(double));
+  spd_split *q = calloc(1, sizeof *q);
+  int ret = -1;
+  if (!snode || !parent || !head || !next || !nchild || !unit || !bin || !loc || !sw || !q) goto done;
+  for (int k = 0; k < ns_; k++)
+    for (int j = super[k]; j < super[k + 1]; j++) snode[j] = k;
+  for (int k = 0; k < ns_; k++) head[k] = -1;
+  /* The supernodal elimination tree (postordered: a parent comes after its children) and the work of
+   * every subtree (columns x rows^2 per supernode). */
+  for (int k = 0; k < ns_; k++) {
+    int nc = super[k + 1] - super[k], nr = pi[k + 1] - pi[k];
+    parent[k] = nr > nc ? snode[Ls[pi[k] + nc]] : -1;
+    sw[k] += (double)nc * nr * nr;
+    if (parent[k] >= 0) {
+      sw[parent[k]] += sw[k];
+      nchild[parent[k]]++;
+      next[k] = head[parent[k]], head[parent[k]] = k;
+    }
+  }
+  /* The separator: from the heaviest root down the chain of single children. */
+  int root = -1;
+  for (int k = 0; k < ns_; k++)
+    if (parent[k] < 0 && (root < 0 || sw[k] > sw[root])) root = k;
+  double total = 0;
+  for (int k = 0; k < ns_; k++)
+    if (parent[k] < 0) total += sw[k];
+  for (int k = 0; k < ns_; k++) unit[k] = -2; /* -1: in S; >= 0: the unit (whole subtree) it belongs to */
+  int bottom = root, ns = 0;
+  for (;;) {
+    unit[bottom] = -1;
+    ns += super[bottom + 1] - super[bottom];
+    if (nchild[bottom] != 1) break;
+    bottom = head[bottom];
+  }
+  ret = 0;
+  if (nchild[bottom] < 2 || ns > 4000) goto done;
+  /* Units: the subtrees under the chain and the other trees; each goes whole to the lighter half,
+   * heaviest first (greedy). */
+  double w[2] = {0, 0};
+  for (;;) {
+    int best = -1;
+    for (int k = head[bottom]; k >= 0; k = next[k])
+      if (unit[k] == -2 && (best < 0 || sw[k] > sw[best])) best = k;
+    for (int k = 0; k < ns_; k++)
+      if (parent[k] < 0 && k != root && unit[k] == -2 && (best < 0 || sw[k] > sw[best])) best = k;
+    if (best < 0) break;
+    int hb = w[0] <= w[1] ? 0 : 1;
+    unit[best] = hb;
+    w[hb] += sw[best];
+  }
+  if (w[0] < 0.3 * total || w[1] < 0.3 * total) goto done;
+  for (int k = ns_ - 1; k >= 0; k--)
+    if (unit[k] == -2) unit[k] = unit[parent[k]]; /* parents first: they come later in the order */
+  for (int j = 0; j < n; j++) bin[j] = unit[snode[j]];
+  ret = -1;
+  /* S and C (B's S block, lower). */
+  q->ns = ns;
+  q->scol = malloc(sizeof(int) * (size_t)ns);
+  q->Sch = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
+  q->y = malloc(sizeof(double) * (size_t)ns);
+  if (!q->scol || !q->Sch || !q->y) goto done;
+  const int *Bp = s->B->p, *Bi = s->B->i;
+  int m = 0;
+  for (int j = 0; j < n; j++)
+    if (bin[j] < 0) loc[j] = m, q->scol[m++] = j;
+  for (int t = 0; t < ns; t++)
+    for (int p = Bp[q->scol[t]]; p < Bp[q->scol[t] + 1]; p++) q->nc += bin[Bi[p]] < 0;
+  q->cpos = malloc(sizeof(int) * (size_t)(q->nc + 1));
+  q->cdst = malloc(sizeof(int) * (size_t)(q->nc + 1));
+  if (!q->cpos || !q->cdst) goto done;
+  int c = 0;
+  for (int t = 0; t < ns; t++)
+    for (int p = Bp[q->scol[t]]; p < Bp[q->scol[t] + 1]; p++)
+      if (bin[Bi[p]] < 0) {
+        int r = loc[Bi[p]], a = r > t ? r : t, b = r > t ? t : r;
+        q->cpos[c] = p, q->cdst[c++] = a + ns * b;
+      }
+  /* The halves: M_h = B on H_h then S, lower triangle, rows sorted. */
+  for (int h = 0; h < 2; h++) {
+    spd_half *a = q->h + h;
+    int nm = ns;
+    for (int j = 0; j < n; j++) nm += bin[j] == h;
+    a->nm = nm;
+    a->cols = malloc(sizeof(int) * (size_t)nm);
+    if (!a->cols) goto done;
+    int k = 0;
+    for (int j = 0; j < n; j++)
+      if (bin[j] == h) a->cols[k++] = j;
+    for (int t = 0; t < ns; t++) a->cols[k++] = q->scol[t];
+    for (int j = 0; j < n; j++) loc[j] = -1;
+    for (int t = 0; t < nm; t++) loc[a->cols[t]] = t;
+    size_t nnz = 0;
+    for (int t = 0; t < nm; t++)
+      for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) nnz += loc[Bi[p]] >= 0;
+    cholmod_start(&a->c);
+    configure(&a->c);
+    a->c.nmethods = 1;
+    a->c.method[0].ordering = CHOLMOD_NATURAL;
+    a->c.postorder = 0;
+    a->M = cholmod_allocate_sparse((size_t)nm, (size_t)nm, nnz, 1, 1, -1, CHOLMOD_REAL, &a->c);
+    a->vmap = malloc(sizeof(int) * (nnz > 0 ? nnz : 1));
+    a->G = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
+    a->GG = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
+    if (!a->M || !a->vmap || !a->G || !a->GG) goto done;
+    int *Mp = a->M->p, *Mi = a->M->i;
+    memset(Mp, 0, sizeof(int) * ((size_t)nm + 1));
+    for (int t = 0; t < nm; t++)
+      for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) {
+        int r = loc[Bi[p]];
+        if (r >= 0) Mp[(r < t ? r : t) + 1]++;
+      }
+    for (int t = 0; t < nm; t++) Mp[t + 1] += Mp[t];
+    int *fill = malloc(sizeof(int) * (size_t)nm);
+    if (!fill) goto done;
+    memcpy(fill, Mp, sizeof(int) * (size_t)nm);
+    for (int t = 0; t < nm; t++)
+      for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) {
+        int r = loc[Bi[p]];
+        if (r < 0) continue;
+        int col = r < t ? r : t, qq = fill[col]++;
+        Mi[qq] = r < t ? t : r, a->vmap[qq] = p;
+      }
+    free(fill);
+    for (int t = 0; t < nm; t++)
+      for (int qq = Mp[t] + 1; qq < Mp[t + 1]; qq++)
+        for (int r = qq; r > Mp[t] && Mi[r - 1] > Mi[r]; r--) {
+          int ti = Mi[r], tv = a->vmap[r];
+          Mi[r] = Mi[r - 1], a->vmap[r] = a->vmap[r - 1];
+          Mi[r - 1] = ti, a->vmap[r - 1] = tv;
+        }
+    memset(a->M->x, 0, sizeof(double) * nnz);
+    a->L = cholmod_analyze(a->M, &a->c);
+    if (!a->L || a->c.status < CHOLMOD_OK || !a->L->is_super) goto done;
+  }
+  ret = 1;
+done:
+  free(snode), free(parent), free(head), free(next), free(nchild), free(unit), free(bin), free(loc), free(sw);
+  if (ret == 1) s->split = q;
+  else split_free(&q);
+  return ret;
+}
+
+/* Factor one half and copy its L22 into G (column-major, lower, zero above). */
+static void *half_factor(void *arg) {
+  spd_half *a = ((void **)arg)[0];
+  const double *bx = ((void **)arg)[1];
+  const int ns = *(const int *)((void **)arg)[2];
+  double *mx = a->M->x;
+  const int nnz = ((const int *)a->M->p)[a->nm];
+  for (int qq = 0; qq < nnz; qq++) mx[qq] = bx[a->vmap[qq]];
+  a->st = factorize(a->M, a->L, &a->c, &a->msg);
+  if (a->st != AU_OK) return NULL;
+  const cholmod_factor *L = a->L;
+  const int *super = L->super, *pi = L->pi, *px = L->px, *Ls = L->s, off = a->nm - ns;
+  const double *x = L->x;
+  memset(a->G, 0, sizeof(double) * (size_t)ns * (size_t)ns);
+  for (int k = (int)L->nsuper - 1; k >= 0 && super[k + 1] > off; k--) {
+    int nr = pi[k + 1] - pi[k];
+    for (int j = super[k] > off ? super[k] : off; j < super[k + 1]; j++) {
+      int cc = j - super[k];
+      for (int r = cc; r < nr; r++) a->G[(Ls[pi[k] + r] - off) + (size_t)ns * (size_t)(j - off)] = x[px[k] + r + nr * cc];
+    }
+  }
+  /* L22 L22' in this thread too: with J the index reversal, J L22 J is upper triangular and LAPACK's
+   * dlauum forms U U' in a third of a general product's flops; GG keeps it in reversed indices. */
+  const size_t n2 = (size_t)ns;
+  for (size_t j = 0; j < n2; j++)
+    for (size_t i = 0; i < n2; i++) a->GG[i + n2 * j] = a->G[(n2 - 1 - i) + n2 * (n2 - 1 - j)];
+  int info = 0;
+  dlauum_("U", &ns, a->GG, &ns, &info);
+  if (info != 0) a->st = au_msg_set(&a->msg, AU_E_NUMERIC, "solver: dense product failed (argument %d)", -info);
+  return NULL;
+}
+
+typedef struct pair_call {
+  void *(*fn)(void *);
+  void *arg;
+} pair_call;
+
+static void *pair_thread(void *arg) {
+  sigset_t all;
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, NULL); /* signals go to the caller's thread */
+  const pair_call *c = arg;
+  return c->fn(c->arg);
+}
+
+/* fn(a0) here and fn(a1) on a second thread (or after, if no thread can be had). */
+static void run_pair(void *(*fn)(void *), void *a0, void *a1) {
+  pthread_t th;
+  pair_call c = {fn, a1};
+  int threaded = pthread_create(&th, NULL, pair_thread, &c) == 0;
+  fn(a0);
+  if (threaded) pthread_join(th, NULL);
+  else fn(a1);
+}
+
+/* The split factorization: the halves on two threads, then the dense Schur complement on S. */
+static au_status split_factor(au_spd *s, au_msg *msg) {
+  spd_split *q = s->split;
+  const double *bx = s->B->x;
+  void *arg0[3] = {q->h + 0, (void *)bx, &q->ns}, *arg1[3] = {q->h + 1, (void *)bx, &q->ns};
+  run_pair(half_factor, arg0, arg1);
+  for (int h = 0; h < 2; h++)
+    if (q->h[h].st != AU_OK) {
+      if (msg) *msg = q->h[h].msg;
+      return q->h[h].st;
+    }
+  const size_t ns2 = (size_t)q->ns;
+  const int ns = q->ns;
+  const double *P0 = q->h[0].GG, *P1 = q->h[1].GG;
+  for (size_t b = 0; b < ns2; b++)
+    for (size_t a = b; a < ns2; a++) {
+      size_t r = (ns2 - 1 - a) + ns2 * (ns2 - 1 - b); /* (a, b) of L22 L22' in the reversed upper copy */
+      q->Sch[a + ns2 * b] = P0[r] + P1[r];
+    }
+  for (int c = 0; c < q->nc; c++) q->Sch[q->cdst[c]] -= bx[q->cpos[c]];
+  int info = 0;
+  dpotrf_("L", &ns, q->Sch, &ns, &info);
+  if (info > 0)
+    return au_msg_set(msg, AU_E_NOT_SPD, "solver: matrix not positive definite (failed at column %d of the %d-column separator)",
+                      info, ns);
+  if (info < 0) return au_msg_set(msg, AU_E_NUMERIC, "solver: dense factorization failed (argument %d)", -info);
+  return AU_OK;
+}
+
+/* One half of a split solve. Forward (fwd = 1): z = L^-1 (b_H, 0), and t = L22 z_S, so that
+ * B_h' A_h^-1 b_h = -t. Backward: from (z_H, L22' x_S), x_H = the back substitution's first part. */
+typedef struct half_solve {
+  spd_half *a;
+  int ns, fwd;
+  const double *bb, *xs; /* B's right-hand side; the separator's solution (backward) */
+  double *xb, *t;        /* B's solution (backward); t [0..ns-1] (forward) */
+  cholmod_dense *Z;
+  au_status st;
+} half_solve;
+
+static void *half_solve_run(void *arg) {
+  half_solve *w = arg;
+  spd_half *a = w->a;
+  const int ns = w->ns, nh = a->nm - ns, one = 1;
+  if (w->fwd) {
+    cholmod_dense *R = cholmod_allocate_dense((size_t)a->nm, 1, (size_t)a->nm, CHOLMOD_REAL, &a->c);
+    if (!R) return w->st = AU_E_NOMEM, NULL;
+    double *r = R->x;
+    for (int k = 0; k < nh; k++) r[k] = w->bb[a->cols[k]];
+    for (int k = nh; k < a->nm; k++) r[k] = 0;
+    w->Z = cholmod_solve(CHOLMOD_L, a->L, R, &a->c);
+    cholmod_free_dense(&R, &a->c);
+    if (!w->Z) return w->st = AU_E_NUMERIC, NULL;
+    memcpy(w->t, (double *)w->Z->x + nh, sizeof(double) * (size_t)ns);
+    dtrmv_("L", "N", "N", &ns, a->G, &ns, w->t, &one);
+    return NULL;
+  }
+  double *z = w->Z->x;
+  memcpy(z + nh, w->xs, sizeof(double) * (size_t)ns);
+  dtrmv_("L", "T", "N", &ns, a->G, &ns, z + nh, &one);
+  cholmod_dense *X = cholmod_solve(CHOLMOD_Lt, a->L, w->Z, &a->c);
+  if (!X) return w->st = AU_E_NUMERIC, NULL;
+  const double *xx = X->x;
+  for (int k = 0; k < nh; k++) w->xb[a->cols[k]] = xx[k];
+  cholmod_free_dense(&X, &a->c);
+  return NULL;
+}
+
+/* Solve B xb = bb (both in B's order) with the split factors: the halves' forward substitutions on
+ * two threads, the separator's dense solve, the halves' back substitutions on two threads. */
+static au_status split_solve(au_spd *s, const double *bb, double *xb, au_msg *msg) {
+  spd_split *q = s->split;
+  const int ns = q->ns, one = 1;
+  double *t = malloc(sizeof(double) * 2 * (size_t)ns);
+  if (!t) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+  half_solve w[2];
+  for (int h = 0; h < 2; h++)
+    w[h] = (half_solve){q->h + h, ns, 1, bb, q->y, xb, t + (size_t)h * (size_t)ns, NULL, AU_OK};
+  run_pair(half_solve_run, w + 0, w + 1);
+  au_status st = w[0].st != AU_OK ? w[0].st : w[1].st;
+  if (st == AU_OK) {
+    for (int k = 0; k < ns; k++) q->y[k] = bb[q->scol[k]] + t[k] + t[ns + k];
+    int info = 0;
+    dpotrs_("L", &ns, &one, q->Sch, &ns, q->y, &ns, &info);
+    w[0].fwd = w[1].fwd = 0;
+    run_pair(half_solve_run, w + 0, w + 1);
+    st = w[0].st != AU_OK ? w[0].st : w[1].st;
+    for (int k = 0; k < ns; k++) xb[q->scol[k]] = q->y[k];
+  }
+  for (int h = 0; h < 2; h++) cholmod_free_dense(&w[h].Z, &q->h[h].c);
+  free(t);
+  if (st == AU_E_NOMEM) return au_msg_set(msg, st, "solver: out of memory");
+  if (st != AU_OK) return au_msg_set(msg, st, "solver: solve failed");
+  return AU_OK;
 }
 
 au_status au_spd_create(int n, const int *colstart, const int *rows, const int *perm, au_spd **out, au_msg *msg) {
@@ -391,6 +754,8 @@ au_status au_spd_create(int n, const int *colstart, const int *rows, const int *
                     s->c.status);
     goto done;
   }
+  /* 4. Large systems: the split over two cores (spd_split). */
+  if (n >= au__spd_split_min && split_build(s) < 0) st = au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
 done:
   cholmod_free_factor(&L0, &s->c);
   free(fill);
@@ -405,6 +770,8 @@ done:
 
 double *au_spd_values(au_spd *s) { return s ? (double *)s->A->x : NULL; }
 
+int au__spd_split_size(const au_spd *s) { return s && s->split ? s->split->ns : 0; }
+
 au_status au_spd_factor(au_spd *s, au_msg *msg) {
   if (!s) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
   s->factored = 0;
@@ -412,7 +779,7 @@ au_status au_spd_factor(au_spd *s, au_msg *msg) {
   double *bx = s->B->x;
   const int nnz = ((const int *)s->A->p)[s->n];
   for (int p = 0; p < nnz; p++) bx[s->map[p]] = ax[p];
-  au_status st = factorize(s->B, s->L, &s->c, msg);
+  au_status st = s->split ? split_factor(s, msg) : factorize(s->B, s->L, &s->c, msg);
   s->factored = st == AU_OK;
   return st;
 }
@@ -423,6 +790,20 @@ au_status au_spd_solve(au_spd *s, const double *b, double *x, au_msg *msg) {
   if (!B) return au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
   double *bp = B->x;
   for (int k = 0; k < s->n; k++) bp[k] = b[s->perm[k]];
+  if (s->split) {
+    cholmod_dense *Xs = cholmod_allocate_dense((size_t)s->n, 1, (size_t)s->n, CHOLMOD_REAL, &s->c);
+    au_status st = Xs ? split_solve(s, bp, Xs->x, msg) : au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+    cholmod_free_dense(&B, &s->c);
+    if (st == AU_OK) {
+      const double *xp = Xs->x;
+      for (int k = 0; k < s->n; k++) x[s->perm[k]] = xp[k];
+    }
+    cholmod_free_dense(&Xs, &s->c);
+    if (st != AU_OK) return st;
+    for (int i = 0; i < s->n; i++)
+      if (!(x[i] - x[i] == 0)) return au_msg_set(msg, AU_E_NUMERIC, "solver: the solution is not finite");
+    return AU_OK;
+  }
   cholmod_dense *X = cholmod_solve(CHOLMOD_A, s->L, B, &s->c);
   cholmod_free_dense(&B, &s->c);
   if (!X) return au_msg_set(msg, AU_E_NUMERIC, "solver: solve failed (status %d)", s->c.status);
@@ -437,6 +818,7 @@ au_status au_spd_solve(au_spd *s, const double *b, double *x, au_msg *msg) {
 void au_spd_free(au_spd **sp) {
   if (!sp || !*sp) return;
   au_spd *s = *sp;
+  split_free(&s->split);
   cholmod_free_factor(&s->L, &s->c);
   cholmod_free_sparse(&s->A, &s->c);
   cholmod_free_sparse(&s->B, &s->c);

@@ -67,6 +67,11 @@ au_status au_spd_factor(au_spd *s, au_msg *msg);
 au_status au_spd_solve(au_spd *s, const double *b, double *x, au_msg *msg);
 /* Free and set *s to NULL; NULL-safe. */
 void au_spd_free(au_spd **s);
+/* Systems of at least au__spd_split_min unknowns are factored in two halves on two threads when their
+ * elimination tree allows it (au_solver.c, spd_split); au__spd_split_size gives the size of the
+ * separator that joins the halves (0: factored whole). For tests and measurements. */
+extern int au__spd_split_min;
+int au__spd_split_size(const au_spd *s);
 
 #ifdef __cplusplus
 }

@@ -419,6 +419,107 @@ static int sphere_chord_floor_case(void) {
   return 0;
 }
 
+/* The split factorization (two halves on two threads joined by a dense separator block) solves
+ * what the whole one solves: a 2V system with 2 x 2 blocks on a refined sphere's edges (a Laplacian
+ * with SPD blocks plus a small diagonal), split and whole, same solution to 1e-10 and a residual
+ * below 1e-10; refactored with new values; an indefinite matrix is refused by both. */
+static int spd_split_case(void) {
+  au_mesh *m = make_surface(5, 1.0);
+  AU_CHECK(m != NULL);
+  au_topo *t = NULL;
+  AU_CHECK_STATUS(au_mesh_topology(m, &t, NULL), AU_OK, (au_msg *)NULL);
+  const int nv = m->nv, n = 2 * nv;
+  /* Upper triangle pattern, column by column, rows sorted: the vertex's own block and its edges'. */
+  int *cnt = calloc((size_t)n + 1, sizeof(int));
+  for (int i = 0; i < nv; i++) cnt[2 * i + 1] += 1, cnt[2 * i + 2] += 2;
+  for (int e = 0; e < t->ne; e++) {
+    int b = t->E[2 * e + 1];
+    cnt[2 * b + 1] += 2, cnt[2 * b + 2] += 2;
+  }
+  for (int j = 0; j < n; j++) cnt[j + 1] += cnt[j];
+  int *rows = malloc(sizeof(int) * (size_t)cnt[n]), *fill = malloc(sizeof(int) * (size_t)n);
+  memcpy(fill, cnt, sizeof(int) * (size_t)n);
+  for (int e = 0; e < t->ne; e++) {
+    int a = t->E[2 * e], b = t->E[2 * e + 1];
+    for (int q = 0; q < 2; q++)
+      for (int p = 0; p < 2; p++) rows[fill[2 * b + q]++] = 2 * a + p;
+  }
+  for (int i = 0; i < nv; i++) rows[fill[2 * i]++] = 2 * i, rows[fill[2 * i + 1]++] = 2 * i, rows[fill[2 * i + 1]++] = 2 * i + 1;
+  for (int j = 0; j < n; j++) /* insertion sort */
+    for (int q = cnt[j] + 1; q < cnt[j + 1]; q++)
+      for (int r = q; r > cnt[j] && rows[r - 1] > rows[r]; r--) {
+        int tmp = rows[r];
+        rows[r] = rows[r - 1], rows[r - 1] = tmp;
+      }
+  au_spd *sp[2] = {NULL, NULL};
+  au_msg msg = {{0}};
+  const int keep = au__spd_split_min;
+  au__spd_split_min = 0;
+  AU_CHECK_STATUS(au_spd_create(n, cnt, rows, NULL, &sp[0], &msg), AU_OK, &msg);
+  au__spd_split_min = 1 << 30;
+  AU_CHECK_STATUS(au_spd_create(n, cnt, rows, NULL, &sp[1], &msg), AU_OK, &msg);
+  au__spd_split_min = keep;
+  int ns = au__spd_split_size(sp[0]);
+  AU_CHECK_INT(ns, >, 0);
+  AU_CHECK_INT(ns, <, n / 8);
+  AU_CHECK_INT(au__spd_split_size(sp[1]), ==, 0);
+  unsigned seed = 5;
+  double *b = malloc(sizeof(double) * (size_t)n), *x[2] = {malloc(sizeof(double) * (size_t)n), malloc(sizeof(double) * (size_t)n)};
+  double *ax = malloc(sizeof(double) * (size_t)n);
+  for (int round = 0; round < 3; round++) {
+    for (int k = 0; k < 2; k++) {
+      double *v = au_spd_values(sp[k]);
+      memset(v, 0, sizeof(double) * (size_t)cnt[n]);
+      unsigned vs = 17 + (unsigned)round; /* the same values in both */
+      for (int e = 0; e < t->ne; e++) {
+        int a = t->E[2 * e], bb = t->E[2 * e + 1];
+        double w = 0.5 + rnd(&vs), c = rnd(&vs) - 0.5, K[2][2] = {{2, c}, {c, 1}};
+        for (int q = 0; q < 2; q++)
+          for (int p = 0; p < 2; p++) {
+            /* -w K at (2a+p, 2bb+q); +w K on both diagonal blocks */
+            for (int r = cnt[2 * bb + q]; r < cnt[2 * bb + q + 1]; r++)
+              if (rows[r] == 2 * a + p) v[r] -= w * K[p][q];
+            if (p <= q) {
+              for (int r = cnt[2 * a + q]; r < cnt[2 * a + q + 1]; r++)
+                if (rows[r] == 2 * a + p) v[r] += w * K[p][q];
+              for (int r = cnt[2 * bb + q]; r < cnt[2 * bb + q + 1]; r++)
+                if (rows[r] == 2 * bb + p) v[r] += w * K[p][q];
+            }
+          }
+      }
+      for (int j = 0; j < n; j++) v[cnt[j + 1] - 1] += 0.01; /* the diagonal is last in its column */
+      AU_CHECK_STATUS(au_spd_factor(sp[k], &msg), AU_OK, &msg);
+    }
+    double nb = 0;
+    for (int i = 0; i < n; i++) b[i] = rnd(&seed) - 0.5, nb = fmax(nb, fabs(b[i]));
+    for (int k = 0; k < 2; k++) AU_CHECK_STATUS(au_spd_solve(sp[k], b, x[k], &msg), AU_OK, &msg);
+    double dx = 0, nx = 0;
+    for (int i = 0; i < n; i++) dx = fmax(dx, fabs(x[0][i] - x[1][i])), nx = fmax(nx, fabs(x[1][i]));
+    AU_CHECK_DBL(dx, <=, 1e-10 * nx);
+    /* Residual of the split solution, with the upper triangle applied symmetrically. */
+    const double *v = au_spd_values(sp[0]);
+    memset(ax, 0, sizeof(double) * (size_t)n);
+    for (int j = 0; j < n; j++)
+      for (int r = cnt[j]; r < cnt[j + 1]; r++) {
+        ax[rows[r]] += v[r] * x[0][j];
+        if (rows[r] != j) ax[j] += v[r] * x[0][rows[r]];
+      }
+    double res = 0;
+    for (int i = 0; i < n; i++) res = fmax(res, fabs(ax[i] - b[i]));
+    AU_CHECK_DBL(res, <=, 1e-10 * nb);
+  }
+  /* Indefinite: one diagonal entry made negative. */
+  for (int k = 0; k < 2; k++) {
+    au_spd_values(sp[k])[cnt[n / 2 + 1] - 1] = -5;
+    AU_CHECK_STATUS(au_spd_factor(sp[k], &msg), AU_E_NOT_SPD, &msg);
+  }
+  for (int k = 0; k < 2; k++) au_spd_free(&sp[k]), free(x[k]);
+  free(b), free(ax), free(cnt), free(rows), free(fill);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"ordering_holds_sigterm", ordering_holds_sigterm},
@@ -426,6 +527,7 @@ int main(int argc, char **argv) {
       {"grad_linear", grad_linear_case},               {"areas_sum", areas_sum_case},
       {"cotan_scale", cotan_scale_case},               {"solver_linear_exact", solver_linear_exact},
       {"sphere_area", sphere_area_case},               {"sphere_chord_floor", sphere_chord_floor_case},
+      {"spd_split", spd_split_case},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }
