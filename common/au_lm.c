@@ -22,8 +22,6 @@
  * the shear term only shapes the path (and damps the checkerboard modes a plain Gauss-Newton on the
  * face areas excites). */
 #include <math.h>
-#include <stdio.h>
-#include <time.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -305,13 +303,8 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
       else val[dg] = val[dg] * (1 + diag_rel) + eps * mass[2 * i] + 1e-300;
     }
   }
-  struct timespec t0_, t1_, t2_;
-  clock_gettime(CLOCK_MONOTONIC, &t0_);
   au_status st = au_spd_factor(l->spd, msg);
-  clock_gettime(CLOCK_MONOTONIC, &t1_);
   if (st == AU_OK) st = au_spd_solve(l->spd, l->rhs, l->x, msg);
-  clock_gettime(CLOCK_MONOTONIC, &t2_);
-  if (getenv("AU_TDBG")) fprintf(stderr, "factor %.3f solve %.3f\n", (t1_.tv_sec - t0_.tv_sec) + 1e-9 * (t1_.tv_nsec - t0_.tv_nsec), (t2_.tv_sec - t1_.tv_sec) + 1e-9 * (t2_.tv_nsec - t1_.tv_nsec));
   if (st != AU_OK) return st;
   for (int i = 0; i < nv; i++) {
     const double *Bi = l->B + 6 * i;
