@@ -22,12 +22,17 @@
  * the shear term only shapes the path (and damps the checkerboard modes a plain Gauss-Newton on the
  * face areas excites). */
 #include <math.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "au_advect_internal.h"
 #include "au_dec.h"
 #include "au_solver.h"
+
+/* From this many faces the assembly runs on two threads. */
+#define AU_LM_THREAD_MIN 20000
 
 struct au_lm {
   int nv, nf;
@@ -38,6 +43,7 @@ struct au_lm {
                            of the block's first column entry and of its second column entry */
   double *B;            /* [0..6*nv-1]: per vertex, two orthonormal allowed directions (or zero) */
   double *rhs, *x;      /* [0..2nv-1] */
+  double *val1;         /* the second assembly thread's matrix values, rhs and mass (large meshes) */
   au_spd *spd;
 };
 
@@ -49,7 +55,7 @@ static int cmp_int(const void *a, const void *b) {
 void au__lm_free(au_lm **lp) {
   if (!lp || !*lp) return;
   au_lm *l = *lp;
-  free(l->colstart), free(l->rows), free(l->fidx), free(l->B), free(l->rhs), free(l->x);
+  free(l->colstart), free(l->rows), free(l->fidx), free(l->B), free(l->rhs), free(l->x), free(l->val1);
   au_spd_free(&l->spd);
   free(l);
   *lp = NULL;
@@ -180,18 +186,26 @@ static inline void project_out(double *x, const double *n) {
   x[0] -= d * n[0], x[1] -= d * n[1], x[2] -= d * n[2];
 }
 
-au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
-                      double alpha, double eps, int sphere_areas, double restore, double *D, au_msg *msg) {
-  const int nv = l->nv, nf = l->nf, n = 2 * nv, *F = l->F;
-  double *val = au_spd_values(l->spd);
-  memset(val, 0, sizeof(double) * (size_t)l->colstart[n]);
-  memset(l->rhs, 0, sizeof(double) * (size_t)n);
-  for (int i = 0; i < nv; i++) allowed_basis(dom, i, P + 3 * i, l->B + 6 * i);
-  double *mass = l->x; /* scratch: the domain's vertex areas */
-  memset(mass, 0, sizeof(double) * (size_t)n);
+/* The arguments of one assembly of the least-shear system (see au__lm_step). */
+typedef struct lm_asm {
+  const au_lm *l;
+  const double *P, *dAf, *wf;
+  double alpha, restore;
+  int sph;               /* spherical areas and tangent-plane shear */
+  int f0, f1;            /* the faces [f0, f1) */
+  double *val, *rhs, *mass;
+} lm_asm;
+
+/* Add the faces [f0, f1) to val, rhs and mass. */
+static void *assemble_faces(void *arg) {
+  const lm_asm *a = arg;
+  const au_lm *l = a->l;
+  const double *P = a->P, *dAf = a->dAf, *wf = a->wf;
+  const double alpha = a->alpha, restore = a->restore;
+  const int sph = a->sph, *F = l->F;
+  double *val = a->val, *rhs = a->rhs, *mass = a->mass;
   static const int pairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {2, 0}};
-  const int sph = dom->spherical && sphere_areas;
-  for (int f = 0; f < nf; f++) {
+  for (int f = a->f0; f < a->f1; f++) {
     const int *v = F + 3 * f;
     const double *p0 = P + 3 * v[0], *p1 = P + 3 * v[1], *p2 = P + 3 * v[2];
     double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
@@ -262,7 +276,7 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
       }
     }
     for (int k = 0; k < 3; k++)
-      for (int b = 0; b < 2; b++) l->rhs[2 * v[k] + b] += wd * rd[2 * k + b] * dAf[f];
+      for (int b = 0; b < 2; b++) rhs[2 * v[k] + b] += wd * rd[2 * k + b] * dAf[f];
     if (restore > 0) {
       /* Shape restoring: the shear target is the fraction `restore` of the linear motion that would
        * take the domain triangle to the similar copy of the surface triangle closest to it. */
@@ -281,9 +295,47 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
                M22 = zi * SD12 + zr * SD22;
         double t1 = restore * (M11 - M22), t2 = restore * (M12 + M21);
         for (int k = 0; k < 3; k++)
-          for (int b = 0; b < 2; b++) l->rhs[2 * v[k] + b] += wc * (rc1[2 * k + b] * t1 + rc2[2 * k + b] * t2);
+          for (int b = 0; b < 2; b++) rhs[2 * v[k] + b] += wc * (rc1[2 * k + b] * t1 + rc2[2 * k + b] * t2);
       }
     }
+    }
+  return NULL;
+}
+
+static void *assemble_faces_thread(void *arg) {
+  sigset_t all;
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, NULL); /* signals go to the caller's thread */
+  return assemble_faces(arg);
+}
+
+au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
+                      double alpha, double eps, int sphere_areas, double restore, double *D, au_msg *msg) {
+  const int nv = l->nv, nf = l->nf, n = 2 * nv;
+  double *val = au_spd_values(l->spd);
+  memset(val, 0, sizeof(double) * (size_t)l->colstart[n]);
+  memset(l->rhs, 0, sizeof(double) * (size_t)n);
+  for (int i = 0; i < nv; i++) allowed_basis(dom, i, P + 3 * i, l->B + 6 * i);
+  double *mass = l->x; /* scratch: the domain's vertex areas */
+  memset(mass, 0, sizeof(double) * (size_t)n);
+  const int sph = dom->spherical && sphere_areas;
+  /* Large meshes: half of the faces on a second thread, into buffers of its own, added after. */
+  lm_asm a0 = {l, P, dAf, wf, alpha, restore, sph, 0, nf, val, l->rhs, mass};
+  lm_asm a1 = a0;
+  pthread_t th;
+  int threaded = 0;
+  if (nf >= AU_LM_THREAD_MIN && (l->val1 || (l->val1 = malloc(sizeof(double) * ((size_t)l->colstart[n] + 4 * (size_t)nv))))) {
+    a0.f1 = a1.f0 = nf / 2;
+    a1.val = l->val1, a1.rhs = l->val1 + l->colstart[n], a1.mass = a1.rhs + n;
+    memset(a1.val, 0, sizeof(double) * ((size_t)l->colstart[n] + 4 * (size_t)nv));
+    threaded = pthread_create(&th, NULL, assemble_faces_thread, &a1) == 0;
+    if (!threaded) a0.f1 = nf; /* no thread to be had: all here */
+  }
+  assemble_faces(&a0);
+  if (threaded) {
+    pthread_join(th, NULL);
+    for (int q = 0; q < l->colstart[n]; q++) val[q] += a1.val[q];
+    for (int q = 0; q < n; q++) l->rhs[q] += a1.rhs[q], mass[q] += a1.mass[q];
   }
   /* The rigid rotations (and any slot without an allowed direction) are fixed by the mass term; an
    * empty slot gets a unit diagonal so that its zero solution is exact.
