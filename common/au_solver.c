@@ -366,11 +366,11 @@ static void split_free(spd_split **sp) {
   *sp = NULL;
 }
 
-/* Build the split of s (see spd_split) from the symbolic supernodal factor of B. Returns 1 when built,
+/* Build the split of s (see spd_split) from L, a symbolic supernodal factor of B (the analysis that
+ * chose B's order, whose columns are B's). Returns 1 when built,
  * 0 when B does not split well (no separator at the root, unbalanced halves, a separator too large
  * for a dense block), -1 when out of memory. */
-static int split_build(au_spd *s) {
-  const cholmod_factor *L = s->L;
+static int split_build(au_spd *s, const cholmod_factor *L) {
   if (!L->is_super || L->nsuper < 3) return 0;
   const int n = s->n, ns_ = (int)L->nsuper;
   const int *super = L->super, *pi = L->pi, *Ls = L->s;
@@ -744,7 +744,16 @@ au_status au_spd_create(int n, const int *colstart, const int *rows, const int *
   for (int q = 0; q < Bp[n]; q++) s->map[at[q]] = q;
   free(at);
   memset(s->B->x, 0, sizeof(double) * nnz);
-  /* 3. The symbolic factor of B as it stands (natural order, no postorder: it is postordered). */
+  /* 3. Large systems: the split over two cores (spd_split), planned on the analysis that ordered B. */
+  if (n >= au__spd_split_min) {
+    int r = split_build(s, L0);
+    if (r < 0) {
+      st = au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
+      goto done;
+    }
+    if (r > 0) goto done; /* B is never factored whole */
+  }
+  /* 4. The symbolic factor of B as it stands (natural order, no postorder: it is postordered). */
   s->c.nmethods = 1;
   s->c.method[0].ordering = CHOLMOD_NATURAL;
   s->c.postorder = 0;
@@ -754,8 +763,6 @@ au_status au_spd_create(int n, const int *colstart, const int *rows, const int *
                     s->c.status);
     goto done;
   }
-  /* 4. Large systems: the split over two cores (spd_split). */
-  if (n >= au__spd_split_min && split_build(s) < 0) st = au_msg_set(msg, AU_E_NOMEM, "solver: out of memory");
 done:
   cholmod_free_factor(&L0, &s->c);
   free(fill);
