@@ -31,8 +31,8 @@
 #include "au_dec.h"
 #include "au_solver.h"
 
-/* From this many faces the assembly runs on two threads. */
-#define AU_LM_THREAD_MIN 20000
+/* From this many faces the assembly runs on two threads (with the factorization's split). */
+#define AU_LM_THREAD_MIN 8000
 
 struct au_lm {
   int nv, nf;
