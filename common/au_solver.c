@@ -366,6 +366,31 @@ static void split_free(spd_split **sp) {
   *sp = NULL;
 }
 
+/* Sort units [0..nu-1] by decreasing work w (a bottom-up merge sort with a scratch half: qsort has
+ * no context argument in C11, and the plan runs in a thread). */
+static void sort_units(int *units, int nu, const double *w) {
+  int *tmp = malloc(sizeof(int) * (size_t)(nu > 0 ? nu : 1));
+  if (!tmp) { /* insertion sort then: correct, only slower */
+    for (int a = 1; a < nu; a++)
+      for (int b = a; b > 0 && w[units[b - 1]] < w[units[b]]; b--) {
+        int t = units[b];
+        units[b] = units[b - 1], units[b - 1] = t;
+      }
+    return;
+  }
+  for (int width = 1; width < nu; width *= 2) {
+    for (int lo = 0; lo < nu; lo += 2 * width) {
+      int mid = lo + width < nu ? lo + width : nu, hi = lo + 2 * width < nu ? lo + 2 * width : nu;
+      int i = lo, j = mid, k = lo;
+      while (i < mid && j < hi) tmp[k++] = w[units[i]] >= w[units[j]] ? units[i++] : units[j++];
+      while (i < mid) tmp[k++] = units[i++];
+      while (j < hi) tmp[k++] = units[j++];
+    }
+    memcpy(units, tmp, sizeof(int) * (size_t)nu);
+  }
+  free(tmp);
+}
+
 /* Build the split of s (see spd_split) from L, a symbolic supernodal factor of B (the analysis that
  * chose B's order, whose columns are B's). Returns 1 when built,
  * 0 when B does not split well (no separator at the root, unbalanced halves, a separator too large
@@ -413,19 +438,19 @@ static int split_build(au_spd *s, const cholmod_factor *L) {
   }
   ret = 0;
   if (nchild[bottom] < 2 || ns > 4000) goto done;
-  /* Units: the subtrees under the chain and the other trees; each goes whole to the lighter half,
-   * heaviest first (greedy). */
+  /* Units: the subtrees under the chain and the other trees (isolated unknowns, say); each goes
+   * whole to the lighter half, heaviest first (greedy). nchild[] is free from here: it holds them. */
+  int nu = 0;
+  for (int k = head[bottom]; k >= 0; k = next[k]) nchild[nu++] = k;
+  for (int k = 0; k < ns_; k++)
+    if (parent[k] < 0 && k != root) nchild[nu++] = k;
+  int *units = nchild;
+  sort_units(units, nu, sw);
   double w[2] = {0, 0};
-  for (;;) {
-    int best = -1;
-    for (int k = head[bottom]; k >= 0; k = next[k])
-      if (unit[k] == -2 && (best < 0 || sw[k] > sw[best])) best = k;
-    for (int k = 0; k < ns_; k++)
-      if (parent[k] < 0 && k != root && unit[k] == -2 && (best < 0 || sw[k] > sw[best])) best = k;
-    if (best < 0) break;
+  for (int a = 0; a < nu; a++) {
     int hb = w[0] <= w[1] ? 0 : 1;
-    unit[best] = hb;
-    w[hb] += sw[best];
+    unit[units[a]] = hb;
+    w[hb] += sw[units[a]];
   }
   if (w[0] < 0.3 * total || w[1] < 0.3 * total) goto done;
   for (int k = ns_ - 1; k >= 0; k--)
