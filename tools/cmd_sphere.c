@@ -255,7 +255,8 @@ static int run_sphere(const sphere_args *a) {
   /* A folded map is never written: zero folds is the tool's promise, not a hope. */
   rc = cli_refuse_folds(a->in, &fin);
   if (rc >= 0) goto done;
-  if (not_converged && fin.chord_floor_faces > 0)
+  /* Only when it matters: a single floor-bound face after a short run is no news. */
+  if (not_converged && fin.chord_floor_faces > 0 && fin.chord_floor_excess >= 1e-4)
     cli_warn(&warn, a->in,
              "%d long, thin triangles of the map cannot bring their chord area down to their share without shorter "
              "long edges (a long edge's chord runs under the sphere; excess %.2g%% of the area): a finer mesh there "
