@@ -22,13 +22,12 @@
  * the shear term only shapes the path (and damps the checkerboard modes a plain Gauss-Newton on the
  * face areas excites). */
 #include <math.h>
-#include <pthread.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "au_advect_internal.h"
 #include "au_dec.h"
+#include "au_par.h"
 #include "au_solver.h"
 
 /* From this many faces the assembly runs on two threads (with the factorization's split). */
@@ -302,13 +301,6 @@ static void *assemble_faces(void *arg) {
   return NULL;
 }
 
-static void *assemble_faces_thread(void *arg) {
-  sigset_t all;
-  sigfillset(&all);
-  pthread_sigmask(SIG_BLOCK, &all, NULL); /* signals go to the caller's thread */
-  return assemble_faces(arg);
-}
-
 au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
                       double alpha, double eps, int sphere_areas, double restore, double *D, au_msg *msg) {
   const int nv = l->nv, nf = l->nf, n = 2 * nv;
@@ -322,20 +314,15 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
   /* Large meshes: half of the faces on a second thread, into buffers of its own, added after. */
   lm_asm a0 = {l, P, dAf, wf, alpha, restore, sph, 0, nf, val, l->rhs, mass};
   lm_asm a1 = a0;
-  pthread_t th;
-  int threaded = 0;
   if (nf >= AU_LM_THREAD_MIN && (l->val1 || (l->val1 = malloc(sizeof(double) * ((size_t)l->colstart[n] + 4 * (size_t)nv))))) {
     a0.f1 = a1.f0 = nf / 2;
     a1.val = l->val1, a1.rhs = l->val1 + l->colstart[n], a1.mass = a1.rhs + n;
     memset(a1.val, 0, sizeof(double) * ((size_t)l->colstart[n] + 4 * (size_t)nv));
-    threaded = pthread_create(&th, NULL, assemble_faces_thread, &a1) == 0;
-    if (!threaded) a0.f1 = nf; /* no thread to be had: all here */
-  }
-  assemble_faces(&a0);
-  if (threaded) {
-    pthread_join(th, NULL);
+    au__run_pair(assemble_faces, &a0, &a1);
     for (int q = 0; q < l->colstart[n]; q++) val[q] += a1.val[q];
     for (int q = 0; q < n; q++) l->rhs[q] += a1.rhs[q], mass[q] += a1.mass[q];
+  } else {
+    assemble_faces(&a0);
   }
   /* The rigid rotations (and any slot without an allowed direction) are fixed by the mass term; an
    * empty slot gets a unit diagonal so that its zero solution is exact.

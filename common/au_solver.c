@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "au_par.h"
+
 struct au_solver {
   int n, ne, nfree;
   int *E;             /* copy of the edges */
@@ -576,35 +578,12 @@ static void *half_factor(void *arg) {
   return NULL;
 }
 
-typedef struct pair_call {
-  void *(*fn)(void *);
-  void *arg;
-} pair_call;
-
-static void *pair_thread(void *arg) {
-  sigset_t all;
-  sigfillset(&all);
-  pthread_sigmask(SIG_BLOCK, &all, NULL); /* signals go to the caller's thread */
-  const pair_call *c = arg;
-  return c->fn(c->arg);
-}
-
-/* fn(a0) here and fn(a1) on a second thread (or after, if no thread can be had). */
-static void run_pair(void *(*fn)(void *), void *a0, void *a1) {
-  pthread_t th;
-  pair_call c = {fn, a1};
-  int threaded = pthread_create(&th, NULL, pair_thread, &c) == 0;
-  fn(a0);
-  if (threaded) pthread_join(th, NULL);
-  else fn(a1);
-}
-
 /* The split factorization: the halves on two threads, then the dense Schur complement on S. */
 static au_status split_factor(au_spd *s, au_msg *msg) {
   spd_split *q = s->split;
   const double *bx = s->B->x;
   void *arg0[3] = {q->h + 0, (void *)bx, &q->ns}, *arg1[3] = {q->h + 1, (void *)bx, &q->ns};
-  run_pair(half_factor, arg0, arg1);
+  au__run_pair(half_factor, arg0, arg1);
   for (int h = 0; h < 2; h++)
     if (q->h[h].st != AU_OK) {
       if (msg) *msg = q->h[h].msg;
@@ -677,14 +656,14 @@ static au_status split_solve(au_spd *s, const double *bb, double *xb, au_msg *ms
   half_solve w[2];
   for (int h = 0; h < 2; h++)
     w[h] = (half_solve){q->h + h, ns, 1, bb, q->y, xb, t + (size_t)h * (size_t)ns, NULL, AU_OK};
-  run_pair(half_solve_run, w + 0, w + 1);
+  au__run_pair(half_solve_run, w + 0, w + 1);
   au_status st = w[0].st != AU_OK ? w[0].st : w[1].st;
   if (st == AU_OK) {
     for (int k = 0; k < ns; k++) q->y[k] = bb[q->scol[k]] + t[k] + t[ns + k];
     int info = 0;
     dpotrs_("L", &ns, &one, q->Sch, &ns, q->y, &ns, &info);
     w[0].fwd = w[1].fwd = 0;
-    run_pair(half_solve_run, w + 0, w + 1);
+    au__run_pair(half_solve_run, w + 0, w + 1);
     st = w[0].st != AU_OK ? w[0].st : w[1].st;
     for (int k = 0; k < ns; k++) xb[q->scol[k]] = q->y[k];
   }
