@@ -25,6 +25,7 @@
 
 #include "au_advect_internal.h"
 #include "au_dec.h"
+#include "au_par.h"
 #include "au_solver.h"
 
 /* Smallest orientation (twice the signed area, or the triple product on the unit sphere) a triangle
@@ -847,6 +848,7 @@ au_status au_advect_plan_start(const au_mesh *m, const au_topo *t, const au_adve
   au_advect_plan *p = NULL;
   au_status st = plan_new(m, t, out, &p, msg);
   if (st != AU_OK) return st;
+  au__blas_one_thread(); /* two threads of ours from here (au_par.h) */
   /* The ordering (METIS, through GKlib) traps SIGTERM for its length and jumps back into itself from
    * the handler: delivered to this thread, that jump would cross threads. So this thread holds SIGTERM
    * back until the plan is done (au_advect_plan_wait); the new thread inherits the mask. */

@@ -13,6 +13,13 @@ extern "C" {
  * fn(a0) on the calling thread. fn's return value is ignored. */
 void au__run_pair(void *(*fn)(void *), void *a0, void *a1);
 
+/* Set OpenBLAS, when that is the BLAS, to one thread for the process (once; other BLAS are left as
+ * they are). Our own two threads both call BLAS, and OpenBLAS's threads on top oversubscribe the two
+ * cores: lion_statue's flow took 8.4 s with OPENBLAS_NUM_THREADS=2 in the environment against 2.6 s
+ * without it, and one thread is as fast as the default for a whole factorization (2.68 against
+ * 2.73 s). Called where the program starts a second thread of its own. */
+void au__blas_one_thread(void);
+
 #ifdef __cplusplus
 }
 #endif

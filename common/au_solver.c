@@ -583,6 +583,7 @@ static au_status split_factor(au_spd *s, au_msg *msg) {
   spd_split *q = s->split;
   const double *bx = s->B->x;
   void *arg0[3] = {q->h + 0, (void *)bx, &q->ns}, *arg1[3] = {q->h + 1, (void *)bx, &q->ns};
+  au__blas_one_thread();
   au__run_pair(half_factor, arg0, arg1);
   for (int h = 0; h < 2; h++)
     if (q->h[h].st != AU_OK) {
