@@ -93,7 +93,8 @@ int cli_publish(const char *out, const au_mesh *m, const double *P, const au_io_
 void cli_install_signal_cleanup(void);
 
 /* The fold check every command makes before writing: prints the error and returns the exit code
- * when the metrics report folds, else -1. */
-int cli_refuse_folds(const char *in, const au_metrics *fin);
+ * when the metrics report folds, else -1. not_converged: the flow missed its tolerance (the message
+ * then suggests more steps). */
+int cli_refuse_folds(const char *in, const au_metrics *fin, int not_converged);
 
 #endif

@@ -295,7 +295,7 @@ static int run_disk(const disk_args *a) {
     rc = cli_fail(a->in, st, NULL);
     goto done;
   }
-  rc = cli_refuse_folds(a->in, &fin);
+  rc = cli_refuse_folds(a->in, &fin, !a->init_only && !rep.flow.converged);
   if (rc >= 0) goto done;
   rc = EXIT_INTERNAL;
   /* Boundary conformance, and the texture coordinates. */

@@ -253,7 +253,7 @@ static int run_sphere(const sphere_args *a) {
     goto done;
   }
   /* A folded map is never written: zero folds is the tool's promise, not a hope. */
-  rc = cli_refuse_folds(a->in, &fin);
+  rc = cli_refuse_folds(a->in, &fin, not_converged);
   if (rc >= 0) goto done;
   /* Only when it matters: a single floor-bound face after a short run is no news. */
   if (not_converged && fin.chord_floor_faces > 0 && fin.chord_floor_excess >= 1e-4)

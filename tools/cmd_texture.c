@@ -265,7 +265,7 @@ static int get_map(const tex_args *a, const au_mesh *m, const au_topo *topo, dou
   st = au_metrics_compute(m->nv, m->nf, m->X, P, m->F, AU_DOMAIN_SPHERE, met, NULL, NULL);
   if (st != AU_OK) return cli_fail(a->in, st, NULL);
   if (met->folds > 0) {
-    if (!a->map) return cli_refuse_folds(a->in, met);
+    if (!a->map) return cli_refuse_folds(a->in, met, 0);
     au_msg_set(&msg, AU_E_FORMAT, "the sphere map has %d folded triangle%s; nothing written", met->folds,
                met->folds == 1 ? "" : "s");
     return cli_fail(a->map, AU_E_FORMAT, &msg);
