@@ -268,6 +268,8 @@ typedef struct spd_half {
   cholmod_factor *L;
   double *G;            /* ns x ns column-major: L22 (lower) */
   double *GG;           /* ns x ns column-major: L22 L22', as the upper triangle of its index-reversed copy */
+  int ns;               /* |S| (the last ns columns of M) */
+  const double *bx;     /* B's values, where M's come from */
   au_status st;         /* the factorization's outcome (factored in a thread) */
   au_msg msg;
 } spd_half;
@@ -486,7 +488,7 @@ static int split_build(au_spd *s, const cholmod_factor *L) {
     spd_half *a = q->h + h;
     int nm = ns;
     for (int j = 0; j < n; j++) nm += bin[j] == h;
-    a->nm = nm;
+    a->nm = nm, a->ns = ns, a->bx = s->B->x;
     a->cols = malloc(sizeof(int) * (size_t)nm);
     if (!a->cols) goto done;
     int k = 0;
@@ -548,9 +550,9 @@ done:
 
 /* Factor one half and copy its L22 into G (column-major, lower, zero above). */
 static void *half_factor(void *arg) {
-  spd_half *a = ((void **)arg)[0];
-  const double *bx = ((void **)arg)[1];
-  const int ns = *(const int *)((void **)arg)[2];
+  spd_half *a = arg;
+  const double *bx = a->bx;
+  const int ns = a->ns;
   double *mx = a->M->x;
   const int nnz = ((const int *)a->M->p)[a->nm];
   for (int qq = 0; qq < nnz; qq++) mx[qq] = bx[a->vmap[qq]];
@@ -582,9 +584,8 @@ static void *half_factor(void *arg) {
 static au_status split_factor(au_spd *s, au_msg *msg) {
   spd_split *q = s->split;
   const double *bx = s->B->x;
-  void *arg0[3] = {q->h + 0, (void *)bx, &q->ns}, *arg1[3] = {q->h + 1, (void *)bx, &q->ns};
   au__blas_one_thread();
-  au__run_pair(half_factor, arg0, arg1);
+  au__run_pair(half_factor, q->h + 0, q->h + 1);
   for (int h = 0; h < 2; h++)
     if (q->h[h].st != AU_OK) {
       if (msg) *msg = q->h[h].msg;
