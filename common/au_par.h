@@ -20,6 +20,12 @@ void au__run_pair(void *(*fn)(void *), void *a0, void *a1);
  * 2.73 s). Called where the program starts a second thread of its own. */
 void au__blas_one_thread(void);
 
+/* The program defines libgomp's GOMP_parallel (au_par.c): with OMP_THREAD_LIMIT=1, as the command
+ * line runs, an OpenMP parallel region (CHOLMOD opens one per supernode) is a plain call of its body
+ * instead of a team of one ended by a system call; otherwise the region goes to libgomp. This
+ * counts the regions that were plain calls, for the tests. */
+long au__gomp_inline_regions(void);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,5 +1,6 @@
 /* test_dec.c - invariants of the DEC operators and the CHOLMOD wrapper. */
 #include <math.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,6 +8,7 @@
 
 #include "au_dec.h"
 #include "au_mesh.h"
+#include "au_par.h"
 #include "au_solver.h"
 #include "au_test.h"
 
@@ -520,6 +522,59 @@ static int spd_split_case(void) {
   return 0;
 }
 
+/* OpenMP regions (au_par.c): with OMP_THREAD_LIMIT=1 (set by ctest for gomp_inline, as the command
+ * line sets it) a region's body runs once, on the calling thread, and CHOLMOD's supernodal
+ * factorization reaches the program's GOMP_parallel; with a limit of 2 (gomp_forward) a region asked
+ * for two threads gets them from libgomp. */
+typedef struct gomp_probe {
+  pthread_t caller;
+  int calls, on_caller;
+} gomp_probe;
+
+static void gomp_body(void *arg) {
+  gomp_probe *p = arg;
+  __atomic_fetch_add(&p->calls, 1, __ATOMIC_RELAXED);
+  if (pthread_equal(pthread_self(), p->caller)) __atomic_fetch_add(&p->on_caller, 1, __ATOMIC_RELAXED);
+}
+
+void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags);
+
+static int gomp_case(int limit) {
+  const char *e = getenv("OMP_THREAD_LIMIT");
+  AU_CHECK(e != NULL && atoi(e) == limit);
+  gomp_probe p = {pthread_self(), 0, 0};
+  long before = au__gomp_inline_regions();
+  GOMP_parallel(gomp_body, &p, 2, 0);
+  AU_CHECK_INT(p.calls, ==, limit == 1 ? 1 : 2);
+  AU_CHECK_INT(p.on_caller, ==, 1);
+  AU_CHECK_INT((int)(au__gomp_inline_regions() - before), ==, limit == 1 ? 1 : 0);
+  if (limit != 1) return 0;
+  /* CHOLMOD's regions come here: a 40 x 40 grid's Laplacian, factored supernodally. */
+  int n = 40, nv = n * n, ne = 0;
+  int *E = malloc(sizeof(int) * 4 * (size_t)nv);
+  unsigned char *fixed = calloc((size_t)nv, 1);
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      if (i + 1 < n) E[2 * ne] = j * n + i, E[2 * ne + 1] = j * n + i + 1, ne++;
+      if (j + 1 < n) E[2 * ne] = j * n + i, E[2 * ne + 1] = (j + 1) * n + i, ne++;
+    }
+  fixed[0] = 1;
+  double *w = malloc(sizeof(double) * (size_t)ne);
+  for (int k = 0; k < ne; k++) w[k] = 1;
+  au_solver *sv = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK_STATUS(au_solver_create(nv, ne, E, fixed, AU_ORDER_FILL, &sv, &msg), AU_OK, &msg);
+  before = au__gomp_inline_regions();
+  AU_CHECK_STATUS(au_solver_factor(sv, w, NULL, &msg), AU_OK, &msg);
+  AU_CHECK_INT((int)(au__gomp_inline_regions() - before), >, 0);
+  au_solver_free(&sv);
+  free(E), free(fixed), free(w);
+  return 0;
+}
+
+static int gomp_inline_case(void) { return gomp_case(1); }
+static int gomp_forward_case(void) { return gomp_case(2); }
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"ordering_holds_sigterm", ordering_holds_sigterm},
@@ -528,6 +583,7 @@ int main(int argc, char **argv) {
       {"cotan_scale", cotan_scale_case},               {"solver_linear_exact", solver_linear_exact},
       {"sphere_area", sphere_area_case},               {"sphere_chord_floor", sphere_chord_floor_case},
       {"spd_split", spd_split_case},
+      {"gomp_inline", gomp_inline_case},               {"gomp_forward", gomp_forward_case},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }
