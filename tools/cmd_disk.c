@@ -196,7 +196,7 @@ static int run_disk(const disk_args *a) {
   au_disk_opts opts = au_disk_opts_default();
   if (a->has_steps) opts.flow.max_steps = a->steps;
   if (a->has_tol) opts.flow.tol = a->tol;
-  if (a->refine_faces) opts.flow.face_gain = 0.02;
+  if (a->refine_faces) opts.flow.face_gain = 0.02, opts.flow.face_tol = au_advect_opts_default().face_tol; /* the planar default (1e-2) would end it */
   opts.boundary = a->boundary;
   if (a->has_inner) opts.inner_radius = a->inner_radius;
   if (!a->quiet) opts.flow.progress = cli_progress, opts.flow.user = &prog;

@@ -126,8 +126,8 @@ sys.exit(0 if s < f else "sliding %g >= fixed %g" % (s, f))
 PYEOF
   ;;
 refine_faces)
-  # --refine-faces takes more steps for a lower per-face error (disk_bump, measured 2026-12-01:
-  # 15 steps / 0.0105 by default, 22 / 0.0100 refined).
+  # --refine-faces takes more steps for a lower per-face error (disk_bump, measured 2026-12-02:
+  # 13 steps / 0.0100 by default, 60 / 0.0052 refined).
   IN=$(stage "$SRC/data/disk_bump.obj")
   run disk "$IN" "$T/o/a.obj" --report "$T/o/a.json" --quiet
   expect_status 0
