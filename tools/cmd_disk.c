@@ -47,9 +47,11 @@ static void print_help(int cmd) {
          "  --boundary MODE     slide (default): boundary vertices slide along the %s;\n"
          "                      fixed: the initial map's boundary is kept\n"
          "  --refine-faces      once the vertex cells meet the tolerance, go on refining the triangles'\n"
-         "                      areas as long as it helps at all (default: while it gains %g%% in 4 steps)\n",
+         "                      areas as long as it helps at all, down to a per-face mean |r-1| of %g\n"
+         "                      (default: while it gains %g%% in 4 steps, down to %g)\n",
          cmd_names[cmd], AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol,
-         cmd == CMD_SQUARE ? "sides, corners fixed" : cmd == CMD_DISK ? "circle" : "circles", 100 * d.flow.face_gain);
+         cmd == CMD_SQUARE ? "sides, corners fixed" : cmd == CMD_DISK ? "circle" : "circles", au_advect_opts_default().face_tol,
+         100 * d.flow.face_gain, d.flow.face_tol);
   if (cmd == CMD_ANNULUS)
     printf("  --inner-radius R    radius of the inner circle, 0 < R < 1 (default: the conformal modulus's)\n"
            "  --outer-loop WHICH  the loop mapped to the unit circle: longer (default), shorter, or the\n"
