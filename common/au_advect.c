@@ -50,7 +50,7 @@
 #define AU_RESTORE_FADE 0.1
 
 /* The chord polish, vertex cells above the tolerance: it ends when four steps gained less than this
- * fraction of both the vertex and the per-face error (see advect_core). */
+ * fraction of both the vertex and the per-face error (see the stall test in advect_core). */
 #define AU_POLISH_GAIN 0.05
 
 /* Kinetic-energy weight of the least-shear step: only fixes the rigid rotations, which change neither
@@ -425,22 +425,19 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       if (k > 0) alpha = fmax(0.5 * alpha, o.shear_tail);
       prev_flog = flog;
       /* Stalled: neither error gained 2% in the last four steps, or, once the vertex cells meet the
-       * tolerance, face_gain (the refinement must be worth its steps). */
-      double keep = err <= o.tol ? 1 - o.face_gain : 0.98;
+       * tolerance, face_gain (the refinement must be worth its steps). In the chord polish with the
+       * vertex cells still above the tolerance, AU_POLISH_GAIN: with 2% armadillo crept on to the step
+       * budget, 11 polish steps for vertex 0.00367 -> 0.00344, per-face 0.0111 -> 0.0109, about 2 s;
+       * with 5% it takes 45 steps instead of 49, vertex 0.00350 (spot_lowres, whose polish still gains
+       * 8% in four steps, is unchanged). */
+      const int polish = !sph_phase && phase_start > 0;
+      double keep = err <= o.tol ? 1 - o.face_gain : polish ? 1 - AU_POLISH_GAIN : 0.98;
       int stalled = exhausted || (k >= o.schedule_steps + 4 && k >= phase_start + 4 && ferr > keep * rep->face_err[k - 4] &&
                                   err > keep * rep->err[k - 4]);
       exhausted = 0;
       /* In the polish, with the vertex cells within the tolerance, one step tells: a quarter of the gain.
        * (Two steps for half the gain cost lion_statue a 12th step for per-face 0.00801 -> 0.00796.) */
-      if (!sph_phase && phase_start > 0 && err <= o.tol && k >= phase_start + 1 && ferr > (1 - 0.25 * o.face_gain) * rep->face_err[k - 1])
-        stalled = 1;
-      /* In the chord polish with the vertex cells still above the tolerance, the general test above
-       * (2% in four steps) let armadillo creep on to the step budget: 11 polish steps for vertex 0.00367
-       * -> 0.00344, per-face 0.0111 -> 0.0109, about 2 s. The polish ends when four steps gained less
-       * than AU_POLISH_GAIN of both errors (armadillo: 45 steps instead of 49, vertex 0.00350;
-       * spot_lowres, whose polish still gains 8% in four steps, is unchanged). */
-      if (!sph_phase && phase_start > 0 && err > o.tol && k >= phase_start + 4 && ferr > (1 - AU_POLISH_GAIN) * rep->face_err[k - 4] &&
-          err > (1 - AU_POLISH_GAIN) * rep->err[k - 4])
+      if (polish && err <= o.tol && k >= phase_start + 1 && ferr > (1 - 0.25 * o.face_gain) * rep->face_err[k - 1])
         stalled = 1;
       /* The spherical part ends when its vertex cells meet the tolerance (the chord polish refines the
        * faces from there), when it stalls, or when it has used two thirds of the steps. */
