@@ -79,6 +79,9 @@ au_advect_opts au_advect_opts_default(void) {
   o.face_gain = 0.1;
   o.restore = 0.1;
   o.polish_gap = 0.1;
+  o.resolved_jump = 0.1;
+  o.resolved_decay = 0.25;
+  o.resolved_log_step = 2;
   return o;
 }
 
@@ -372,6 +375,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   double alpha = o.shear; /* the least-shear step's current shear weight */
   double prev_err = INFINITY, prev_ferr = INFINITY, prev_flog = INFINITY;
   int retry = 0;                 /* this step retries an undone one */
+  int measured_jump = 0;         /* the start's resolution has been measured (rep->start_jump) */
   int exhausted = 0;             /* no stiffer step is worth a try: this part of the flow ends */
   au_dec_face_areas(nf, F, m->X, As);
   for (k = 0;; k++) {
@@ -394,6 +398,22 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       if (ls) flog += fabs(log(r));
     }
     ferr /= nf, flog /= nf;
+    if (!measured_jump) {
+      /* The start's resolution, measured once: the mean jump of log r between the two faces of each
+       * interior edge. Where it is small the wanted correction is smooth at the mesh's scale, and the
+       * flow can drop the shear weight faster and let faces grow more per step (au_advect_opts). */
+      double sj = 0;
+      int nj = 0;
+      for (int e = 0; e < t->ne; e++) {
+        int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+        if (f0 < 0 || f1 < 0) continue;
+        double r0 = af[f0] / (As[f0] * fw[f0]), r1 = af[f1] / (As[f1] * fw[f1]);
+        if (r0 > 0 && r1 > 0) sj += fabs(log(r0 / r1)), nj++;
+      }
+      rep->start_jump = nj ? sj / nj : 0;
+      rep->resolved = ls && nj > 0 && rep->start_jump <= o.resolved_jump;
+      measured_jump = 1;
+    }
     rep->err[k] = err;
     rep->face_err[k] = ferr;
     if (!(err == err) || !(ferr == ferr)) {
@@ -422,7 +442,8 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
         k -= 2;
         continue;
       }
-      if (k > 0) alpha = fmax(0.5 * alpha, o.shear_tail);
+      /* The resolved schedule drops the weight faster, until a step has been undone. */
+      if (k > 0) alpha = fmax((rep->resolved && !rep->undone ? o.resolved_decay : 0.5) * alpha, o.shear_tail);
       prev_flog = flog;
       /* Stalled: neither error gained 2% in the last four steps, or, once the vertex cells meet the
        * tolerance, face_gain (the refinement must be worth its steps). In the chord polish with the
@@ -487,12 +508,14 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
 
     t0 = now_s();
     if (ls) {
-      /* Per-face targets on the geometric schedule, each ratio moving at most e^max_log_step. */
+      /* Per-face targets on the geometric schedule, each ratio moving at most e^max_log_step (on the
+       * resolved schedule e^resolved_log_step). */
       double s = k < o.schedule_steps ? 1.0 / (double)(o.schedule_steps - k) : 1.0, sum_new = 0;
+      const double cap = rep->resolved ? o.resolved_log_step : o.max_log_step;
       for (int f = 0; f < nf; f++) {
         double lr = s * log(As[f] * fw[f] * scale / af[f]);
-        if (lr > o.max_log_step) lr = o.max_log_step;
-        if (lr < -o.max_log_step) lr = -o.max_log_step;
+        if (lr > cap) lr = cap;
+        if (lr < -cap) lr = -cap;
         dA_f[f] = af[f] * exp(lr);
         sum_new += dA_f[f];
       }
@@ -911,7 +934,8 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
       !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) ||
-      !(o.polish_gap >= 0))
+      !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) ||
+      !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
   if (o.weight && o.face_weight) return au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");
   for (int f = 0; f < m->nf && o.face_weight; f++)

@@ -83,6 +83,17 @@ typedef struct au_advect_opts {
                        instead of 23), ellipsoid 0.024 -> 0.010; blub 0.0098 -> 0.0113 the one loss.
                        Off the spherical part (the polish, planar domains) it kept the areas from
                        converging (brain_disk 0.17), so it is not applied there. */
+  double resolved_jump; /* a start counts as well resolved when the mean jump of log r (domain share over
+                           surface share) across the mesh's interior edges is at most this (default 0.1;
+                           0: never). The area correction is then smooth at the mesh's scale, and the flow
+                           runs the resolved schedule below. Measured on the shared meshes' starts: bunny
+                           0.034, lion_statue 0.054, armadillo 0.080, brain_disk 0.052; the meshes whose
+                           protrusions are few triangles wide: spot 0.133, hand_closed 0.132, spot_lowres
+                           0.225, cow 0.434 */
+  double resolved_decay;    /* resolved schedule: each accepted step multiplies the shear weight by this,
+                               until the first undone step (then by 0.5 as usual) (default 0.25) */
+  double resolved_log_step; /* resolved schedule: a face's area changes by at most this factor's log in one
+                               step, instead of max_log_step (default 2) */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);
@@ -99,6 +110,9 @@ typedef struct au_advect_report {
                                            (err and face_err are spherical before it), else 0 */
   int undone;                           /* steps solved, then undone for making the areas worse (not in
                                            steps: the solves are steps + undone) */
+  double start_jump;                    /* the start's mean jump of log r across interior edges (see
+                                           au_advect_opts.resolved_jump) */
+  int resolved;                         /* 1 if the flow ran the resolved schedule */
 } au_advect_report;
 
 /* Advect the domain positions P (nv x 3, in/out: on the domain on entry, and on exit) until the

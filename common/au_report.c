@@ -112,6 +112,8 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
   ok = ok && put(conv, "face_err", num_array(info->step_face_err, info->steps + 1));
   if (info->polish_from > 0) ok = ok && put(conv, "polish_from", num(info->polish_from));
   ok = ok && put(conv, "undone", num(info->undone));
+  if (info->has_schedule)
+    ok = ok && put(conv, "start_jump", num(info->start_jump)) && put(conv, "resolved", cJSON_CreateBool(info->resolved != 0));
   for (int i = 0; ok && i < info->nwarnings; i++) ok &= put(warn, NULL, str(info->warnings[i]));
 
   ok = ok && put(root, "tool", str("authalic")) && put(root, "version", str(info->tool_version)) &&

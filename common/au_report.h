@@ -33,6 +33,9 @@ typedef struct au_report_info {
                                   triangles (spherical ones before it); written as
                                   convergence.polish_from. 0: one measure throughout */
   int undone;                  /* steps solved and undone (not in steps); written as convergence.undone */
+  int has_schedule;            /* 1: write convergence.start_jump and convergence.resolved below */
+  double start_jump;           /* the start's mean jump of log r across interior edges (au_advect_report) */
+  int resolved;                /* the flow ran its resolved schedule */
 } au_report_info;
 
 /* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.

@@ -259,6 +259,40 @@ static int map_disk_bump(void) {
   return rc;
 }
 
+/* The resolved schedule (au_advect_opts.resolved_jump): disk_bump's start is smooth at its mesh's
+ * scale (measured jump of log r across edges 0.033), so the flow drops its shear weight faster and
+ * lets faces grow more per step. Measured 2026-12-02: 10 steps against 13 on the ordinary schedule,
+ * both fold-free, per-face 0.0099 / 0.0100. The quality bounds hold on both. */
+static int resolved_schedule(void) {
+  au_mesh *m = NULL;
+  au_topo *t = NULL;
+  int rc = load("disk_bump.obj", 1, &m, &t);
+  if (rc) return rc;
+  double *P = malloc(sizeof(double) * 3 * m->nv), *P0 = malloc(sizeof(double) * 3 * m->nv), one = 1;
+  au_msg msg = {{0}};
+  au_disk_report rep[2];
+  for (int r = 0; r < 2; r++) {
+    au_disk_opts o = au_disk_opts_default();
+    if (!r) o.flow.resolved_jump = 0;
+    au_status st = au_disk_map(m, t, &o, P, P0, &rep[r], &msg);
+    AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+    if (check_map(m, t, P, P0, &one, 0.02)) return 1;
+    AU_CHECK_INT(rep[r].flow.resolved, ==, r);
+    AU_CHECK_NEAR(rep[r].flow.start_jump, 0.033, 0.01);
+  }
+  fprintf(stderr, "disk_bump: %d steps ordinary, %d resolved\n", rep[0].flow.steps, rep[1].flow.steps);
+  AU_CHECK_INT(rep[1].flow.steps, <, rep[0].flow.steps);
+  /* The square keeps the ordinary schedule (au_square_map). */
+  au_disk_report sq;
+  au_status st = au_square_map(m, t, NULL, P, P0, &sq, &msg);
+  AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+  AU_CHECK_INT(sq.flow.resolved, ==, 0);
+  free(P), free(P0);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return 0;
+}
+
 /* --boundary fixed keeps every boundary vertex exactly where the initial map put it. */
 static int map_disk_fixed(void) {
   au_mesh *m = NULL;
@@ -490,6 +524,7 @@ int main(int argc, char **argv) {
       {"annulus_modulus", annulus_modulus},
       {"annulus_inner_radius", annulus_inner_radius},
       {"map_disk_bump", map_disk_bump},
+      {"resolved_schedule", resolved_schedule},
       {"map_disk_fixed", map_disk_fixed},
       {"map_annulus_bump", map_annulus_bump},
       {"map_square", map_square},

@@ -336,6 +336,7 @@ static int run_disk(const disk_args *a) {
   info.nv = mm->nv, info.nf = mm->nf;
   info.steps = rep.flow.steps, info.converged = a->init_only ? 0 : rep.flow.converged;
   info.undone = a->init_only ? 0 : rep.flow.undone;
+  info.has_schedule = !a->init_only, info.start_jump = rep.flow.start_jump, info.resolved = rep.flow.resolved;
   info.init = a->init_only ? NULL : &ini, info.final = &fin;
   info.stages = stages, info.nstages = nst + 1;
   info.step_err = a->init_only ? NULL : rep.flow.err, info.step_frac = a->init_only ? NULL : rep.flow.frac;

@@ -269,7 +269,8 @@ static int run_sphere(const sphere_args *a) {
                          have_init ? &ini : NULL, &fin, stages, nst + 1,
                          a->init_only ? NULL : rep.flow.err, a->init_only ? NULL : rep.flow.frac,
                          warn.list, warn.n, a->init_only ? NULL : rep.flow.face_err,
-                         a->init_only ? 0 : rep.flow.polish_from, a->init_only ? 0 : rep.flow.undone};
+                         a->init_only ? 0 : rep.flow.polish_from, a->init_only ? 0 : rep.flow.undone,
+                         !a->init_only, rep.flow.start_jump, rep.flow.resolved};
   rc = cli_publish(a->out, m, P, NULL, a->report, &info, &stages[nst]);
   if (rc != EXIT_OK) goto done;
 
