@@ -81,6 +81,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.polish_gap = 0.1;
   o.resolved_jump = 0.1;
   o.resolved_decay = 0.25;
+  o.resolved_shear = 0.1;
   o.resolved_log_step = 2;
   return o;
 }
@@ -412,6 +413,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       }
       rep->start_jump = nj ? sj / nj : 0;
       rep->resolved = ls && nj > 0 && rep->start_jump <= o.resolved_jump;
+      if (rep->resolved) alpha = o.resolved_shear;
       measured_jump = 1;
     }
     rep->err[k] = err;
@@ -934,7 +936,7 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
       !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) ||
-      !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) ||
+      !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) ||
       !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
   if (o.weight && o.face_weight) return au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");

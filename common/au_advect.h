@@ -90,6 +90,8 @@ typedef struct au_advect_opts {
                            0.034, lion_statue 0.054, armadillo 0.080, brain_disk 0.052; the meshes whose
                            protrusions are few triangles wide: spot 0.133, hand_closed 0.132, spot_lowres
                            0.225, cow 0.434 */
+  double resolved_shear;    /* resolved schedule: the shear weight of the first step, instead of shear
+                               (default 0.1) */
   double resolved_decay;    /* resolved schedule: each accepted step multiplies the shear weight by this,
                                until the first undone step (then by 0.5 as usual) (default 0.25) */
   double resolved_log_step; /* resolved schedule: a face's area changes by at most this factor's log in one
