@@ -127,7 +127,8 @@ PYEOF
   ;;
 refine_faces)
   # --refine-faces takes more steps for a lower per-face error (disk_bump, measured 2026-12-02:
-  # 13 steps / 0.0100 by default, 60 / 0.0052 refined).
+  # 10 steps / 0.0099 by default, 60 / 0.0052 refined). The default run is on the resolved schedule
+  # (the start's jump of log r across edges is 0.033), the refined one on the ordinary schedule.
   IN=$(stage "$SRC/data/disk_bump.obj")
   run disk "$IN" "$T/o/a.obj" --report "$T/o/a.json" --quiet
   expect_status 0
@@ -136,7 +137,10 @@ refine_faces)
   check disk "$IN" "
 a = json.load(open('$T/o/a.json'))
 check(R['steps'] > a['steps'] and m['r_mean_abs_dev'] < a['metrics']['r_mean_abs_dev'],
-      '--refine-faces: %d steps, %g (default %d, %g)' % (R['steps'], m['r_mean_abs_dev'], a['steps'], a['metrics']['r_mean_abs_dev']))"
+      '--refine-faces: %d steps, %g (default %d, %g)' % (R['steps'], m['r_mean_abs_dev'], a['steps'], a['metrics']['r_mean_abs_dev']))
+check(a['convergence']['resolved'] is True and R['convergence']['resolved'] is False
+      and abs(a['convergence']['start_jump'] - 0.033) < 0.01 and R['convergence']['start_jump'] == a['convergence']['start_jump'],
+      'schedules: default %s (jump %g), refined %s' % (a['convergence']['resolved'], a['convergence']['start_jump'], R['convergence']['resolved']))"
   ;;
 init_only)
   IN=$(stage "$SRC/data/disk_bump.obj")
