@@ -253,6 +253,29 @@ static void envelope(const au_topo *t, const adjacency *adj, int nv, const doubl
   }
 }
 
+/* The position of a vertex at q moved by t d. Straight, except on planar domains with an arc radius
+ * (au_advect_domain.arc_radius): there the move follows the arc about the origin that d starts on
+ * (radial part along the ray, tangential part as a turn), bent by the fraction min(1, r / arc_radius).
+ * A boundary vertex sliding by s along a circle ends about s^2/2 inside its straight path, which the
+ * retraction onto the circle makes up; a straight interior move beside it does not, so a boundary
+ * triangle of height h turned over once the boundary slid by sqrt(2h). An equal-area map of a surface
+ * with a short boundary needs such triangles: brain_disk's 113 boundary edges are 0.056 long on the
+ * circle and their triangles' areas make them 0.001 high (aspect 30-50), and the step control held the
+ * whole mesh back for them (brain_disk 16 steps, sophie 35; with arcs 9 and 6). At the disk's centre
+ * the bend goes to zero: full arcs there (a turn by s/r) took demosthenes 20 -> 60 steps. */
+static void move_vertex(const au_advect_domain *dom, const double *q, const double *d, double t, double *out) {
+  out[0] = q[0] + t * d[0], out[1] = q[1] + t * d[1], out[2] = q[2] + t * d[2];
+  if (dom->spherical || !(dom->arc_radius > 0)) return;
+  double r0 = hypot(q[0], q[1]);
+  if (!(r0 > 0)) return;
+  double w = r0 < dom->arc_radius ? r0 / dom->arc_radius : 1;
+  double ux = q[0] / r0, uy = q[1] / r0;
+  double r = r0 + t * (d[0] * ux + d[1] * uy), turn = t * (d[1] * ux - d[0] * uy) / r0;
+  double c = cos(turn), sn = sin(turn);
+  out[0] += w * (r * (ux * c - uy * sn) - out[0]);
+  out[1] += w * (r * (uy * c + ux * sn) - out[1]);
+}
+
 static void step_control(const au_topo *t, const adjacency *adj, const int *F, int nf, int nv, const double *P,
                          const double *inr, const double *D, double c, const au_advect_domain *dom, double *s,
                          int *heap, int *pos, double *dn) {
@@ -265,16 +288,17 @@ static void step_control(const au_topo *t, const adjacency *adj, const int *F, i
       /* The fraction above is exact for straight moves; a boundary vertex slides along its curve
        * (retract), off the straight line, and turned the thin triangles at the boundary over after
        * the step (brain_disk: every triangle the backtracking in advect_core had to mend had a
-       * boundary corner, 3.5 rounds a step). So the fraction is checked on the retracted corners and
-       * halved until the triangle keeps AU_BOUNDARY_KEEP of its orientation. Asking for more than
-       * the backtracking does holds the boundary back (a fifth: brain_disk 19 -> 23 steps; a fiftieth:
-       * 18 steps, init + flow 5.7-6.3 -> 4.9-5.3 s). Interior triangles move straight and pass. */
+       * boundary corner, 3.5 rounds a step). So the fraction is checked on the corners' real paths
+       * (move_vertex, then retract) and halved until the triangle keeps AU_BOUNDARY_KEEP of its
+       * orientation. Asking for more than the backtracking does holds the boundary back (a fifth:
+       * brain_disk 19 -> 23 steps; a fiftieth: 18 steps, init + flow 5.7-6.3 -> 4.9-5.3 s). Interior
+       * triangles away from the boundary pass (the final orientation check covers them). */
       const double *a = P + 3 * v[0], *b = P + 3 * v[1], *cc = P + 3 * v[2];
       double o0 = (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0]);
       for (int h = 0; h < 12 && o0 > 0; h++) {
         double q[3][3];
         for (int k = 0; k < 3; k++) {
-          for (int d = 0; d < 3; d++) q[k][d] = P[3 * v[k] + d] + tf * D[3 * v[k] + d];
+          move_vertex(dom, P + 3 * v[k], D + 3 * v[k], tf, q[k]);
           dom->retract(dom->ctx, v[k], q[k]);
         }
         double o = (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
@@ -653,7 +677,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
           p[0] = q[0], p[1] = q[1], p[2] = q[2];
           continue;
         }
-        p[0] = q[0] + lim[i] * d[0], p[1] = q[1] + lim[i] * d[1], p[2] = q[2] + lim[i] * d[2];
+        move_vertex(dom, q, d, lim[i], p);
         dom->retract(dom->ctx, i, p);
       }
       int nbad = 0;
@@ -966,7 +990,7 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
   }
   for (int f = 0; f < nf && fw2; f++) fw2[f] = o.face_weight[forig[f]];
   reordered_domain rd = {dom, orig};
-  au_advect_domain dom2 = {reordered_constrain, reordered_retract, dom->spherical, &rd};
+  au_advect_domain dom2 = {reordered_constrain, reordered_retract, dom->spherical, &rd, dom->arc_radius};
   o.weight = w2, o.face_weight = fw2;
   st = advect_core(plan->m2, plan->t2, &dom2, &o, &plan->lm, P2, rep, msg);
   for (int k = 0; k < nv; k++) memcpy(P + 3 * orig[k], P2 + 3 * k, 3 * sizeof(double));

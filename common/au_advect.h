@@ -20,6 +20,13 @@ typedef struct au_advect_domain {
   void (*retract)(void *ctx, int i, double *p);
   int spherical; /* 1: faces oriented by the triple product p0.(p1 x p2); 0: planar, by the z of the cross product */
   void *ctx;     /* passed to the callbacks */
+  double arc_radius; /* planar domains whose boundary slides on circles about the origin (disk, annulus):
+                        > 0 moves each vertex along the arc about the origin that its displacement
+                        starts on, bent by the fraction min(1, r / arc_radius) at radius r (straight
+                        at the origin); 0 (default): straight moves. A boundary vertex sliding along
+                        its circle and the interior vertices beside it then turn together, and the
+                        long, thin triangles an equal-area disk map must have at a short boundary do
+                        not turn over (see au_advect.c, move_vertex) */
 } au_advect_domain;
 
 /* How a step's velocity is chosen. */

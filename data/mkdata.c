@@ -343,6 +343,44 @@ static void make_annulus_bump(mesh *m) {
   }
 }
 
+/* The unit sphere with a small hole: an icosphere of level 4 without the faces whose centroid lies
+ * within 12 degrees of the south pole, the vertices renumbered in order (2543 vertices, 5066 faces).
+ * A disk whose boundary is short for its area (the rim is 1.3 long, the area 3.96 pi), like a
+ * cortical surface cut open at one place: an equal-area disk map stretches the rim about 9 times and
+ * must lay the triangles along the circle out long and thin. Counter-clockwise seen from +z in the
+ * signed-area sense that check() uses: the upper half counts positive, the lower half without the
+ * hole a little less. */
+static void make_holed_sphere(mesh *m) {
+  mesh s = {0};
+  icosphere(&s, 4);
+  const double cosmax = cos(12 * M_PI / 180);
+  int *map = malloc(sizeof(int) * (size_t)s.nv);
+  if (!map) die_nomem();
+  for (int i = 0; i < s.nv; i++) map[i] = -1;
+  for (int f = 0; f < s.nf; f++) {
+    const int *v = s.F + 3 * f;
+    double c[3] = {0, 0, 0};
+    for (int k = 0; k < 3; k++)
+      for (int d = 0; d < 3; d++) c[d] += s.X[3 * v[k] + d];
+    normalize3(c);
+    if (-c[2] > cosmax) continue;
+    for (int k = 0; k < 3; k++) map[v[k]] = -2; /* used */
+  }
+  for (int i = 0; i < s.nv; i++)
+    if (map[i] == -2) map[i] = add_v(m, s.X[3 * i], s.X[3 * i + 1], s.X[3 * i + 2]);
+  for (int f = 0; f < s.nf; f++) {
+    const int *v = s.F + 3 * f;
+    double c[3] = {0, 0, 0};
+    for (int k = 0; k < 3; k++)
+      for (int d = 0; d < 3; d++) c[d] += s.X[3 * v[k] + d];
+    normalize3(c);
+    if (-c[2] > cosmax) continue;
+    add_f(m, map[v[0]], map[v[1]], map[v[2]]);
+  }
+  free(map);
+  mesh_free(&s);
+}
+
 /* Self-check that every mesh is what the README promises: each directed edge used once and its
  * reverse present (closed, manifold along edges, consistently oriented), Euler characteristic 2 on
  * one component (genus 0), and positive signed volume (outward normals). Returns 0 if all hold.
@@ -468,6 +506,7 @@ static const struct {
     {"ellipsoid", "prolate ellipsoid 1:1:4 (surface of revolution)", make_ellipsoid, 0},
     {"disk_bump", "unit disk lifted by a tall Gaussian bump and a low one (one boundary loop)", make_disk_bump, 1},
     {"annulus_bump", "annulus 0.35 <= r <= 1 lifted by the same bumps (two boundary loops)", make_annulus_bump, 2},
+    {"holed_sphere", "the unit sphere with a hole of 12 degrees: a short boundary for its area (one boundary loop)", make_holed_sphere, 1},
 };
 
 int main(int argc, char **argv) {

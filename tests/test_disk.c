@@ -1,5 +1,5 @@
 /* test_disk.c - tests of disk/: boundary constraints, initial maps, edge splits, and map quality on
- * the project's own open meshes (data/disk_bump.obj, data/annulus_bump.obj). */
+ * the project's own open meshes (data/disk_bump.obj, data/annulus_bump.obj, data/holed_sphere.obj). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -293,6 +293,66 @@ static int resolved_schedule(void) {
   return 0;
 }
 
+/* The flow's moves follow arcs about the origin where the boundary slides on circles
+ * (au_advect_domain.arc_radius): the smallest sliding circle's radius, and none for a fixed boundary or
+ * the square's straight sides. */
+static int arc_radius_of_domains(void) {
+  au_disk_bc *bc = NULL;
+  AU_CHECK_STATUS(au_disk_bc_alloc(4, &bc), AU_OK, NULL);
+  AU_CHECK_DBL(au_disk_bc_domain(bc).arc_radius, ==, 0);
+  bc->kind[0] = AU_BC_XSIDE, bc->kind[1] = AU_BC_YSIDE, bc->kind[2] = AU_BC_FIXED;
+  AU_CHECK_DBL(au_disk_bc_domain(bc).arc_radius, ==, 0);
+  bc->kind[3] = AU_BC_CIRCLE, bc->value[3] = 1;
+  AU_CHECK_DBL(au_disk_bc_domain(bc).arc_radius, ==, 1);
+  bc->kind[2] = AU_BC_CIRCLE, bc->value[2] = 0.4;
+  AU_CHECK_DBL(au_disk_bc_domain(bc).arc_radius, ==, 0.4);
+  au_disk_bc_free(&bc);
+  return 0;
+}
+
+/* holed_sphere's boundary is short for its area, so its equal-area disk map lays the triangles along
+ * the circle out long and thin. With moves along arcs the flow is not held back by them: measured
+ * 2026-12-02, 9 steps (per-face 0.0070) against 16 with straight moves (0.0058). Quality as for every
+ * disk map, and fewer than 12 steps. */
+static int map_short_boundary(void) {
+  au_mesh *m = NULL;
+  au_topo *t = NULL;
+  int rc = load("holed_sphere.obj", 1, &m, &t);
+  if (rc) return rc;
+  double *P = malloc(sizeof(double) * 3 * m->nv), *P0 = malloc(sizeof(double) * 3 * m->nv), one = 1;
+  au_msg msg = {{0}};
+  au_disk_report rep;
+  au_status st = au_disk_map(m, t, NULL, P, P0, &rep, &msg);
+  AU_CHECK_STATUS(st, AU_OK, &msg);
+  rc = check_map(m, t, P, P0, &one, 0.02);
+  fprintf(stderr, "holed_sphere: %d steps\n", rep.flow.steps);
+  AU_CHECK_INT(rep.flow.steps, <, 12);
+  /* The boundary triangles are long and thin indeed: the longest edge over the height, median > 5. */
+  int nb = 0;
+  double *asp = malloc(sizeof(double) * m->nf);
+  for (int f = 0; f < m->nf; f++) {
+    const int *v = m->F + 3 * f;
+    if (!(t->vb[v[0]] && t->vb[v[1]]) && !(t->vb[v[1]] && t->vb[v[2]]) && !(t->vb[v[2]] && t->vb[v[0]])) continue;
+    double l2 = 0;
+    for (int k = 0; k < 3; k++) {
+      const double *a = P + 3 * v[k], *b = P + 3 * v[(k + 1) % 3];
+      l2 = fmax(l2, (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]));
+    }
+    const double *a = P + 3 * v[0], *b = P + 3 * v[1], *c = P + 3 * v[2];
+    double ar = 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    asp[nb++] = l2 / (2 * ar);
+  }
+  int below = 0;
+  for (int k = 0; k < nb; k++) below += asp[k] <= 5;
+  AU_CHECK_INT(nb, >, 0);
+  AU_CHECK_INT(2 * below, <, nb);
+  free(asp);
+  free(P), free(P0);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return rc;
+}
+
 /* --boundary fixed keeps every boundary vertex exactly where the initial map put it. */
 static int map_disk_fixed(void) {
   au_mesh *m = NULL;
@@ -525,6 +585,8 @@ int main(int argc, char **argv) {
       {"annulus_inner_radius", annulus_inner_radius},
       {"map_disk_bump", map_disk_bump},
       {"resolved_schedule", resolved_schedule},
+      {"arc_radius_of_domains", arc_radius_of_domains},
+      {"map_short_boundary", map_short_boundary},
       {"map_disk_fixed", map_disk_fixed},
       {"map_annulus_bump", map_annulus_bump},
       {"map_square", map_square},
