@@ -3,8 +3,10 @@
 
 #include "au_io.h"
 #include "au_io_internal.h"
+#include "au_par.h"
 
 #include <errno.h>
+#include <stdarg.h>
 #include <limits.h>
 #include <signal.h>
 #include <stdint.h>
@@ -865,6 +867,40 @@ static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx
   return AU_OK;
 }
 
+/* A growable text buffer for formatting lines. */
+typedef struct text_buf {
+  char *p;
+  size_t len, cap;
+  int bad; /* out of memory, or a formatting error */
+} text_buf;
+
+static void buf_printf(text_buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void buf_printf(text_buf *b, const char *fmt, ...) {
+  if (b->bad) return;
+  for (;;) {
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(b->p ? b->p + b->len : NULL, b->p ? b->cap - b->len : 0, fmt, ap);
+    va_end(ap);
+    if (n < 0) {
+      b->bad = 1;
+      return;
+    }
+    if (b->p && (size_t)n < b->cap - b->len) {
+      b->len += (size_t)n;
+      return;
+    }
+    size_t cap = b->cap ? 2 * b->cap : 1 << 16;
+    while (cap < b->len + (size_t)n + 1) cap *= 2;
+    char *q = realloc(b->p, cap);
+    if (!q) {
+      b->bad = 1;
+      return;
+    }
+    b->p = q, b->cap = cap;
+  }
+}
+
 typedef struct au_mesh_out {
   au_fmt fmt;
   const au_mesh *m;
@@ -872,11 +908,41 @@ typedef struct au_mesh_out {
   int prec;
 } au_mesh_out;
 
+/* The lines of one part of the mesh: vertices [v0, v1), faces [f0, f1), each kind in its own buffer. */
+typedef struct mesh_part {
+  const au_mesh_out *o;
+  int v0, v1, f0, f1;
+  text_buf v, vt, f;
+} mesh_part;
+
+static void *format_part(void *arg) {
+  mesh_part *w = arg;
+  const au_mesh_out *o = w->o;
+  const double *P = o->P;
+  const int q = o->prec;
+  const char *vfmt = o->fmt == AU_FMT_OBJ ? "v %.*g %.*g %.*g\n" : "%.*g %.*g %.*g\n";
+  for (int i = w->v0; i < w->v1; i++) buf_printf(&w->v, vfmt, q, P[3 * i], q, P[3 * i + 1], q, P[3 * i + 2]);
+  if (o->fmt == AU_FMT_OBJ && o->uv)
+    for (int i = w->v0; i < w->v1; i++) buf_printf(&w->vt, "vt %.*g %.*g\n", q, o->uv[2 * i], q, o->uv[2 * i + 1]);
+  for (int f = w->f0; f < w->f1; f++) {
+    const int *c = &o->m->F[3 * f];
+    if (o->fmt != AU_FMT_OBJ)
+      buf_printf(&w->f, "3 %d %d %d\n", c[0], c[1], c[2]);
+    else if (o->uv)
+      buf_printf(&w->f, "f %d/%d %d/%d %d/%d\n", c[0] + 1, c[0] + 1, c[1] + 1, c[1] + 1, c[2] + 1, c[2] + 1);
+    else
+      buf_printf(&w->f, "f %d %d %d\n", c[0] + 1, c[1] + 1, c[2] + 1);
+  }
+  return NULL;
+}
+
+/* From this many vertices the lines are formatted in two halves on the two cores (printf's
+ * conversion of doubles at 17 digits is most of a write: brain_disk's 7.8 MB OBJ took 0.23 s). */
+#define AU_WRITE_SPLIT_MIN 20000
+
 static int emit_mesh(FILE *fp, const void *ctx) {
   const au_mesh_out *o = ctx;
   const au_mesh *m = o->m;
-  const double *P = o->P;
-  const int q = o->prec;
   int bad = 0;
   errno = 0;
   if (o->fmt == AU_FMT_OFF) bad |= fprintf(fp, "OFF\n%d %d 0\n", m->nv, m->nf) < 0;
@@ -887,20 +953,21 @@ static int emit_mesh(FILE *fp, const void *ctx) {
                    "end_header\n",
                    m->nv, m->nf) < 0;
   if (o->fmt == AU_FMT_OBJ) bad |= fputs("# written by authalic\n", fp) < 0;
-  const char *vfmt = o->fmt == AU_FMT_OBJ ? "v %.*g %.*g %.*g\n" : "%.*g %.*g %.*g\n";
-  for (int i = 0; i < m->nv && !bad; i++)
-    bad |= fprintf(fp, vfmt, q, P[3 * i], q, P[3 * i + 1], q, P[3 * i + 2]) < 0;
-  if (o->fmt == AU_FMT_OBJ && o->uv)
-    for (int i = 0; i < m->nv && !bad; i++) bad |= fprintf(fp, "vt %.*g %.*g\n", q, o->uv[2 * i], q, o->uv[2 * i + 1]) < 0;
-  for (int f = 0; f < m->nf && !bad; f++) {
-    const int *c = &m->F[3 * f];
-    if (o->fmt != AU_FMT_OBJ)
-      bad |= fprintf(fp, "3 %d %d %d\n", c[0], c[1], c[2]) < 0;
-    else if (o->uv)
-      bad |= fprintf(fp, "f %d/%d %d/%d %d/%d\n", c[0] + 1, c[0] + 1, c[1] + 1, c[1] + 1, c[2] + 1, c[2] + 1) < 0;
-    else
-      bad |= fprintf(fp, "f %d %d %d\n", c[0] + 1, c[1] + 1, c[2] + 1) < 0;
+  mesh_part w[2];
+  memset(w, 0, sizeof w);
+  w[0].o = w[1].o = o;
+  w[0].v1 = w[1].v0 = m->nv >= AU_WRITE_SPLIT_MIN ? m->nv / 2 : m->nv, w[1].v1 = m->nv;
+  w[0].f1 = w[1].f0 = m->nv >= AU_WRITE_SPLIT_MIN ? m->nf / 2 : m->nf, w[1].f1 = m->nf;
+  if (m->nv >= AU_WRITE_SPLIT_MIN) au__run_pair(format_part, &w[0], &w[1]);
+  else format_part(&w[0]);
+  if (w[0].v.bad || w[0].vt.bad || w[0].f.bad || w[1].v.bad || w[1].vt.bad || w[1].f.bad) {
+    if (!errno) errno = ENOMEM;
+    bad = 1;
   }
+  text_buf *order[6] = {&w[0].v, &w[1].v, &w[0].vt, &w[1].vt, &w[0].f, &w[1].f};
+  for (int k = 0; k < 6 && !bad; k++)
+    if (order[k]->len) bad |= fwrite(order[k]->p, 1, order[k]->len, fp) != order[k]->len;
+  for (int k = 0; k < 6; k++) free(order[k]->p);
   return bad;
 }
 
