@@ -489,7 +489,10 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       /* The spherical part ends when its vertex cells meet the tolerance (the chord polish refines the
        * faces from there), when it stalls, or when it has used two thirds of the steps. */
       int sph_done = sph_phase && ((k > 0 && k + rep->undone >= (o.max_steps * 2) / 3) || (k >= o.schedule_steps && err <= o.tol));
-      if ((err <= o.tol && ferr <= fmax(o.face_tol, o.tol)) || stalled || sph_done) {
+      /* Done: the vertex cells within tol and the faces within face_tol (not the larger of the two: with
+       * the planar tol of 3e-3, --refine-faces stopped at per-face 0.0030 on every disk and annulus
+       * mesh instead of going on to its 1e-3: amoeba_annulus r_cv 0.0042 -> 0.0014). */
+      if ((err <= o.tol && ferr <= o.face_tol) || stalled || sph_done) {
         /* The chord triangles' areas (the ones a reader of the output sees) need a polish only where
          * they differ from the spherical ones: on long, thin triangles, or if their vertex cells miss the
          * tolerance. Elsewhere it costs steps for nothing (lion_statue: 6 steps, per-face 0.00455 ->
