@@ -469,7 +469,9 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
         continue;
       }
       /* The resolved schedule drops the weight faster, until a step has been undone. */
-      if (k > 0) alpha = fmax((rep->resolved && !rep->undone ? o.resolved_decay : 0.5) * alpha, o.shear_tail);
+      /* The floor: shear_tail, or once the vertex cells meet tol, face_shear_tail if set. */
+      const double floor = o.face_shear_tail > 0 && err <= o.tol ? o.face_shear_tail : o.shear_tail;
+      if (k > 0) alpha = fmax((rep->resolved && !rep->undone ? o.resolved_decay : 0.5) * alpha, floor);
       prev_flog = flog;
       /* Stalled: neither error gained 2% in the last four steps, or, once the vertex cells meet the
        * tolerance, face_gain (the refinement must be worth its steps). In the chord polish with the
@@ -963,7 +965,7 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
       !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) ||
-      !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) ||
+      !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) || !(o.face_shear_tail >= 0) ||
       !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
   if (o.weight && o.face_weight) return au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");

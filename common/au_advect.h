@@ -90,6 +90,11 @@ typedef struct au_advect_opts {
                        instead of 23), ellipsoid 0.024 -> 0.010; blub 0.0098 -> 0.0113 the one loss.
                        Off the spherical part (the polish, planar domains) it kept the areas from
                        converging (brain_disk 0.17), so it is not applied there. */
+  double face_shear_tail; /* once the vertex cells meet tol (the per-face refinement), the shear weight's
+                             floor instead of shear_tail; 0 (default): shear_tail throughout. The
+                             planar --refine-faces uses 3e-4 (measured with param-eval, --steps 200:
+                             brain_disk 96 -> 23 steps, cowhead 128 -> 52, sophie r_cv 0.0025 -> 0.0019;
+                             mountain 52 -> 86 steps, for per-face 0.0024 -> 0.0010) */
   double resolved_jump; /* a start counts as well resolved when the mean jump of log r (domain share over
                            surface share) across the mesh's interior edges is at most this (default 0.1;
                            0: never). The area correction is then smooth at the mesh's scale, and the flow

@@ -199,10 +199,12 @@ static int run_disk(const disk_args *a) {
   au_disk_opts opts = au_disk_opts_default();
   if (a->has_steps) opts.flow.max_steps = a->steps;
   if (a->has_tol) opts.flow.tol = a->tol;
-  /* --refine-faces lowers the per-face stop to 1e-3 (the planar default, 1e-2, would end it) and runs
-   * the ordinary schedule, as on the sphere (it is for accuracy, not speed). */
+  /* --refine-faces lowers the per-face stop to 1e-3 (the planar default, 1e-2, would end it), lets the
+   * shear weight go down to 3e-4 once the vertex cells are equal (au_advect_opts.face_shear_tail), and
+   * runs the ordinary schedule, as on the sphere (it is for accuracy, not speed). */
   if (a->refine_faces)
-    opts.flow.face_gain = 0.02, opts.flow.face_tol = au_advect_opts_default().face_tol, opts.flow.resolved_jump = 0;
+    opts.flow.face_gain = 0.02, opts.flow.face_tol = au_advect_opts_default().face_tol, opts.flow.resolved_jump = 0,
+    opts.flow.face_shear_tail = 3e-4;
   opts.boundary = a->boundary;
   if (a->has_inner) opts.inner_radius = a->inner_radius;
   if (!a->quiet) opts.flow.progress = cli_progress, opts.flow.user = &prog;

@@ -127,7 +127,7 @@ PYEOF
   ;;
 refine_faces)
   # --refine-faces takes more steps for a lower per-face error (disk_bump, measured 2026-12-02:
-  # 10 steps / 0.0099 by default, 60 / 0.0052 refined). The default run is on the resolved schedule
+  # 10 steps / 0.0099 by default, 35 / 0.0040 refined). The default run is on the resolved schedule
   # (the start's jump of log r across edges is 0.033), the refined one on the ordinary schedule.
   IN=$(stage "$SRC/data/disk_bump.obj")
   run disk "$IN" "$T/o/a.obj" --report "$T/o/a.json" --quiet
