@@ -350,6 +350,16 @@ static void make_annulus_bump(mesh *m) {
  * must lay the triangles along the circle out long and thin. Counter-clockwise seen from +z in the
  * signed-area sense that check() uses: the upper half counts positive, the lower half without the
  * hole a little less. */
+/* 1 if face f of s has its centroid direction within the cone cos(angle) > cosmax about -z. */
+static int in_south_cap(const mesh *s, int f, double cosmax) {
+  const int *v = s->F + 3 * f;
+  double c[3] = {0, 0, 0};
+  for (int k = 0; k < 3; k++)
+    for (int d = 0; d < 3; d++) c[d] += s->X[3 * v[k] + d];
+  normalize3(c);
+  return -c[2] > cosmax;
+}
+
 static void make_holed_sphere(mesh *m) {
   mesh s = {0};
   icosphere(&s, 4);
@@ -357,26 +367,13 @@ static void make_holed_sphere(mesh *m) {
   int *map = malloc(sizeof(int) * (size_t)s.nv);
   if (!map) die_nomem();
   for (int i = 0; i < s.nv; i++) map[i] = -1;
-  for (int f = 0; f < s.nf; f++) {
-    const int *v = s.F + 3 * f;
-    double c[3] = {0, 0, 0};
-    for (int k = 0; k < 3; k++)
-      for (int d = 0; d < 3; d++) c[d] += s.X[3 * v[k] + d];
-    normalize3(c);
-    if (-c[2] > cosmax) continue;
-    for (int k = 0; k < 3; k++) map[v[k]] = -2; /* used */
-  }
+  for (int f = 0; f < s.nf; f++)
+    if (!in_south_cap(&s, f, cosmax))
+      for (int k = 0; k < 3; k++) map[s.F[3 * f + k]] = -2; /* used */
   for (int i = 0; i < s.nv; i++)
     if (map[i] == -2) map[i] = add_v(m, s.X[3 * i], s.X[3 * i + 1], s.X[3 * i + 2]);
-  for (int f = 0; f < s.nf; f++) {
-    const int *v = s.F + 3 * f;
-    double c[3] = {0, 0, 0};
-    for (int k = 0; k < 3; k++)
-      for (int d = 0; d < 3; d++) c[d] += s.X[3 * v[k] + d];
-    normalize3(c);
-    if (-c[2] > cosmax) continue;
-    add_f(m, map[v[0]], map[v[1]], map[v[2]]);
-  }
+  for (int f = 0; f < s.nf; f++)
+    if (!in_south_cap(&s, f, cosmax)) add_f(m, map[s.F[3 * f]], map[s.F[3 * f + 1]], map[s.F[3 * f + 2]]);
   free(map);
   mesh_free(&s);
 }
