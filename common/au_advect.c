@@ -468,10 +468,10 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
         k -= 2;
         continue;
       }
-      /* The resolved schedule drops the weight faster, until a step has been undone. */
-      /* The floor: shear_tail, or once the vertex cells meet tol, face_shear_tail if set. */
-      const double floor = o.face_shear_tail > 0 && err <= o.tol ? o.face_shear_tail : o.shear_tail;
-      if (k > 0) alpha = fmax((rep->resolved && !rep->undone ? o.resolved_decay : 0.5) * alpha, floor);
+      /* The resolved schedule drops the weight faster, until a step has been undone. Its floor is
+       * shear_tail, or face_shear_tail (if set) once the vertex cells meet tol. */
+      const double least = o.face_shear_tail > 0 && err <= o.tol ? o.face_shear_tail : o.shear_tail;
+      if (k > 0) alpha = fmax((rep->resolved && !rep->undone ? o.resolved_decay : 0.5) * alpha, least);
       prev_flog = flog;
       /* Stalled: neither error gained 2% in the last four steps, or, once the vertex cells meet the
        * tolerance, face_gain (the refinement must be worth its steps). In the chord polish with the
