@@ -867,38 +867,35 @@ static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx
   return AU_OK;
 }
 
-/* A growable text buffer for formatting lines. */
-typedef struct text_buf {
-  char *p;
-  size_t len, cap;
-  int bad; /* out of memory, or a formatting error */
-} text_buf;
-
-static void buf_printf(text_buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void buf_printf(text_buf *b, const char *fmt, ...) {
+void au_textbuf_printf(au_textbuf *b, const char *fmt, ...) {
   if (b->bad) return;
   for (;;) {
     va_list ap;
     va_start(ap, fmt);
-    int n = vsnprintf(b->p ? b->p + b->len : NULL, b->p ? b->cap - b->len : 0, fmt, ap);
+    int n = vsnprintf(b->s ? b->s + b->len : NULL, b->s ? b->cap - b->len : 0, fmt, ap);
     va_end(ap);
     if (n < 0) {
       b->bad = 1;
       return;
     }
-    if (b->p && (size_t)n < b->cap - b->len) {
+    if (b->s && (size_t)n < b->cap - b->len) {
       b->len += (size_t)n;
       return;
     }
     size_t cap = b->cap ? 2 * b->cap : 1 << 16;
     while (cap < b->len + (size_t)n + 1) cap *= 2;
-    char *q = realloc(b->p, cap);
+    char *q = realloc(b->s, cap);
     if (!q) {
       b->bad = 1;
       return;
     }
-    b->p = q, b->cap = cap;
+    b->s = q, b->cap = cap;
   }
+}
+
+void au_textbuf_free(au_textbuf *b) {
+  free(b->s);
+  memset(b, 0, sizeof *b);
 }
 
 typedef struct au_mesh_out {
@@ -912,7 +909,7 @@ typedef struct au_mesh_out {
 typedef struct mesh_part {
   const au_mesh_out *o;
   int v0, v1, f0, f1;
-  text_buf v, vt, f;
+  au_textbuf v, vt, f;
 } mesh_part;
 
 static void *format_part(void *arg) {
@@ -921,17 +918,17 @@ static void *format_part(void *arg) {
   const double *P = o->P;
   const int q = o->prec;
   const char *vfmt = o->fmt == AU_FMT_OBJ ? "v %.*g %.*g %.*g\n" : "%.*g %.*g %.*g\n";
-  for (int i = w->v0; i < w->v1; i++) buf_printf(&w->v, vfmt, q, P[3 * i], q, P[3 * i + 1], q, P[3 * i + 2]);
+  for (int i = w->v0; i < w->v1; i++) au_textbuf_printf(&w->v, vfmt, q, P[3 * i], q, P[3 * i + 1], q, P[3 * i + 2]);
   if (o->fmt == AU_FMT_OBJ && o->uv)
-    for (int i = w->v0; i < w->v1; i++) buf_printf(&w->vt, "vt %.*g %.*g\n", q, o->uv[2 * i], q, o->uv[2 * i + 1]);
+    for (int i = w->v0; i < w->v1; i++) au_textbuf_printf(&w->vt, "vt %.*g %.*g\n", q, o->uv[2 * i], q, o->uv[2 * i + 1]);
   for (int f = w->f0; f < w->f1; f++) {
     const int *c = &o->m->F[3 * f];
     if (o->fmt != AU_FMT_OBJ)
-      buf_printf(&w->f, "3 %d %d %d\n", c[0], c[1], c[2]);
+      au_textbuf_printf(&w->f, "3 %d %d %d\n", c[0], c[1], c[2]);
     else if (o->uv)
-      buf_printf(&w->f, "f %d/%d %d/%d %d/%d\n", c[0] + 1, c[0] + 1, c[1] + 1, c[1] + 1, c[2] + 1, c[2] + 1);
+      au_textbuf_printf(&w->f, "f %d/%d %d/%d %d/%d\n", c[0] + 1, c[0] + 1, c[1] + 1, c[1] + 1, c[2] + 1, c[2] + 1);
     else
-      buf_printf(&w->f, "f %d %d %d\n", c[0] + 1, c[1] + 1, c[2] + 1);
+      au_textbuf_printf(&w->f, "f %d %d %d\n", c[0] + 1, c[1] + 1, c[2] + 1);
   }
   return NULL;
 }
@@ -964,10 +961,10 @@ static int emit_mesh(FILE *fp, const void *ctx) {
     if (!errno) errno = ENOMEM;
     bad = 1;
   }
-  text_buf *order[6] = {&w[0].v, &w[1].v, &w[0].vt, &w[1].vt, &w[0].f, &w[1].f};
+  au_textbuf *order[6] = {&w[0].v, &w[1].v, &w[0].vt, &w[1].vt, &w[0].f, &w[1].f};
   for (int k = 0; k < 6 && !bad; k++)
-    if (order[k]->len) bad |= fwrite(order[k]->p, 1, order[k]->len, fp) != order[k]->len;
-  for (int k = 0; k < 6; k++) free(order[k]->p);
+    if (order[k]->len) bad |= fwrite(order[k]->s, 1, order[k]->len, fp) != order[k]->len;
+  for (int k = 0; k < 6; k++) au_textbuf_free(order[k]);
   return bad;
 }
 

@@ -43,6 +43,21 @@ au_status au_io_write(const char *path, const au_mesh *m, const double *P, const
  * then rename. Used by the JSON report writer. Returns AU_OK, AU_E_ARG, AU_E_IO. */
 au_status au_io_write_text(const char *path, const char *buf, size_t len, au_msg *msg);
 
+/* A growable text buffer, for writers that build their text first (au_io_write_text takes it).
+ * Zero-initialize; au_textbuf_printf appends (a failed allocation or format sets bad and stops it);
+ * au_textbuf_free releases. */
+typedef struct au_textbuf {
+  char *s;
+  size_t len, cap;
+  int bad;
+} au_textbuf;
+void au_textbuf_printf(au_textbuf *b, const char *fmt, ...)
+#ifdef __GNUC__
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+void au_textbuf_free(au_textbuf *b);
+
 /* Remove the temporary files of the writes now in progress (au_io_write, au_io_write_text).
  * Async-signal-safe: meant for a program's SIGINT/SIGTERM/SIGHUP handler, so that an interrupted
  * run leaves neither a partial output nor a hidden temporary behind. The library installs no

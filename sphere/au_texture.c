@@ -528,63 +528,29 @@ done:
   return st;
 }
 
-/* ---------------------------------------------------------------- a growable text buffer */
-
-typedef struct sbuf {
-  char *s;
-  size_t len, cap;
-  int bad;
-} sbuf;
-
-static void sb_printf(sbuf *b, const char *fmt, ...) {
-  if (b->bad) return;
-  for (;;) {
-    va_list ap;
-    va_start(ap, fmt);
-    int k = vsnprintf(b->s ? b->s + b->len : NULL, b->s ? b->cap - b->len : 0, fmt, ap);
-    va_end(ap);
-    if (k < 0) {
-      b->bad = 1;
-      return;
-    }
-    if (b->s && b->len + (size_t)k < b->cap) {
-      b->len += (size_t)k;
-      return;
-    }
-    size_t ncap = b->cap ? 2 * b->cap : 1 << 16;
-    while (ncap < b->len + (size_t)k + 1) ncap *= 2;
-    char *ns = realloc(b->s, ncap);
-    if (!ns) {
-      b->bad = 1;
-      return;
-    }
-    b->s = ns, b->cap = ncap;
-  }
-}
-
 au_status au_tex_write_obj(const char *path, const au_tex_mesh *t, const char *mtl_name, au_msg *msg) {
   if (!path || !t || !t->X || !t->F || !t->vt || !t->Ft) return au_msg_set(msg, AU_E_ARG, "au_tex_write_obj: bad arguments");
-  sbuf b = {0};
+  au_textbuf b = {0};
   if (t->layout.proj == AU_TEX_CEA)
-    sb_printf(&b, "# authalic texture: Lambert cylindrical equal-area (cea) coordinates of a sphere map\n"
+    au_textbuf_printf(&b, "# authalic texture: Lambert cylindrical equal-area (cea) coordinates of a sphere map\n"
                   "# u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; %d faces across the seam have u outside [0, 1]:\n"
                   "# sample the texture with u wrapped (repeat). %d face(s) split at a pole, %d edge(s) split where\n"
                   "# a face would flip in (u, v): vertices %d.. and faces %d.. added.\n",
               t->seam_faces, t->pole_splits, t->edge_splits, t->nv_in + 1, t->nf_in + 1);
   else
-    sb_printf(&b, "# authalic texture: Lambert azimuthal equal-area (laea) coordinates of a sphere map\n"
+    au_textbuf_printf(&b, "# authalic texture: Lambert azimuthal equal-area (laea) coordinates of a sphere map\n"
                   "# northern hemisphere in the left half, southern in the right half, chart half side %.17g\n",
               t->layout.half);
-  if (mtl_name) sb_printf(&b, "mtllib %s\n", mtl_name);
-  for (int i = 0; i < t->nv; i++) sb_printf(&b, "v %.17g %.17g %.17g\n", t->X[3 * i], t->X[3 * i + 1], t->X[3 * i + 2]);
-  for (int i = 0; i < t->nvt; i++) sb_printf(&b, "vt %.17g %.17g\n", t->vt[2 * i], t->vt[2 * i + 1]);
-  if (mtl_name) sb_printf(&b, "usemtl authalic\n");
+  if (mtl_name) au_textbuf_printf(&b, "mtllib %s\n", mtl_name);
+  for (int i = 0; i < t->nv; i++) au_textbuf_printf(&b, "v %.17g %.17g %.17g\n", t->X[3 * i], t->X[3 * i + 1], t->X[3 * i + 2]);
+  for (int i = 0; i < t->nvt; i++) au_textbuf_printf(&b, "vt %.17g %.17g\n", t->vt[2 * i], t->vt[2 * i + 1]);
+  if (mtl_name) au_textbuf_printf(&b, "usemtl authalic\n");
   for (int f = 0; f < t->nf; f++)
-    sb_printf(&b, "f %d/%d %d/%d %d/%d\n", t->F[3 * f] + 1, t->Ft[3 * f] + 1, t->F[3 * f + 1] + 1, t->Ft[3 * f + 1] + 1,
+    au_textbuf_printf(&b, "f %d/%d %d/%d %d/%d\n", t->F[3 * f] + 1, t->Ft[3 * f] + 1, t->F[3 * f + 1] + 1, t->Ft[3 * f + 1] + 1,
               t->F[3 * f + 2] + 1, t->Ft[3 * f + 2] + 1);
   au_status st = b.bad ? au_msg_set(msg, AU_E_NOMEM, "out of memory writing '%s'", path)
                        : au_io_write_text(path, b.s, b.len, msg);
-  free(b.s);
+  au_textbuf_free(&b);
   return st;
 }
 
