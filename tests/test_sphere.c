@@ -166,6 +166,17 @@ static int resolved_schedule(void) {
     fprintf(stderr, "ellipsoid, %s schedule: %d steps, vertex %.5f, per-face %.4f\n", r ? "resolved" : "ordinary",
             rep[r].flow.steps, q.vertex_logr_mean_abs, q.r_mean_abs_dev);
   }
+  /* With a prescribed density the ordinary schedule runs, however resolved the start. */
+  double *w = malloc(sizeof(double) * L.m->nv);
+  AU_CHECK(w != NULL);
+  for (int i = 0; i < L.m->nv; i++) w[i] = L.m->X[3 * i + 2] > 0 ? 2 : 1;
+  au_sphere_opts o = au_sphere_opts_default();
+  o.flow.resolved_jump = 0.5, o.flow.weight = w;
+  au_sphere_report rd;
+  au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &rd, &msg);
+  AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+  AU_CHECK_INT(rd.flow.resolved, ==, 0);
+  free(w);
   unload(&L);
   return 0;
 }
