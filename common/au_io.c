@@ -953,9 +953,10 @@ static int emit_mesh(FILE *fp, const void *ctx) {
   mesh_part w[2];
   memset(w, 0, sizeof w);
   w[0].o = w[1].o = o;
-  w[0].v1 = w[1].v0 = m->nv >= AU_WRITE_SPLIT_MIN ? m->nv / 2 : m->nv, w[1].v1 = m->nv;
-  w[0].f1 = w[1].f0 = m->nv >= AU_WRITE_SPLIT_MIN ? m->nf / 2 : m->nf, w[1].f1 = m->nf;
-  if (m->nv >= AU_WRITE_SPLIT_MIN) au__run_pair(format_part, &w[0], &w[1]);
+  const int split = m->nv >= AU_WRITE_SPLIT_MIN;
+  w[0].v1 = w[1].v0 = split ? m->nv / 2 : m->nv, w[1].v1 = m->nv;
+  w[0].f1 = w[1].f0 = split ? m->nf / 2 : m->nf, w[1].f1 = m->nf;
+  if (split) au__run_pair(format_part, &w[0], &w[1]);
   else format_part(&w[0]);
   if (w[0].v.bad || w[0].vt.bad || w[0].f.bad || w[1].v.bad || w[1].vt.bad || w[1].f.bad) {
     if (!errno) errno = ENOMEM;

@@ -34,6 +34,21 @@ static int load(const char *name, int loops, au_mesh **m, au_topo **t) {
   return 0;
 }
 
+/* load(), plus room for a map P and its start P0 (3 nv doubles each). */
+static int load_maps(const char *name, int loops, au_mesh **m, au_topo **t, double **P, double **P0) {
+  int rc = load(name, loops, m, t);
+  if (rc) return rc;
+  *P = malloc(sizeof(double) * 3 * (*m)->nv), *P0 = malloc(sizeof(double) * 3 * (*m)->nv);
+  AU_CHECK(*P != NULL && *P0 != NULL);
+  return 0;
+}
+
+static void unload_maps(au_mesh **m, au_topo **t, double *P, double *P0) {
+  free(P), free(P0);
+  au_topo_free(t);
+  au_mesh_free(m);
+}
+
 /* Cyclic order of loop l in P: the angles advance monotonically (in the direction `sense`, +1 for
  * counter-clockwise) and turn exactly once around the origin. Returns 1 if so. */
 static int loop_in_order(const au_topo *t, int l, const double *P, int sense) {
@@ -238,9 +253,10 @@ static int check_map(const au_mesh *m, const au_topo *t, const double *P, const 
 static int map_disk_bump(void) {
   au_mesh *m = NULL;
   au_topo *t = NULL;
-  int rc = load("disk_bump.obj", 1, &m, &t);
+  double *P = NULL, *P0 = NULL;
+  int rc = load_maps("disk_bump.obj", 1, &m, &t, &P, &P0);
   if (rc) return rc;
-  double *P = malloc(sizeof(double) * 3 * m->nv), *P0 = malloc(sizeof(double) * 3 * m->nv), one = 1;
+  double one = 1;
   au_msg msg = {{0}};
   au_disk_report rep;
   au_status st = au_disk_map(m, t, NULL, P, P0, &rep, &msg);
@@ -253,9 +269,7 @@ static int map_disk_bump(void) {
     moved = fmax(moved, hypot(P[3 * v] - P0[3 * v], P[3 * v + 1] - P0[3 * v + 1]));
   }
   AU_CHECK_DBL(moved, >, 1e-3);
-  free(P), free(P0);
-  au_topo_free(&t);
-  au_mesh_free(&m);
+  unload_maps(&m, &t, P, P0);
   return rc;
 }
 
@@ -266,9 +280,10 @@ static int map_disk_bump(void) {
 static int resolved_schedule(void) {
   au_mesh *m = NULL;
   au_topo *t = NULL;
-  int rc = load("disk_bump.obj", 1, &m, &t);
+  double *P = NULL, *P0 = NULL;
+  int rc = load_maps("disk_bump.obj", 1, &m, &t, &P, &P0);
   if (rc) return rc;
-  double *P = malloc(sizeof(double) * 3 * m->nv), *P0 = malloc(sizeof(double) * 3 * m->nv), one = 1;
+  double one = 1;
   au_msg msg = {{0}};
   au_disk_report rep[2];
   for (int r = 0; r < 2; r++) {
@@ -287,9 +302,7 @@ static int resolved_schedule(void) {
   au_status st = au_square_map(m, t, NULL, P, P0, &sq, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
   AU_CHECK_INT(sq.flow.resolved, ==, 0);
-  free(P), free(P0);
-  au_topo_free(&t);
-  au_mesh_free(&m);
+  unload_maps(&m, &t, P, P0);
   return 0;
 }
 
@@ -299,9 +312,10 @@ static int resolved_schedule(void) {
 static int refine_floor(void) {
   au_mesh *m = NULL;
   au_topo *t = NULL;
-  int rc = load("disk_bump.obj", 1, &m, &t);
+  double *P = NULL, *P0 = NULL;
+  int rc = load_maps("disk_bump.obj", 1, &m, &t, &P, &P0);
   if (rc) return rc;
-  double *P = malloc(sizeof(double) * 3 * m->nv), *P0 = malloc(sizeof(double) * 3 * m->nv), one = 1;
+  double one = 1;
   au_msg msg = {{0}};
   au_metrics q[2];
   for (int r = 0; r < 2; r++) {
@@ -318,9 +332,7 @@ static int refine_floor(void) {
   au_disk_opts bad = au_disk_opts_default();
   bad.flow.face_shear_tail = -1;
   AU_CHECK_STATUS(au_disk_map(m, t, &bad, P, P0, NULL, &msg), AU_E_ARG, &msg);
-  free(P), free(P0);
-  au_topo_free(&t);
-  au_mesh_free(&m);
+  unload_maps(&m, &t, P, P0);
   return 0;
 }
 
@@ -348,9 +360,10 @@ static int arc_radius_of_domains(void) {
 static int map_short_boundary(void) {
   au_mesh *m = NULL;
   au_topo *t = NULL;
-  int rc = load("holed_sphere.obj", 1, &m, &t);
+  double *P = NULL, *P0 = NULL;
+  int rc = load_maps("holed_sphere.obj", 1, &m, &t, &P, &P0);
   if (rc) return rc;
-  double *P = malloc(sizeof(double) * 3 * m->nv), *P0 = malloc(sizeof(double) * 3 * m->nv), one = 1;
+  double one = 1;
   au_msg msg = {{0}};
   au_disk_report rep;
   au_status st = au_disk_map(m, t, NULL, P, P0, &rep, &msg);
@@ -378,9 +391,7 @@ static int map_short_boundary(void) {
   AU_CHECK_INT(nb, >, 0);
   AU_CHECK_INT(2 * below, <, nb);
   free(asp);
-  free(P), free(P0);
-  au_topo_free(&t);
-  au_mesh_free(&m);
+  unload_maps(&m, &t, P, P0);
   return rc;
 }
 
@@ -388,9 +399,9 @@ static int map_short_boundary(void) {
 static int map_disk_fixed(void) {
   au_mesh *m = NULL;
   au_topo *t = NULL;
-  int rc = load("disk_bump.obj", 1, &m, &t);
+  double *P = NULL, *P0 = NULL;
+  int rc = load_maps("disk_bump.obj", 1, &m, &t, &P, &P0);
   if (rc) return rc;
-  double *P = malloc(sizeof(double) * 3 * m->nv), *P0 = malloc(sizeof(double) * 3 * m->nv);
   au_msg msg = {{0}};
   au_disk_opts o = au_disk_opts_default();
   o.boundary = AU_DISK_FIXED;
@@ -402,18 +413,16 @@ static int map_disk_fixed(void) {
   AU_CHECK_STATUS(au_metrics_compute(m->nv, m->nf, m->X, P, m->F, AU_DOMAIN_PLANE, &fin, NULL, NULL), AU_OK, NULL);
   AU_CHECK_INT(fin.folds, ==, 0);
   AU_CHECK_DBL(fin.r_mean_abs_dev, <=, 0.05);
-  free(P), free(P0);
-  au_topo_free(&t);
-  au_mesh_free(&m);
+  unload_maps(&m, &t, P, P0);
   return 0;
 }
 
 static int map_annulus_bump(void) {
   au_mesh *m = NULL;
   au_topo *t = NULL;
-  int rc = load("annulus_bump.obj", 2, &m, &t);
+  double *P = NULL, *P0 = NULL;
+  int rc = load_maps("annulus_bump.obj", 2, &m, &t, &P, &P0);
   if (rc) return rc;
-  double *P = malloc(sizeof(double) * 3 * m->nv), *P0 = malloc(sizeof(double) * 3 * m->nv);
   au_msg msg = {{0}};
   au_disk_report rep;
   au_status st = au_annulus_map(m, t, NULL, P, P0, &rep, &msg);
@@ -425,9 +434,7 @@ static int map_annulus_bump(void) {
   double radius[2];
   radius[rep.outer_loop] = 1, radius[1 - rep.outer_loop] = rep.inner_radius;
   rc = check_map(m, t, P, P0, radius, 0.03);
-  free(P), free(P0);
-  au_topo_free(&t);
-  au_mesh_free(&m);
+  unload_maps(&m, &t, P, P0);
   return rc;
 }
 
