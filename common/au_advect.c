@@ -78,6 +78,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.sphere_areas = 1;
   o.face_gain = 0.1;
   o.restore = 0.1;
+  o.lantern = 0;
   o.polish_gap = 0.1;
   o.resolved_jump = 0.1;
   o.resolved_decay = 0.25;
@@ -579,7 +580,8 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
        * dumbbell stuck at 0.21 for 35 steps). */
       double restore = sph_phase && !retry ? o.restore * fmin(1, err / AU_RESTORE_FADE) : 0;
       retry = 0;
-      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, restore, D, msg);
+      const double lantern = restore > 0 && err < 1 ? o.lantern : 0;
+      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, restore, lantern, D, msg);
       if (st == AU_E_NOT_SPD) {
         /* Rounding made the system indefinite: retry stiffer (the shear term is definite but for the
          * rotations), or, as stiff as it gets, end this part of the flow here. Nothing has moved: the
@@ -966,7 +968,7 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
     return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
-      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) ||
+      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.lantern >= 0) ||
       !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) || !(o.face_shear_tail >= 0) ||
       !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");

@@ -110,6 +110,12 @@ typedef struct au_advect_opts {
                                until the first undone step (then by 0.5 as usual) (default 0.25) */
   double resolved_log_step; /* resolved schedule: a face's area changes by at most this factor's log in one
                                step, instead of max_log_step (default 2) */
+  double lantern; /* sphere, spherical-area part, while the vertex error is below 1: a face's shape
+                     restoring is raised to min(1, restore (1 + lantern rho)), rho = l^3 / (16 share),
+                     l its longest chord edge and share its target area. l^3 / 16 is the least chord
+                     area a spherical triangle with that edge can have (docs/hard-meshes.md): a face
+                     near it cannot shrink to its share without a shorter edge. 0 (default): off;
+                     au_sphere_map's retry uses 2 (au_sphere_opts.lantern_retry) */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);

@@ -35,9 +35,11 @@ au_status au__lm_create(const au_mesh *m, const au_topo *t, au_lm **out, au_msg 
  * triangle's (au_dec_sphere_area) and the shear is measured in the tangent plane at the centroid
  * direction; 0: the chord triangle's. restore in [0, 1]: the shear term aims at that fraction of the
  * linear motion taking each triangle to the similar copy of its surface triangle closest to it (0:
- * at no shear). Returns AU_OK, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC. */
+ * at no shear). lantern >= 0 raises a face's restoring fraction to min(1, restore (1 + lantern rho)),
+ * rho = l^3 / (16 w_f) with l its longest chord edge (needs wf; 0: off). Returns AU_OK, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC. */
 au_status au__lm_step(au_lm *lm, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
-                      double alpha, double eps, int sphere_areas, double restore, double *D, au_msg *msg);
+                      double alpha, double eps, int sphere_areas, double restore, double lantern, double *D,
+                      au_msg *msg);
 
 void au__lm_free(au_lm **lm);
 

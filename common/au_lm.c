@@ -189,7 +189,7 @@ static inline void project_out(double *x, const double *n) {
 typedef struct lm_asm {
   const au_lm *l;
   const double *P, *dAf, *wf;
-  double alpha, restore;
+  double alpha, restore, lantern;
   int sph;               /* spherical areas and tangent-plane shear */
   int f0, f1;            /* the faces [f0, f1) */
   double *val, *rhs, *mass;
@@ -200,7 +200,7 @@ static void *assemble_faces(void *arg) {
   const lm_asm *a = arg;
   const au_lm *l = a->l;
   const double *P = a->P, *dAf = a->dAf, *wf = a->wf;
-  const double alpha = a->alpha, restore = a->restore;
+  const double alpha = a->alpha, restore = a->restore, lantern = a->lantern;
   const int sph = a->sph, *F = l->F;
   double *val = a->val, *rhs = a->rhs, *mass = a->mass;
   static const int pairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {2, 0}};
@@ -292,7 +292,19 @@ static void *assemble_faces(void *arg) {
         double SD11 = s1x / l1, SD12 = (s2x - s1x * d2x / l1) / d2y, SD21 = 0, SD22 = s2y / d2y;
         double M11 = zr * SD11 - zi * SD21, M12 = zr * SD12 - zi * SD22, M21 = zi * SD11 + zr * SD21,
                M22 = zi * SD12 + zr * SD22;
-        double t1 = restore * (M11 - M22), t2 = restore * (M12 + M21);
+        /* Lantern-aware: a face whose longest chord edge l has a floor l^3 / 16 near its share (see
+         * au_advect_opts.lantern) is restored more, up to fully. */
+        double rf = restore;
+        if (lantern > 0 && wf && wf[f] > 0) {
+          double l2 = 0;
+          for (int k = 0; k < 3; k++) {
+            const double *pa = P + 3 * v[k], *pb = P + 3 * v[(k + 1) % 3];
+            double d2 = (pb[0] - pa[0]) * (pb[0] - pa[0]) + (pb[1] - pa[1]) * (pb[1] - pa[1]) + (pb[2] - pa[2]) * (pb[2] - pa[2]);
+            if (d2 > l2) l2 = d2;
+          }
+          rf = fmin(1, restore * (1 + lantern * l2 * sqrt(l2) / (16 * wf[f])));
+        }
+        double t1 = rf * (M11 - M22), t2 = rf * (M12 + M21);
         for (int k = 0; k < 3; k++)
           for (int b = 0; b < 2; b++) rhs[2 * v[k] + b] += wc * (rc1[2 * k + b] * t1 + rc2[2 * k + b] * t2);
       }
@@ -302,7 +314,8 @@ static void *assemble_faces(void *arg) {
 }
 
 au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, const double *dAf, const double *wf,
-                      double alpha, double eps, int sphere_areas, double restore, double *D, au_msg *msg) {
+                      double alpha, double eps, int sphere_areas, double restore, double lantern, double *D,
+                      au_msg *msg) {
   const int nv = l->nv, nf = l->nf, n = 2 * nv;
   double *val = au_spd_values(l->spd);
   memset(val, 0, sizeof(double) * (size_t)l->colstart[n]);
@@ -312,7 +325,7 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
   memset(mass, 0, sizeof(double) * (size_t)n);
   const int sph = dom->spherical && sphere_areas;
   /* Large meshes: half of the faces on a second thread, into buffers of its own, added after. */
-  lm_asm a0 = {l, P, dAf, wf, alpha, restore, sph, 0, nf, val, l->rhs, mass};
+  lm_asm a0 = {l, P, dAf, wf, alpha, restore, lantern, sph, 0, nf, val, l->rhs, mass};
   lm_asm a1 = a0;
   if (nf >= AU_LM_THREAD_MIN && (l->val1 || (l->val1 = malloc(sizeof(double) * ((size_t)l->colstart[n] + 4 * (size_t)nv))))) {
     a0.f1 = a1.f0 = nf / 2;

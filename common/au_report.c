@@ -114,6 +114,11 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
   ok = ok && put(conv, "undone", num(info->undone));
   if (info->has_schedule)
     ok = ok && put(conv, "start_jump", num(info->start_jump)) && put(conv, "resolved", cJSON_CreateBool(info->resolved != 0));
+  if (ok && info->retry > 0) {
+    cJSON *lr = cJSON_CreateObject();
+    ok = put(conv, "lantern_retry", lr) && put(lr, "kept", cJSON_CreateBool(info->retry == 2)) &&
+         put(lr, "vertex_err_first", num(info->retry_err[0])) && put(lr, "vertex_err_retry", num(info->retry_err[1]));
+  }
   for (int i = 0; ok && i < info->nwarnings; i++) ok &= put(warn, NULL, str(info->warnings[i]));
 
   ok = ok && put(root, "tool", str("authalic")) && put(root, "version", str(info->tool_version)) &&

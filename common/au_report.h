@@ -36,6 +36,9 @@ typedef struct au_report_info {
   int has_schedule;            /* 1: write convergence.start_jump and convergence.resolved below */
   double start_jump;           /* the start's mean jump of log r across interior edges (au_advect_report) */
   int resolved;                /* the flow ran its resolved schedule */
+  int retry;                   /* sphere's lantern retry (au_sphere_report.retry): 0 none (nothing written);
+                                  1 ran, discarded; 2 ran, kept. Written as convergence.lantern_retry */
+  double retry_err[2];         /* the vertex errors of the first map and of the retry's */
 } au_report_info;
 
 /* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.

@@ -274,7 +274,8 @@ static int run_sphere(const sphere_args *a) {
                          a->init_only ? NULL : rep.flow.err, a->init_only ? NULL : rep.flow.frac,
                          warn.list, warn.n, a->init_only ? NULL : rep.flow.face_err,
                          a->init_only ? 0 : rep.flow.polish_from, a->init_only ? 0 : rep.flow.undone,
-                         !a->init_only, rep.flow.start_jump, rep.flow.resolved};
+                         !a->init_only, rep.flow.start_jump, rep.flow.resolved,
+                         rep.retry, {rep.retry_err[0], rep.retry_err[1]}};
   rc = cli_publish(a->out, m, P, NULL, a->report, &info, &stages[nst]);
   if (rc != EXIT_OK) goto done;
 
