@@ -79,6 +79,10 @@ au_advect_opts au_advect_opts_default(void) {
   o.face_gain = 0.1;
   o.restore = 0.1;
   o.lantern = 0;
+  o.angle_steps = 0;
+  o.angle_faces = 300;
+  o.angle_cells = 1e6;
+  o.angle_trust = 1;
   o.polish_gap = 0.1;
   o.resolved_jump = 0.1;
   o.resolved_decay = 0.25;
@@ -340,6 +344,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   au_status st = AU_OK;
   au_solver *solver = NULL;
   au_gn *gn = NULL, *gnf = NULL;
+  au_ang *ang = NULL; /* the angle step (o.angle_steps), made when first needed */
   au_lm *lm = *lmp; /* the plan's: analyzed once, perhaps while the start was being computed */
   const int ls = o.method == AU_ADVECT_LEAST_SHEAR;
   double *AM = malloc(sizeof(double) * nv), *AO = malloc(sizeof(double) * nv), *b = malloc(sizeof(double) * nv);
@@ -403,6 +408,8 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   int retry = 0;                 /* this step retries an undone one */
   int measured_jump = 0;         /* the start's resolution has been measured (rep->start_jump) */
   int exhausted = 0;             /* no stiffer step is worth a try: this part of the flow ends */
+  int ang_phase = 0, ang_left = 0; /* the angle steps (o.angle_steps) after the flow, and how many remain */
+  double ang_prev = INFINITY;      /* the vertex error before the last angle step */
   au_dec_face_areas(nf, F, m->X, As);
   for (k = 0;; k++) {
     /* On the sphere the domain's areas are the spherical triangles' (see au_lm.c): they vanish where
@@ -450,7 +457,19 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       goto done;
     }
     if (o.progress) o.progress(o.user, k, o.max_steps, ls ? ferr : err);
-    if (ls) {
+    if (ang_phase) {
+      /* An angle step that took the vertex cells above both the tolerance and where they were is undone,
+       * and the phase ends there. */
+      if (err > o.tol && err > ang_prev * (1 + 1e-9)) {
+        memcpy(P, Pold, sizeof(double) * 3 * nv);
+        rep->undone++;
+        ang_left = 0, ang_prev = INFINITY;
+        k -= 2;
+        continue;
+      }
+      if (ang_left-- <= 0) break;
+      ang_prev = err;
+    } else if (ls) {
       /* Levenberg-Marquardt control of the shear weight: a step that made the per-face error worse is
        * undone and retried stiffer; an accepted one lets the next be bolder, down to shear_tail. The
        * error is the mean |log r| over the faces, the quantity the steps' targets are set in: the mean
@@ -515,6 +534,15 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
           k--;
           continue;
         }
+        if (o.angle_steps > 0 && !ang_phase && k + 1 < AU_ADVECT_MAX_STEPS) {
+          /* The angle steps, measured in the chord triangles' terms from here (the map is measured again;
+           * the step number stays). */
+          ang_phase = 1, sph_phase = 0;
+          ang_left = o.angle_steps < AU_ADVECT_MAX_STEPS - 1 - k ? o.angle_steps : AU_ADVECT_MAX_STEPS - 1 - k;
+          rep->angle_from = k;
+          k--;
+          continue;
+        }
         rep->converged = err <= o.tol;
         break;
       }
@@ -538,10 +566,18 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       else break;
     }
     prev_err = err, prev_ferr = ferr;
-    if (k + rep->undone >= o.max_steps) break; /* the budget counts undone solves too */
+    if (!ang_phase && k + rep->undone >= o.max_steps) break; /* the budget counts undone solves too */
 
     t0 = now_s();
-    if (ls) {
+    if (ang_phase) {
+      if (!ang) {
+        st = au__ang_create(m, &ang, msg);
+        if (st != AU_OK) goto done;
+      }
+      /* Targets in this map's units: b holds the cells', Gf gets the faces'. */
+      for (int f = 0; f < nf; f++) Gf[f] = As[f] * fw[f] * scale;
+      st = au__ang_step(ang, dom, P, Gf, b, o.angle_faces, o.angle_cells, o.angle_trust, D, msg);
+    } else if (ls) {
       /* Per-face targets on the geometric schedule, each ratio moving at most e^max_log_step (on the
        * resolved schedule e^resolved_log_step). */
       double s = k < o.schedule_steps ? 1.0 / (double)(o.schedule_steps - k) : 1.0, sum_new = 0;
@@ -727,6 +763,7 @@ done:
   free(AM), free(AO), free(b), free(g), free(dn), free(lim), free(af), free(Gf), free(D), free(Pold), free(w), free(fixed), free(bad);
   free(heap), free(hpos), free(inr), free(As), free(fw), free(dA_f), free(orient_old);
   au__gn_free(&gnf);
+  au__ang_free(&ang);
   adjacency_free(&adj);
   return st;
 }
@@ -968,7 +1005,7 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
     return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
-      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.lantern >= 0) ||
+      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.lantern >= 0) || o.angle_steps < 0 || !(o.angle_faces >= 0) || !(o.angle_cells >= 0) || !(o.angle_trust > 0) ||
       !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) || !(o.face_shear_tail >= 0) ||
       !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");

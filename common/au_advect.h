@@ -12,6 +12,7 @@ extern "C" {
 #endif
 
 #define AU_ADVECT_MAX_STEPS 512
+#define AU_ANGLE_STEPS_MAX 50 /* the most angle steps (au_advect_opts.angle_steps) the tools offer */
 
 typedef struct au_advect_domain {
   /* Constrain the displacement d[3] of vertex i at position p[3], in place. Required. */
@@ -116,6 +117,13 @@ typedef struct au_advect_opts {
                      area a spherical triangle with that edge can have (docs/hard-meshes.md): a face
                      near it cannot shrink to its share without a shorter edge. 0 (default): off;
                      au_sphere_map's retry uses 2 (au_sphere_opts.lantern_retry) */
+  int angle_steps;     /* least-shear method: after the flow, at most this many angle steps (au_ang.c): each a
+                          Gauss-Newton step towards the map of least Dirichlet energy whose vertex cells
+                          have their areas, with the chord triangles' areas held by the weight angle_faces
+                          (0, default: none) */
+  double angle_faces;  /* the angle steps' weight of the per-face areas against the Dirichlet energy (default 300) */
+  double angle_cells;  /* the angle steps' weight of the vertex cells' areas (default 1e6: held) */
+  double angle_trust;  /* the angle steps' Levenberg-Marquardt term, relative to each vertex's cotan weights (default 1) */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);
@@ -135,6 +143,8 @@ typedef struct au_advect_report {
   double start_jump;                    /* the start's mean jump of log r across interior edges (see
                                            au_advect_opts.resolved_jump) */
   int resolved;                         /* 1 if the flow ran the resolved schedule */
+  int angle_from;                       /* angle_steps: the step at which they began (err and face_err are
+                                           the chord triangles' from there), else 0 */
 } au_advect_report;
 
 /* Advect the domain positions P (nv x 3, in/out: on the domain on entry, and on exit) until the

@@ -43,4 +43,25 @@ au_status au__lm_step(au_lm *lm, const au_advect_domain *dom, const double *P, c
 
 void au__lm_free(au_lm **lm);
 
+/* The allowed directions of vertex i at p under the domain's constraint: B [0..5], two orthonormal
+ * vectors, or fewer (zero rows) where the domain allows fewer (au_lm.c). */
+void au__allowed_basis(const au_advect_domain *dom, int i, const double *p, double *B);
+
+/* The angle step (au_ang.c): after the flow, towards the map of least Dirichlet energy whose vertex
+ * cells have their target areas, with the triangles' areas held softly. */
+typedef struct au_ang au_ang;
+
+/* Prepare for the mesh's connectivity (the 2-ring pattern of the 2nv x 2nv system, analyzed once).
+ * Returns AU_OK, AU_E_NOMEM, AU_E_NUMERIC. */
+au_status au__ang_create(const au_mesh *m, au_ang **out, au_msg *msg);
+
+/* The displacement D [0..3nv-1] (allowed directions) of one Gauss-Newton step at P for
+ * E_D + beta * faces + gamma * cells + mu * trust region (see au_ang.c), with the chord (flat) triangle
+ * areas measured against the target areas T [0..nf-1] and the vertex cells against TV [0..nv-1], both
+ * in the domain's units. beta, gamma >= 0, mu > 0. Returns AU_OK, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC. */
+au_status au__ang_step(au_ang *a, const au_advect_domain *dom, const double *P, const double *T, const double *TV,
+                       double beta, double gamma, double mu, double *D, au_msg *msg);
+
+void au__ang_free(au_ang **a);
+
 #endif

@@ -156,7 +156,7 @@ nomem:
 
 /* The allowed directions of vertex i at p: an orthonormal basis of the range of the domain's
  * (linear) constraint, found by constraining the axes and orthonormalizing; unused slots are zero. */
-static void allowed_basis(const au_advect_domain *dom, int i, const double *p, double *B) {
+void au__allowed_basis(const au_advect_domain *dom, int i, const double *p, double *B) {
   double cand[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   int nb = 0;
   memset(B, 0, 6 * sizeof(double));
@@ -320,7 +320,7 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
   double *val = au_spd_values(l->spd);
   memset(val, 0, sizeof(double) * (size_t)l->colstart[n]);
   memset(l->rhs, 0, sizeof(double) * (size_t)n);
-  for (int i = 0; i < nv; i++) allowed_basis(dom, i, P + 3 * i, l->B + 6 * i);
+  for (int i = 0; i < nv; i++) au__allowed_basis(dom, i, P + 3 * i, l->B + 6 * i);
   double *mass = l->x; /* scratch: the domain's vertex areas */
   memset(mass, 0, sizeof(double) * (size_t)n);
   const int sph = dom->spherical && sphere_areas;

@@ -114,6 +114,7 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
   ok = ok && put(conv, "undone", num(info->undone));
   if (info->has_schedule)
     ok = ok && put(conv, "start_jump", num(info->start_jump)) && put(conv, "resolved", cJSON_CreateBool(info->resolved != 0));
+  if (info->angle_from > 0) ok = ok && put(conv, "angle_from", num(info->angle_from));
   if (ok && info->retry > 0) {
     cJSON *lr = cJSON_CreateObject();
     ok = put(conv, "lantern_retry", lr) && put(lr, "kept", cJSON_CreateBool(info->retry == 2)) &&

@@ -39,6 +39,8 @@ typedef struct au_report_info {
   int retry;                   /* sphere's lantern retry (au_sphere_report.retry): 0 none (nothing written);
                                   1 ran, discarded; 2 ran, kept. Written as convergence.lantern_retry */
   double retry_err[2];         /* the vertex errors of the first map and of the retry's */
+  int angle_from;              /* > 0: the step at which the angle steps began (au_advect_report);
+                                  written as convergence.angle_from */
 } au_report_info;
 
 /* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.

@@ -3,7 +3,7 @@
 # bad-input statuses; then end-to-end runs of `authalic disk | annulus | square` (tests/cli/disk_*.sh).
 au_test_module(test_disk test_disk.c
   bc_circle_projection bc_square_sides meanvalue_positive init_disk annulus_modulus annulus_inner_radius
-  map_disk_bump resolved_schedule arc_radius_of_domains refine_floor map_short_boundary map_disk_fixed map_annulus_bump map_square square_split_ear bad_topology folded_start_refused)
+  map_disk_bump resolved_schedule arc_radius_of_domains refine_floor angle_steps map_short_boundary map_disk_fixed map_annulus_bump map_square square_split_ear bad_topology folded_start_refused)
 
 foreach(c disk_help annulus_help square_help unknown_flag foreign_flag bad_boundary bad_inner_radius bad_corners
           bad_outer_loop init_only_combination missing_args)

@@ -49,10 +49,13 @@ static void print_help(int cmd) {
          "  --refine-faces      once the vertex cells meet the tolerance, go on refining the triangles'\n"
          "                      areas as long as it helps at all, down to a per-face mean |r-1| of %g\n"
          "                      (default: while it gains %g%% in 4 steps, down to %g), on the flow's\n"
-         "                      ordinary schedule also where the mesh resolves the start well\n",
+         "                      ordinary schedule also where the mesh resolves the start well\n"
+         "  --angles N          after the flow, N steps (1..%d) towards the map of least Dirichlet\n"
+         "                      energy with the vertex cells held at their areas: less angle distortion\n"
+         "                      and vertex cells within about 1e-4, the triangles' areas held near theirs\n",
          cmd_names[cmd], AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol,
          cmd == CMD_SQUARE ? "sides, corners fixed" : cmd == CMD_DISK ? "circle" : "circles", au_advect_opts_default().face_tol,
-         100 * d.flow.face_gain, d.flow.face_tol);
+         100 * d.flow.face_gain, d.flow.face_tol, AU_ANGLE_STEPS_MAX);
   if (cmd == CMD_ANNULUS)
     printf("  --inner-radius R    radius of the inner circle, 0 < R < 1 (default: the conformal modulus's)\n"
            "  --outer-loop WHICH  the loop mapped to the unit circle: longer (default), shorter, or the\n"
@@ -70,6 +73,7 @@ typedef struct disk_args {
   int cmd;
   const char *in, *out, *report;
   int steps, has_steps, has_tol, has_boundary, quiet, init_only, refine_faces;
+  int angles; /* --angles N, 0 if not given */
   double tol;
   au_disk_boundary boundary;
   double inner_radius;
@@ -119,7 +123,7 @@ static int parse_disk(int argc, char **argv, disk_args *a) {
     } else if (strcmp(s, "--refine-faces") == 0) {
       if (a->refine_faces++) return cli_usage_error(help, "option '%s' given twice", s);
     } else if (strcmp(s, "--report") == 0 || strcmp(s, "--steps") == 0 || strcmp(s, "--tol") == 0 ||
-               strcmp(s, "--boundary") == 0 || (a->cmd == CMD_ANNULUS && strcmp(s, "--inner-radius") == 0) ||
+               strcmp(s, "--boundary") == 0 || strcmp(s, "--angles") == 0 || (a->cmd == CMD_ANNULUS && strcmp(s, "--inner-radius") == 0) ||
                (a->cmd == CMD_ANNULUS && strcmp(s, "--outer-loop") == 0) ||
                (a->cmd == CMD_SQUARE && strcmp(s, "--corners") == 0)) {
       if (i + 1 >= argc) return cli_usage_error(help, "option '%s' needs a value", s);
@@ -132,6 +136,10 @@ static int parse_disk(int argc, char **argv, disk_args *a) {
         if (a->has_steps++) return cli_usage_error(help, "option '%s' given twice", s);
         if (cli_parse_int(v, 1, AU_ADVECT_MAX_STEPS, &a->steps))
           return cli_usage_error(help, "--steps '%s': expected a whole number from 1 to %d", v, AU_ADVECT_MAX_STEPS);
+      } else if (strcmp(s, "--angles") == 0) {
+        if (a->angles) return cli_usage_error(help, "option '%s' given twice", s);
+        if (cli_parse_int(v, 1, AU_ANGLE_STEPS_MAX, &a->angles))
+          return cli_usage_error(help, "--angles '%s': expected a whole number from 1 to %d", v, AU_ANGLE_STEPS_MAX);
       } else if (strcmp(s, "--tol") == 0) {
         if (a->has_tol++) return cli_usage_error(help, "option '%s' given twice", s);
         if (cli_parse_nonneg(v, &a->tol)) return cli_usage_error(help, "--tol '%s': expected a finite number >= 0", v);
@@ -161,8 +169,9 @@ static int parse_disk(int argc, char **argv, disk_args *a) {
   }
   if (npos < 2) return cli_usage_error(help, npos == 0 ? "missing input and output files" : "missing output file");
   if (!*a->in || !*a->out) return cli_usage_error(help, "empty file name");
-  if (a->init_only && (a->has_steps || a->has_tol || a->has_boundary || a->refine_faces))
-    return cli_usage_error(help, "--init-only runs no advection: --steps, --tol, --boundary and --refine-faces do not apply");
+  if (a->init_only && (a->has_steps || a->has_tol || a->has_boundary || a->refine_faces || a->angles))
+    return cli_usage_error(help, "--init-only runs no advection: --steps, --tol, --boundary, --refine-faces and --angles "
+                                 "do not apply");
   int rc = cli_check_outputs(help, a->in, a->out, a->report);
   return rc ? rc : -1;
 }
@@ -206,6 +215,7 @@ static int run_disk(const disk_args *a) {
     opts.flow.face_gain = 0.02, opts.flow.face_tol = au_advect_opts_default().face_tol, opts.flow.resolved_jump = 0,
     opts.flow.face_shear_tail = 3e-4;
   opts.boundary = a->boundary;
+  opts.flow.angle_steps = a->angles;
   if (a->has_inner) opts.inner_radius = a->inner_radius;
   if (!a->quiet) opts.flow.progress = cli_progress, opts.flow.user = &prog;
 
@@ -343,6 +353,7 @@ static int run_disk(const disk_args *a) {
   info.steps = rep.flow.steps, info.converged = a->init_only ? 0 : rep.flow.converged;
   info.undone = a->init_only ? 0 : rep.flow.undone;
   info.has_schedule = !a->init_only, info.start_jump = rep.flow.start_jump, info.resolved = rep.flow.resolved;
+  info.angle_from = a->init_only ? 0 : rep.flow.angle_from;
   info.init = a->init_only ? NULL : &ini, info.final = &fin;
   info.stages = stages, info.nstages = nst + 1;
   info.step_err = a->init_only ? NULL : rep.flow.err, info.step_frac = a->init_only ? NULL : rep.flow.frac;

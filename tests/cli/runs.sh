@@ -41,10 +41,12 @@ options)
   expect_status 0
   run sphere "$IN" "$T/o/d.obj" --refine-faces --report "$T/o/d.json" --quiet
   expect_status 0
-  for f in a b c d; do expect_on_sphere "$T/o/$f.obj" 1e-12; done
+  run sphere "$IN" "$T/o/e.obj" --angles 3 --report "$T/o/e.json" --quiet
+  expect_status 0
+  for f in a b c d e; do expect_on_sphere "$T/o/$f.obj" 1e-12; done
   $PY -c '
 import json, sys
-a, b, c, d = (json.load(open(p)) for p in sys.argv[1:5])
+a, b, c, d, e = (json.load(open(p)) for p in sys.argv[1:6])
 def err(r): return r["convergence"]["err"][-1]
 if not (a["converged"] and err(a) <= 0.5 and a["steps"] < c["steps"]):
     sys.exit("--tol 0.5: steps %d (default tol: %d), err %g" % (a["steps"], c["steps"], err(a)))
@@ -54,9 +56,15 @@ if b["initial_metrics"] == c["initial_metrics"]:
 fa, fd = c["metrics"]["r_mean_abs_dev"], d["metrics"]["r_mean_abs_dev"]
 if not (d["steps"] > c["steps"] and fd < fa):
     sys.exit("--refine-faces: steps %d (default %d), per-face %g (default %g)" % (d["steps"], c["steps"], fd, fa))
-if any(r["folds"] for r in (a, b, c, d)):
+# --angles 3: three steps after those of the flow, from where it ended; the vertex cells come closer.
+ca = e["convergence"].get("angle_from")
+if not (ca == c["steps"] and e["steps"] == ca + 3 and "angle_from" not in c["convergence"]
+        and e["metrics"]["vertex_logr_mean_abs"] < 0.5 * c["metrics"]["vertex_logr_mean_abs"]):
+    sys.exit("--angles 3: from %s, %d steps (default %d), vertex %g (default %g)" % (ca, e["steps"], c["steps"],
+             e["metrics"]["vertex_logr_mean_abs"], c["metrics"]["vertex_logr_mean_abs"]))
+if any(r["folds"] for r in (a, b, c, d, e)):
     sys.exit("folds")
-' "$T/o/a.json" "$T/o/b.json" "$T/o/c.json" "$T/o/d.json" || fail "the options did not act"
+' "$T/o/a.json" "$T/o/b.json" "$T/o/c.json" "$T/o/d.json" "$T/o/e.json" || fail "the options did not act"
   ;;
 *)
   fail "unknown case '$1'"
