@@ -56,9 +56,10 @@ if b["initial_metrics"] == c["initial_metrics"]:
 fa, fd = c["metrics"]["r_mean_abs_dev"], d["metrics"]["r_mean_abs_dev"]
 if not (d["steps"] > c["steps"] and fd < fa):
     sys.exit("--refine-faces: steps %d (default %d), per-face %g (default %g)" % (d["steps"], c["steps"], fd, fa))
-# --angles 3: three steps after those of the flow, from where it ended; the vertex cells come closer.
+# --angles 3: three steps after those of the flow (they replace its chord polish when the spherical
+# part ends near the tolerance, so they may start before the default run ends); the cells come closer.
 ca = e["convergence"].get("angle_from")
-if not (ca == c["steps"] and e["steps"] == ca + 3 and "angle_from" not in c["convergence"]
+if not (0 < ca <= c["steps"] and e["steps"] == ca + 3 and "angle_from" not in c["convergence"]
         and e["metrics"]["vertex_logr_mean_abs"] < 0.5 * c["metrics"]["vertex_logr_mean_abs"]):
     sys.exit("--angles 3: from %s, %d steps (default %d), vertex %g (default %g)" % (ca, e["steps"], c["steps"],
              e["metrics"]["vertex_logr_mean_abs"], c["metrics"]["vertex_logr_mean_abs"]))
