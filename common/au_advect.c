@@ -83,6 +83,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.angle_faces = 300;
   o.angle_cells = 1e6;
   o.angle_trust = 1;
+  o.angle_switch = 0.01;
   o.polish_gap = 0.1;
   o.resolved_jump = 0.1;
   o.resolved_decay = 0.25;
@@ -469,6 +470,16 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       }
       if (ang_left-- <= 0) break;
       ang_prev = err;
+    } else if (ls && o.angle_steps > 0 && o.angle_switch > 0 && err <= o.angle_switch && ferr <= 2 * o.angle_switch &&
+               k + 1 < AU_ADVECT_MAX_STEPS) {
+      /* The flow hands over to the angle steps (o.angle_switch), once its faces are within twice that
+       * too (spot: at step 7 the faces were at 0.027 and ended at 0.018; at step 9, 0.017): measured
+       * again in the chord triangles' terms, the step number staying. */
+      ang_phase = 1, sph_phase = 0;
+      ang_left = o.angle_steps < AU_ADVECT_MAX_STEPS - 1 - k ? o.angle_steps : AU_ADVECT_MAX_STEPS - 1 - k;
+      rep->angle_from = k;
+      k--;
+      continue;
     } else if (ls) {
       /* Levenberg-Marquardt control of the shear weight: a step that made the per-face error worse is
        * undone and retried stiffer; an accepted one lets the next be bolder, down to shear_tail. The
@@ -523,13 +534,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
          * 0.00445). */
         double cferr = 0, cerr = 0;
         if (sph_phase) chord_errors(nv, nf, F, t->vused, P, As, fw, AM, SM, af, AO, &cferr, &cerr);
-        /* With angle steps to come, the spherical cells within the tolerance and the chord cells near
-         * it (5 x), the angle steps do the chord polish's work (their cells are the chord triangles'):
-         * spot 0.57 -> 0.51 s, blub vertex 0.0037 -> 0.0031, armadillo 8.9 -> 7.6 s (--angles 2 and 4,
-         * param-eval). Further off, the polish's least-shear steps go first: replaced there, hand_closed
-         * gained (vertex 0.0047 -> 0.0041) but spot_lowres (chord cells at 0.029) lost, 0.0048 -> 0.0065. */
-        const int ang_polish = o.angle_steps > 0 && err <= o.tol && cerr <= 5 * o.tol;
-        if (sph_phase && !ang_polish && (cerr > o.tol || cferr > (1 + o.polish_gap) * ferr)) {
+        if (sph_phase && (cerr > o.tol || cferr > (1 + o.polish_gap) * ferr)) {
           /* Polish the chord triangles' areas from here: measure this map again in their terms (the
            * step number stays), with the stiff start of the shear weight. */
           sph_phase = 0;
@@ -572,7 +577,15 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       else break;
     }
     prev_err = err, prev_ferr = ferr;
-    if (!ang_phase && k + rep->undone >= o.max_steps) break; /* the budget counts undone solves too */
+    if (!ang_phase && k + rep->undone >= o.max_steps) { /* the budget counts undone solves too */
+      if (!(ls && o.angle_steps > 0 && k + 1 < AU_ADVECT_MAX_STEPS)) break;
+      /* The angle steps come on top of the flow's budget (measured in the chord triangles' terms). */
+      ang_phase = 1, sph_phase = 0;
+      ang_left = o.angle_steps < AU_ADVECT_MAX_STEPS - 1 - k ? o.angle_steps : AU_ADVECT_MAX_STEPS - 1 - k;
+      rep->angle_from = k;
+      k--;
+      continue;
+    }
 
     t0 = now_s();
     if (ang_phase) {
@@ -1011,7 +1024,7 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
     return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
-      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.lantern >= 0) || o.angle_steps < 0 || !(o.angle_faces >= 0) || !(o.angle_cells >= 0) || !(o.angle_trust > 0) ||
+      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.lantern >= 0) || o.angle_steps < 0 || !(o.angle_faces >= 0) || !(o.angle_cells >= 0) || !(o.angle_trust > 0) || !(o.angle_switch >= 0) ||
       !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) || !(o.face_shear_tail >= 0) ||
       !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");

@@ -124,6 +124,16 @@ typedef struct au_advect_opts {
   double angle_faces;  /* the angle steps' weight of the per-face areas against the Dirichlet energy (default 300) */
   double angle_cells;  /* the angle steps' weight of the vertex cells' areas (default 1e6: held) */
   double angle_trust;  /* the angle steps' Levenberg-Marquardt term, relative to each vertex's cotan weights (default 1) */
+  double angle_switch; /* with angle_steps: the flow hands over to them as soon as its vertex error is at most
+                          this and its per-face mean |r - 1| at most twice this (default 0.01; 0: after the
+                          flow, its chord polish and per-face refinement included; au_disk_opts_default
+                          and --refine-faces set 0). Measured with --angles 5, param-eval (vertex /
+                          per-face / angle): spot 0.00007 / 0.0167 / 25.35 deg at 0.01, 0.00012 / 0.0146 /
+                          26.59 at 0 (default map 0.0019 / 0.0085 / 28.71); bunny 20.93 and 21.00 deg;
+                          hand_closed 0.0034 / 0.0182 / 36.52 against 0.0047 / 0.0129 / 37.43; armadillo
+                          0.0018 / 0.0176 / 38.27 in 16 steps against 0.0024 / 0.0159 / 39.10 in 36; but
+                          cow 0.021 / 0.048 against 0.017 / 0.035, cheburashka 0.013 / 0.034 against
+                          0.0089 / 0.026 (their floor faces) */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);

@@ -213,7 +213,7 @@ static int run_disk(const disk_args *a) {
    * runs the ordinary schedule, as on the sphere (it is for accuracy, not speed). */
   if (a->refine_faces)
     opts.flow.face_gain = 0.02, opts.flow.face_tol = au_advect_opts_default().face_tol, opts.flow.resolved_jump = 0,
-    opts.flow.face_shear_tail = 3e-4;
+    opts.flow.face_shear_tail = 3e-4, opts.flow.angle_switch = 0;
   opts.boundary = a->boundary;
   opts.flow.angle_steps = a->angles;
   if (a->has_inner) opts.inner_radius = a->inner_radius;

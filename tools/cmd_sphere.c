@@ -194,7 +194,8 @@ static int run_sphere(const sphere_args *a) {
   /* --refine-faces is for accuracy, not speed: it runs the ordinary schedule. On the resolved one the
    * chord polish of bunny stalled on undone steps at per-face 0.0063 (12 steps), against 0.0031 in 60
    * steps on the ordinary one (lion_statue 0.0029 against 0.0031). */
-  if (a->refine_faces) opts.flow.face_gain = 0.02, opts.flow.polish_gap = 0, opts.flow.resolved_jump = 0;
+  if (a->refine_faces)
+    opts.flow.face_gain = 0.02, opts.flow.polish_gap = 0, opts.flow.resolved_jump = 0, opts.flow.angle_switch = 0;
   if (a->has_restore) opts.flow.restore = a->restore;
   opts.flow.angle_steps = a->angles;
   if (a->no_balance) opts.balance = 0;
