@@ -29,16 +29,17 @@ void cli_print_sphere_options(void) {
          "  --refine-faces   once the vertex cells meet the tolerance, go on refining the triangles'\n"
          "                   areas as long as it helps at all (default: while it gains %g%% in 4 steps);\n"
          "                   it also keeps the flow's ordinary schedule on well-resolved meshes\n"
-         "  --angles N       after the flow, N steps (1..%d) towards the map of least Dirichlet energy\n"
-         "                   with the vertex cells held at their areas: less angle distortion and vertex\n"
-         "                   cells within about 1e-4, the triangles' areas held near theirs (weight %g);\n"
-         "                   each step costs several flow steps (bunny: 0.4 s)\n"
+         "  --angles N       from a vertex error of %g on, N steps (1..%d) towards the map of least\n"
+         "                   Dirichlet energy with the vertex cells held at their areas: less angle\n"
+         "                   distortion, vertex cells within about 1e-4, the triangles' areas held near\n"
+         "                   theirs (weight %g); each step costs several flow steps (bunny: 0.4 s).\n"
+         "                   With --refine-faces they come after the refinement\n"
          "  --no-balance     skip the Moebius balancing of the conformal start\n"
          "  --init-only      stop after the conformal start (and balancing), for comparison\n"
          "  --quiet          no progress and no summary on stderr (errors and warnings remain)\n"
          "  --help           this text\n",
-         AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol, d.flow.restore, 100 * d.flow.face_gain, AU_ANGLE_STEPS_MAX,
-         d.flow.angle_faces);
+         AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol, d.flow.restore, 100 * d.flow.face_gain,
+         d.flow.angle_switch, AU_ANGLE_STEPS_MAX, d.flow.angle_faces);
 }
 
 static void print_sphere_help(void) {
