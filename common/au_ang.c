@@ -37,11 +37,6 @@ struct au_ang {
   au_spd *spd;
 };
 
-static int cmp_int(const void *a, const void *b) {
-  int x = *(const int *)a, y = *(const int *)b;
-  return (x > y) - (x < y);
-}
-
 void au__ang_free(au_ang **ap) {
   if (!ap || !*ap) return;
   au_ang *a = *ap;
@@ -113,7 +108,7 @@ au_status au__ang_create(const au_mesh *m, au_ang **out, au_msg *msg) {
       if (cnt == 0 && pass) buf[cnt] = c; /* an unreferenced vertex: its diagonal only */
       if (cnt == 0) cnt = 1;
       if (pass) {
-        qsort(buf, (size_t)cnt, sizeof(int), cmp_int);
+        qsort(buf, (size_t)cnt, sizeof(int), au__cmp_int);
         memcpy(a->list + total, buf, sizeof(int) * (size_t)cnt);
       }
       total += (size_t)cnt;
@@ -178,7 +173,7 @@ static void add_block(const au_ang *a, double *val, int r, int c, const double M
     M = (const double(*)[2])T;
   }
   const int *lo = a->list + a->lstart[c];
-  const int *hit = bsearch(&r, lo, (size_t)(a->lstart[c + 1] - a->lstart[c]), sizeof(int), cmp_int);
+  const int *hit = bsearch(&r, lo, (size_t)(a->lstart[c + 1] - a->lstart[c]), sizeof(int), au__cmp_int);
   if (!hit) return; /* cannot happen: the pattern holds every pair two rings apart */
   int pos = (int)(hit - lo);
   for (int b = 0; b < 2; b++)

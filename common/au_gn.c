@@ -26,11 +26,6 @@ struct au_gn {
   au_spd *spd;
 };
 
-static int cmp_int(const void *a, const void *b) {
-  int x = *(const int *)a, y = *(const int *)b;
-  return (x > y) - (x < y);
-}
-
 void au__gn_free(au_gn **gp) {
   if (!gp || !*gp) return;
   au_gn *g = *gp;
@@ -104,7 +99,7 @@ au_status au__gn_create(const au_mesh *m, const au_topo *t, int faces, au_gn **o
   int nz = 0;
   for (int k = 0; k < nc; k++) {
     int *col = buf + start[k], n = cnt[k];
-    qsort(col, (size_t)n, sizeof(int), cmp_int);
+    qsort(col, (size_t)n, sizeof(int), au__cmp_int);
     for (int r = 0; r < n; r++)
       if (r == 0 || col[r] != col[r - 1]) g->rows[nz++] = col[r];
     g->colstart[k + 1] = nz;
@@ -176,7 +171,7 @@ au_status au__gn_step(au_gn *g, const au_advect_domain *dom, const double *P, co
         int i = g->Lv[u];
         if (i > k) continue;
         const double *ci = g->c + 3 * u;
-        int *hit = bsearch(&i, col, (size_t)ncol, sizeof(int), cmp_int);
+        int *hit = bsearch(&i, col, (size_t)ncol, sizeof(int), au__cmp_int);
         val[g->colstart[k] + (hit - col)] += W[j] * (ci[0] * ck[0] + ci[1] * ck[1] + ci[2] * ck[2]);
       }
     }

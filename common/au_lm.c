@@ -46,11 +46,6 @@ struct au_lm {
   au_spd *spd;
 };
 
-static int cmp_int(const void *a, const void *b) {
-  int x = *(const int *)a, y = *(const int *)b;
-  return (x > y) - (x < y);
-}
-
 void au__lm_free(au_lm **lp) {
   if (!lp || !*lp) return;
   au_lm *l = *lp;
@@ -63,7 +58,7 @@ void au__lm_free(au_lm **lp) {
 /* Index of row r in column c of the pattern (r <= c, present). */
 static int find(const au_lm *l, int r, int c) {
   const int *col = l->rows + l->colstart[c];
-  const int *hit = bsearch(&r, col, (size_t)(l->colstart[c + 1] - l->colstart[c]), sizeof(int), cmp_int);
+  const int *hit = bsearch(&r, col, (size_t)(l->colstart[c + 1] - l->colstart[c]), sizeof(int), au__cmp_int);
   return hit ? l->colstart[c] + (int)(hit - col) : -1;
 }
 
@@ -98,7 +93,7 @@ au_status au__lm_create(const au_mesh *m, const au_topo *t, au_lm **out, au_msg 
     int hi = a > b ? a : b, lo = a > b ? b : a;
     lower[lstart[hi] + deg[hi]++] = lo;
   }
-  for (int k = 0; k < nv; k++) qsort(lower + lstart[k], (size_t)deg[k], sizeof(int), cmp_int);
+  for (int k = 0; k < nv; k++) qsort(lower + lstart[k], (size_t)deg[k], sizeof(int), au__cmp_int);
   /* Column 2k: rows 2i, 2i+1 for each lower neighbour i, then 2k. Column 2k+1: the same, then 2k, 2k+1. */
   size_t nz = 0;
   for (int k = 0; k < nv; k++) nz += 2 * (2 * (size_t)deg[k]) + 3;

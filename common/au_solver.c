@@ -70,7 +70,7 @@ static void release_term(const held_term *h) {
   pthread_sigmask(SIG_SETMASK, &h->mask, NULL);
 }
 
-static int cmp_int(const void *a, const void *b) {
+int au__cmp_int(const void *a, const void *b) {
   int x = *(const int *)a, y = *(const int *)b;
   return (x > y) - (x < y);
 }
@@ -140,7 +140,7 @@ au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fix
   }
   for (int j = 0; j < nf; j++) {
     Ai[fillp[j]] = j;
-    qsort(Ai + Ap[j], (size_t)(Ap[j + 1] - Ap[j]), sizeof(int), cmp_int);
+    qsort(Ai + Ap[j], (size_t)(Ap[j + 1] - Ap[j]), sizeof(int), au__cmp_int);
     s->diag_pos[j] = Ap[j + 1] - 1; /* the diagonal is the largest row index of an upper column */
   }
   free(count);
@@ -151,7 +151,7 @@ au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fix
     if (a < 0 || b < 0) continue;
     int lo = a < b ? a : b, hi = a < b ? b : a;
     int *base = Ai + Ap[hi];
-    int *hit = bsearch(&lo, base, (size_t)(Ap[hi + 1] - Ap[hi]), sizeof(int), cmp_int);
+    int *hit = bsearch(&lo, base, (size_t)(Ap[hi + 1] - Ap[hi]), sizeof(int), au__cmp_int);
     s->edge_pos[e] = (int)(hit - Ai);
   }
   /* Duplicate edges would share an entry; that is fine, weights accumulate. */
