@@ -147,7 +147,7 @@ def num(v, f):
 
 
 head = ['mesh', 'F', 'steps', 't_init s', 't_flow s', 't_total s', 'wall s', 'peak MB',
-        'folds', 'r_mean_abs_dev', 'r_cv', 'vertex_logr_mean_abs', 'lambda_mean', 'note']
+        'folds', 'r_mean_abs_dev', 'r_cv', 'vertex_logr_mean_abs', 'lambda_mean', 'angle °', 'note']
 rows, failed = [], 0
 with open(results) as f:
     for line in f:
@@ -160,6 +160,8 @@ with open(results) as f:
         if status == 'ok':
             conv = get(rep, 'converged')
             note = 'not converged' if conv is not None and not conv else ''
+            if get(rep, 'convergence.lantern_retry.kept'):
+                note = (note + '; ' if note else '') + 'lantern retry kept'
         else:
             failed += 1
             note = ('FAIL: ' if status == 'FAIL' else '') + msg
@@ -168,7 +170,8 @@ with open(results) as f:
                      num(get(t, 'init'), '%.3f'), num(get(t, 'flow'), '%.3f'), num(get(t, 'total'), '%.3f'),
                      num(wall_v, '%.2f'), num(mb, '%.1f'), num(get(ev, 'folds'), '%d'),
                      num(get(ev, 'r_mean_abs_dev'), '%.3g'), num(get(ev, 'r_cv'), '%.3g'),
-                     num(get(ev, 'vertex_logr_mean_abs'), '%.3g'), num(get(ev, 'lambda_mean'), '%.3g'), note])
+                     num(get(ev, 'vertex_logr_mean_abs'), '%.3g'), num(get(ev, 'lambda_mean'), '%.3g'),
+                     num(get(rep, 'metrics.angle_diff_mean_deg'), '%.2f'), note])
 
 width = [max(len(str(r[i])) for r in rows + [head]) for i in range(len(head))]
 def line(cells):
@@ -178,7 +181,8 @@ sep = '|' + '|'.join(('-' * (w + 2)) if i in (0, len(head) - 1) else ('-' * (w +
                      for i, w in enumerate(width)) + '|'
 text = '\n'.join([f"authalic sphere benchmark ({binary}{' ' + args if args else ''}); "
                   + (f"times: the fastest of {runs} runs; " if runs != '1' else '')
-                  + "quality columns from ../shared/tools/param-eval", '', line(head), sep]
+                  + "quality columns from ../shared/tools/param-eval (angle: the report's mean |angle difference|)",
+                  '', line(head), sep]
                  + [line(r) for r in rows]) + '\n'
 sys.stdout.write(text)
 with open(md, 'w') as f:
