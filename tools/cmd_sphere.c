@@ -293,9 +293,10 @@ static int run_sphere(const sphere_args *a) {
   if (rc != EXIT_OK) goto done;
 
   if (!a->quiet)
-    fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs\n",
+    fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs%s\n",
             m->nv, m->nf, rep.flow.steps, fin.folds, fin.r_mean_abs_dev, fin.vertex_logr_mean_abs,
-            cli_now() - t_start);
+            cli_now() - t_start,
+            rep.retry == 2 ? " (lantern retry kept)" : rep.retry == 1 ? " (lantern retry discarded)" : "");
   rc = EXIT_OK;
 
 done:

@@ -21,6 +21,12 @@ expect_on_sphere "$OUT" 1e-12
 # Not quiet: one summary line with the mesh's size and zero folds.
 expect_err "^authalic: sphere: V=$(obj_nv "$IN") F=$(wc -l <"$T/f.in" | tr -d ' ') steps=[0-9]+ folds=0 "
 [ "$(ls -A "$T/o" | tr '\n' ' ')" = "map.obj report.json " ] || fail "unexpected files: $(ls -A "$T/o")"
+# The summary says whether the lantern retry ran (and which map was kept) exactly when the report does.
+if grep -q '"lantern_retry"' "$REP"; then
+  expect_err "^authalic: sphere: .* \(lantern retry (kept|discarded)\)$"
+else
+  ! grep -q "lantern retry" "$T/log/stderr" || fail "the summary names a lantern retry the report lacks"
+fi
 
 case $1 in
 map)
