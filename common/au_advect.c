@@ -335,6 +335,14 @@ static void chord_errors(int nv, int nf, const int *F, const unsigned char *used
 }
 
 /* The flow itself, on arguments and options au_advect_run has checked. */
+/* The flow hands over to the angle steps at step k (au_advect_opts.angle_steps): from here the map is
+ * measured in the chord triangles' terms. Returns how many there may be (the report's arrays bound them). */
+static int begin_angles(const au_advect_opts *o, int k, int *ang_phase, int *sph_phase, au_advect_report *rep) {
+  *ang_phase = 1, *sph_phase = 0;
+  rep->angle_from = k;
+  return o->angle_steps < AU_ADVECT_MAX_STEPS - 1 - k ? o->angle_steps : AU_ADVECT_MAX_STEPS - 1 - k;
+}
+
 static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
                              au_lm **lmp, double *P, au_advect_report *rep, au_msg *msg) {
   const au_advect_opts o = *opts;
@@ -409,7 +417,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   int retry = 0;                 /* this step retries an undone one */
   int measured_jump = 0;         /* the start's resolution has been measured (rep->start_jump) */
   int exhausted = 0;             /* no stiffer step is worth a try: this part of the flow ends */
-  int ang_phase = 0, ang_left = 0; /* the angle steps (o.angle_steps) after the flow, and how many remain */
+  int ang_phase = 0, ang_left = 0; /* the angle steps (o.angle_steps, begin_angles), and how many remain */
   double ang_prev = INFINITY;      /* the vertex error before the last angle step */
   au_dec_face_areas(nf, F, m->X, As);
   for (k = 0;; k++) {
@@ -475,9 +483,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       /* The flow hands over to the angle steps (o.angle_switch), once its faces are within twice that
        * too (spot: at step 7 the faces were at 0.027 and ended at 0.018; at step 9, 0.017): measured
        * again in the chord triangles' terms, the step number staying. */
-      ang_phase = 1, sph_phase = 0;
-      ang_left = o.angle_steps < AU_ADVECT_MAX_STEPS - 1 - k ? o.angle_steps : AU_ADVECT_MAX_STEPS - 1 - k;
-      rep->angle_from = k;
+      ang_left = begin_angles(&o, k, &ang_phase, &sph_phase, rep);
       k--;
       continue;
     } else if (ls) {
@@ -548,9 +554,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
         if (o.angle_steps > 0 && !ang_phase && k + 1 < AU_ADVECT_MAX_STEPS) {
           /* The angle steps, measured in the chord triangles' terms from here (the map is measured again;
            * the step number stays). */
-          ang_phase = 1, sph_phase = 0;
-          ang_left = o.angle_steps < AU_ADVECT_MAX_STEPS - 1 - k ? o.angle_steps : AU_ADVECT_MAX_STEPS - 1 - k;
-          rep->angle_from = k;
+          ang_left = begin_angles(&o, k, &ang_phase, &sph_phase, rep);
           k--;
           continue;
         }
@@ -580,9 +584,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
     if (!ang_phase && k + rep->undone >= o.max_steps) { /* the budget counts undone solves too */
       if (!(ls && o.angle_steps > 0 && k + 1 < AU_ADVECT_MAX_STEPS)) break;
       /* The angle steps come on top of the flow's budget (measured in the chord triangles' terms). */
-      ang_phase = 1, sph_phase = 0;
-      ang_left = o.angle_steps < AU_ADVECT_MAX_STEPS - 1 - k ? o.angle_steps : AU_ADVECT_MAX_STEPS - 1 - k;
-      rep->angle_from = k;
+      ang_left = begin_angles(&o, k, &ang_phase, &sph_phase, rep);
       k--;
       continue;
     }
@@ -1024,7 +1026,8 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
     return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
-      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.lantern >= 0) || o.angle_steps < 0 || !(o.angle_faces >= 0) || !(o.angle_cells >= 0) || !(o.angle_trust > 0) || !(o.angle_switch >= 0) ||
+      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.lantern >= 0) ||
+      o.angle_steps < 0 || !(o.angle_faces >= 0) || !(o.angle_cells >= 0) || !(o.angle_trust > 0) || !(o.angle_switch >= 0) ||
       !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) || !(o.face_shear_tail >= 0) ||
       !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
