@@ -245,7 +245,8 @@ au_status au__ang_step(au_ang *a, const au_advect_domain *dom, const double *P, 
       a->diag[i] += fabs(w), a->diag[j] += fabs(w);
     }
   }
-  /* Cells: gamma (c . x - dV)^2 / V, c_i a third of the rows of i's faces, gathered over its star. */
+  /* Cells: gamma (c . x - dV)^2 / V, c_i a third of the rows of i's faces, gathered over its star. A
+   * vertex with more than 63 neighbours keeps no cell term (its faces' and the energy's still hold it). */
   int sv[64];
   double sr[64][2];
   for (int i = 0; i < nv; i++) {
