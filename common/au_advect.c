@@ -466,6 +466,10 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
       goto done;
     }
     if (o.progress) o.progress(o.user, k, o.max_steps, ls ? ferr : err);
+    if (o.cancel && __atomic_load_n(o.cancel, __ATOMIC_ACQUIRE)) {
+      st = au_msg_set(msg, AU_E_CANCELLED, "advect: cancelled at step %d", k);
+      goto done;
+    }
     if (ang_phase) {
       /* An angle step that took the vertex cells above both the tolerance and where they were is undone,
        * and the phase ends there. */

@@ -66,6 +66,10 @@ typedef struct au_advect_opts {
   /* Progress: called once per step with the step number, max_steps and the current error. May be NULL. */
   void (*progress)(void *user, int step, int max_steps, double err);
   void *user;
+  /* Cancellation: when *cancel is nonzero at the start of a step (read atomically, so another thread
+     or the progress callback may set it), the run stops, frees what it holds and returns
+     AU_E_CANCELLED; P is then left at the last accepted step. NULL (default): never. */
+  const int *cancel;
   const double *face_weight; /* per-face target density [0..nf-1] (> 0) instead of the per-vertex one:
                                 face f gets domain area proportional to face_weight[f] x its surface
                                 area; NULL (default). At most one of weight and face_weight. */

@@ -22,6 +22,7 @@ extern "C" {
   X(AU_E_NUMERIC, -4, "numerical failure")                                        \
   X(AU_E_FOLD, -5, "map has folded triangles")                                    \
   X(AU_E_INTERNAL, -6, "internal error")                                          \
+  X(AU_E_CANCELLED, -7, "cancelled")                                              \
   X(AU_E_IO, -101, "cannot read or write file")                                   \
   X(AU_E_FORMAT, -102, "unknown or malformed file format")                        \
   X(AU_E_EMPTY, -103, "empty mesh")                                               \

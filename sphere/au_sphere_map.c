@@ -111,7 +111,10 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
         au_status st2 = au_advect_run_plan(plan, &dom, &o2, P2, r2, &msg2);
         double e1 = st2 == AU_OK || st2 == AU_W_NOT_CONVERGED ? chord_vertex_error(m, t, &o.flow, P2) : INFINITY;
         rep->retry = 1, rep->retry_err[0] = e0, rep->retry_err[1] = e1;
-        if (e1 < e0) {
+        if (st2 == AU_E_CANCELLED) {
+          st = st2;
+          if (msg) *msg = msg2;
+        } else if (e1 < e0) {
           rep->retry = 2;
           memcpy(P, P2, sizeof(double) * 3 * (size_t)m->nv);
           rep->flow = *r2;
