@@ -977,7 +977,6 @@ au_status au_advect_plan_start(const au_mesh *m, const au_topo *t, const au_adve
   au_advect_plan *p = NULL;
   au_status st = plan_new(m, t, out, &p, msg);
   if (st != AU_OK) return st;
-  au__blas_one_thread(); /* two threads of ours from here (au_par.h) */
   /* The ordering (METIS, through GKlib) traps SIGTERM for its length and jumps back into itself from
    * the handler: delivered to this thread, that jump would cross threads. So this thread holds SIGTERM
    * back until the plan is done (au_advect_plan_wait); the new thread inherits the mask. */

@@ -6,6 +6,7 @@
 #include "au_par.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdarg.h>
 #include <limits.h>
 #include <signal.h>
@@ -792,53 +793,30 @@ static mode_t new_file_mode(void) {
 
 typedef int (*au_emit_fn)(FILE *fp, const void *ctx);
 
-/* The temporaries being written, for au_io_remove_pending. A slot is published (used = 1) only after
- * its name is complete, and the handler only reads, so a signal at any point sees either nothing or a
- * whole name. Writes are not expected from several threads at once; a name that does not fit, or a
- * write beyond the slots, is simply not tracked. */
-#define AU_PENDING_SLOTS 4
-#define AU_PENDING_LEN 4096
-static char pending_name[AU_PENDING_SLOTS][AU_PENDING_LEN];
-static volatile sig_atomic_t pending_used[AU_PENDING_SLOTS];
-
-static int pending_add(const char *tmp) {
-  size_t n = strlen(tmp);
-  if (n >= AU_PENDING_LEN) return -1;
-  for (int i = 0; i < AU_PENDING_SLOTS; i++)
-    if (!pending_used[i]) {
-      memcpy(pending_name[i], tmp, n + 1);
-      pending_used[i] = 1;
-      return i;
-    }
-  return -1;
+au_status au_temp_path(const char *path, char *buf, size_t len) {
+  if (!path || !buf) return AU_E_ARG;
+  int n = snprintf(buf, len, "%s.tmp%ld", path, (long)getpid());
+  return n >= 0 && (size_t)n < len ? AU_OK : AU_E_ARG;
 }
 
-static void pending_drop(int slot) {
-  if (slot >= 0) pending_used[slot] = 0;
-}
-
-void au_io_remove_pending(void) {
-  for (int i = 0; i < AU_PENDING_SLOTS; i++)
-    if (pending_used[i]) unlink(pending_name[i]);
-}
-
-/* Write through emit into "<path>.tmpXXXXXX" beside path, then rename it over path. On any failure
- * the temporary file is removed and an existing path is left as it was. */
+/* Write through emit into the temporary au_temp_path(path) beside path, then rename it over path. On
+ * any failure the temporary is removed and an existing path is left as it was. The name is fixed for
+ * the process, so that a program can remove it from a signal handler without the library keeping a
+ * list; a file of that name is left only by a process of the same pid that died, so it is replaced. */
 static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx, au_msg *msg) {
-  size_t n = strlen(path);
-  char *tmp = malloc(n + 12);
+  size_t n = strlen(path) + 32;
+  char *tmp = malloc(n);
   if (!tmp) return au_msg_set(msg, AU_E_NOMEM, "out of memory writing '%s'", path);
-  memcpy(tmp, path, n);
-  memcpy(tmp + n, ".tmpXXXXXX", 11);
-  int fd = mkstemp(tmp);
+  au_temp_path(path, tmp, n);
+  int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0 && errno == EEXIST && unlink(tmp) == 0) fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) {
     int err = errno;
     free(tmp);
     return au_msg_set(msg, AU_E_IO, "cannot create '%s': %s", path, strerror(err));
   }
-  int slot = pending_add(tmp);
-  /* mkstemp makes the file private (0600); the result should have the mode a plain fopen would
-   * give it, or keep the mode of the file it replaces. */
+  /* The file is made private (0600); the result should have the mode a plain fopen would give it, or
+   * keep the mode of the file it replaces. */
   struct stat st;
   mode_t mode = stat(path, &st) == 0 && S_ISREG(st.st_mode) ? (st.st_mode & 07777) : new_file_mode();
   FILE *fp = fchmod(fd, mode) == 0 ? fdopen(fd, "w") : NULL;
@@ -858,11 +836,9 @@ static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx
   if (err) {
     /* Best effort: the error being reported is the write's, and the name is ours alone. */
     unlink(tmp);
-    pending_drop(slot);
     free(tmp);
     return au_msg_set(msg, AU_E_IO, "cannot %s '%s': %s", what, path, strerror(err));
   }
-  pending_drop(slot);
   free(tmp);
   return AU_OK;
 }

@@ -58,11 +58,6 @@ void au_textbuf_printf(au_textbuf *b, const char *fmt, ...)
     ;
 void au_textbuf_free(au_textbuf *b);
 
-/* Remove the temporary files of the writes now in progress (au_io_write, au_io_write_text).
- * Async-signal-safe: meant for a program's SIGINT/SIGTERM/SIGHUP handler, so that an interrupted
- * run leaves neither a partial output nor a hidden temporary behind. The library installs no
- * handler itself. */
-void au_io_remove_pending(void);
 
 /* 1 if the extension of path is one au_io_write can produce, else 0. */
 int au_io_can_write(const char *path);

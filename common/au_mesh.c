@@ -418,15 +418,15 @@ static void au__loop_sizes(const au_topo *t, char *buf, size_t len) {
   }
 }
 
-/* The boundary-count problem in one line, with a hint at the right command when one applies. */
+/* The boundary-count problem in one line, with a hint at the right target when one applies. */
 static au_status au__boundary_problem(const au_topo *t, const au_mesh_expect *x, au_msg *msg) {
   const char *cmd = x->command;
   if (t->nloops == 0) {
     if (cmd && t->genus == 0)
-      return au_msg_set(msg, AU_E_BOUNDARY, "closed mesh given to `authalic %s`: use `authalic sphere`", cmd);
+      return au_msg_set(msg, AU_E_BOUNDARY, "closed mesh given to the %s map: map it onto the sphere", cmd);
     if (cmd)
       return au_msg_set(msg, AU_E_BOUNDARY,
-                        "closed mesh of genus %d given to `authalic %s`, which needs %d boundary loop%s (cut the "
+                        "closed mesh of genus %d given to the %s map, which needs %d boundary loop%s (cut the "
                         "surface open first)",
                         t->genus, cmd, x->loops, x->loops == 1 ? "" : "s");
     return au_msg_set(msg, AU_E_BOUNDARY, "mesh is closed (no boundary loop; expected %d)", x->loops);
@@ -436,16 +436,17 @@ static au_status au__boundary_problem(const au_topo *t, const au_mesh_expect *x,
   const char *plural = t->nloops == 1 ? "" : "s";
   if (x->loops == 0 && cmd)
     return au_msg_set(msg, AU_E_BOUNDARY,
-                      "mesh has %d boundary loop%s (%s); `authalic %s` needs a closed surface: use "
-                      "`authalic %s` for %s",
-                      t->nloops, plural, sizes, cmd, t->nloops == 1 ? "disk" : t->nloops == 2 ? "annulus" : "disk",
+                      "mesh has %d boundary loop%s (%s); the %s map needs a closed surface: map "
+                      "%s onto the %s",
+                      t->nloops, plural, sizes, cmd,
                       t->nloops == 1 ? "a disk-like mesh" : t->nloops == 2 ? "a mesh with two loops" :
-                      "a disk-like mesh (fill all but one hole)");
+                      "a disk-like mesh (fill all but one hole)",
+                      t->nloops == 1 ? "disk" : t->nloops == 2 ? "annulus" : "disk");
   if (x->loops == 0)
     return au_msg_set(msg, AU_E_BOUNDARY, "mesh has %d boundary loop%s (%s); a closed surface was expected",
                       t->nloops, plural, sizes);
   if (cmd)
-    return au_msg_set(msg, AU_E_BOUNDARY, "mesh has %d boundary loop%s (%s); `authalic %s` needs %d",
+    return au_msg_set(msg, AU_E_BOUNDARY, "mesh has %d boundary loop%s (%s); the %s map needs %d",
                       t->nloops, plural, sizes, cmd, x->loops);
   return au_msg_set(msg, AU_E_BOUNDARY, "mesh has %d boundary loop%s (%s); expected %d", t->nloops,
                     plural, sizes, x->loops);

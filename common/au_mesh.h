@@ -12,20 +12,7 @@
 extern "C" {
 #endif
 
-typedef struct au_mesh {
-  int nv;    /* number of vertices, >= 0 */
-  int nf;    /* number of triangles, >= 0 */
-  double *X; /* X [0..3*nv-1]: x,y,z of vertex i at X[3i..3i+2] */
-  int *F;    /* F [0..3*nf-1]: corners of face f at F[3f..3f+2], counter-clockwise seen from outside */
-} au_mesh;
-
-/* Allocate a mesh with room for nv vertices and nf faces (contents zeroed).
- * On success *out owns the mesh; free it with au_mesh_free. Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
-au_status au_mesh_alloc(int nv, int nf, au_mesh **out);
-/* Deep copy of m into *out. Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
-au_status au_mesh_copy(const au_mesh *m, au_mesh **out);
-/* Free a mesh and set *m to NULL; NULL-safe. */
-void au_mesh_free(au_mesh **m);
+/* au_mesh and au_mesh_alloc / au_mesh_copy / au_mesh_free are public (include/authalic.h). */
 
 /* Topology of a triangle mesh. Edges are unordered vertex pairs; "corner k of face f" is
  * F[3f+k], and the edge opposite corner k joins corners k+1 and k+2 (mod 3). */
@@ -61,7 +48,7 @@ void au_topo_free(au_topo **t);
 typedef struct au_mesh_expect {
   int loops;  /* required number of boundary loops: 0 sphere, 1 disk, 2 annulus; -1 any (default 0) */
   int genus;  /* required genus, -1 any (default 0) */
-  const char *command; /* name of the CLI command for hints ("sphere", "disk"); may be NULL */
+  const char *command; /* the target's name for messages ("sphere", "disk"); may be NULL */
 } au_mesh_expect;
 
 /* Defaults: loops 0, genus 0, command NULL. */
@@ -72,8 +59,8 @@ au_mesh_expect au_mesh_expect_default(void);
  * (names face and index), face with a repeated index (names the face), non-manifold edge (names the
  * two vertices and how many faces share it), non-manifold vertex (names it), inconsistent
  * orientation (names the edge), several components (says how many), boundary loop count (says
- * how many were found and, if a boundary is present for a closed-surface command, suggests
- * `authalic disk`, or `authalic sphere` for a closed mesh given to disk), genus (says which was
+ * how many were found and, if a boundary is present for a closed-surface target, suggests the
+ * disk or annulus, or the sphere for a closed mesh given to the disk), genus (says which was
  * found and what was expected), zero-area faces (names the first and says how many; a face whose
  * area is <= 1e-14 * total area counts as zero).
  * On success *topo (if topo is not NULL) receives the topology; free with au_topo_free.

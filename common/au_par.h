@@ -13,18 +13,6 @@ extern "C" {
  * fn(a0) on the calling thread. fn's return value is ignored. */
 void au__run_pair(void *(*fn)(void *), void *a0, void *a1);
 
-/* Set OpenBLAS, when that is the BLAS, to one thread for the process (once; other BLAS are left as
- * they are). Our own two threads both call BLAS, and OpenBLAS's threads on top oversubscribe the two
- * cores: lion_statue's flow took 8.4 s with OPENBLAS_NUM_THREADS=2 in the environment against 2.6 s
- * without it, and one thread is as fast as the default for a whole factorization (2.68 against
- * 2.73 s). Called where the program starts a second thread of its own. */
-void au__blas_one_thread(void);
-
-/* The program defines libgomp's GOMP_parallel (au_par.c): with OMP_THREAD_LIMIT=1, as the command
- * line runs, an OpenMP parallel region (CHOLMOD opens one per supernode) is a plain call of its body
- * instead of a team of one ended by a system call; otherwise the region goes to libgomp. This
- * counts the regions that were plain calls, for the tests. */
-long au__gomp_inline_regions(void);
 
 #ifdef __cplusplus
 }

@@ -57,7 +57,13 @@ typedef struct held_term {
   struct sigaction action;
 } held_term;
 
+/* The handler saved and put back is the process's: two orderings at once in two threads would each
+ * save what the other had set, and could leave GKlib's handler behind. So orderings that trap SIGTERM
+ * take turns (the only lock of the library; it holds no data). */
+static pthread_mutex_t term_lock = PTHREAD_MUTEX_INITIALIZER;
+
 static void hold_term(held_term *h) {
+  pthread_mutex_lock(&term_lock);
   sigset_t s;
   sigemptyset(&s);
   sigaddset(&s, SIGTERM);
@@ -68,6 +74,7 @@ static void hold_term(held_term *h) {
 static void release_term(const held_term *h) {
   sigaction(SIGTERM, &h->action, NULL);
   pthread_sigmask(SIG_SETMASK, &h->mask, NULL);
+  pthread_mutex_unlock(&term_lock);
 }
 
 int au__cmp_int(const void *a, const void *b) {
@@ -584,7 +591,6 @@ static void *half_factor(void *arg) {
 static au_status split_factor(au_spd *s, au_msg *msg) {
   spd_split *q = s->split;
   const double *bx = s->B->x;
-  au__blas_one_thread();
   au__run_pair(half_factor, q->h + 0, q->h + 1);
   for (int h = 0; h < 2; h++)
     if (q->h[h].st != AU_OK) {

@@ -45,7 +45,7 @@ set(au_cli_bad
   two_components.obj     "2 connected components"
   single_triangle.obj    "1 boundary loop.*closed surface"
   duplicate_vertex.obj   "1 boundary loop.*closed surface"
-  ring.obj               "2 boundary loops.*closed surface: use `authalic annulus`"
+  ring.obj               "2 boundary loops.*closed surface: map a mesh with two loops onto the annulus"
   torus.obj              "genus 1"
   zero_area.obj          "face 0 has zero area"
   # OFF
@@ -61,7 +61,7 @@ set(au_cli_bad
   face_two.off           "face 3: not a polygon"
   quad.off               "face 0 has 4 corners"
   nan_coord.off          "vertex 3 has a non-finite coordinate"
-  disk.off               "boundary loop.*use `authalic disk`"
+  disk.off               "boundary loop.*onto the disk"
   # PLY
   bad_format.ply         "unknown PLY format 'binary_middle_endian'"
   no_end_header.ply      ":10: data line '0' before end_header"
@@ -101,17 +101,17 @@ set_tests_properties(cli.bad.empty_element.ply PROPERTIES TIMEOUT 30)
 
 # The same for the commands that need a boundary: command, file, regular expression.
 set(au_cli_bad_cmd
-  disk    closed.obj         "closed mesh given to `authalic disk`"
-  disk    ring.obj           "2 boundary loops.*`authalic disk` needs 1"
+  disk    closed.obj         "closed mesh given to the disk map"
+  disk    ring.obj           "2 boundary loops.*the disk map needs 1"
   disk    torus_hole.obj     "genus 1 \\(expected genus 0\\)"
-  disk    torus.obj          "closed mesh of genus 1 given to `authalic disk`"
+  disk    torus.obj          "closed mesh of genus 1 given to the disk map"
   disk    nonmanifold_edge.obj "non-manifold edge \\(0, 1\\)"
   disk    two_components.obj "2 connected components"
-  annulus closed.obj         "closed mesh given to `authalic annulus`"
-  annulus disk.off           "1 boundary loop.*`authalic annulus` needs 2"
-  annulus torus_hole.obj     "1 boundary loop.*`authalic annulus` needs 2"
-  square  closed.obj         "closed mesh given to `authalic square`"
-  square  ring.obj           "2 boundary loops.*`authalic square` needs 1")
+  annulus closed.obj         "closed mesh given to the annulus map"
+  annulus disk.off           "1 boundary loop.*the annulus map needs 2"
+  annulus torus_hole.obj     "1 boundary loop.*the annulus map needs 2"
+  square  closed.obj         "closed mesh given to the square map"
+  square  ring.obj           "2 boundary loops.*the square map needs 1")
 list(LENGTH au_cli_bad_cmd n)
 math(EXPR last "${n} - 1")
 foreach(i RANGE 0 ${last} 3)

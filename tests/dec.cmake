@@ -7,3 +7,6 @@ set_tests_properties(test_dec.ordering_holds_sigterm PROPERTIES ENVIRONMENT "OPE
 # OpenMP regions run inline under the command line's thread limit of 1, and go to libgomp otherwise.
 set_tests_properties(test_dec.gomp_inline PROPERTIES ENVIRONMENT "OMP_THREAD_LIMIT=1")
 set_tests_properties(test_dec.gomp_forward PROPERTIES ENVIRONMENT "OMP_THREAD_LIMIT=2")
+# The OpenMP shortcut is the program's, not the library's (tools/cli_threads.c): linked in for its two cases.
+target_link_libraries(test_dec PRIVATE authalic_cli_threads)
+target_include_directories(test_dec PRIVATE ${CMAKE_SOURCE_DIR}/tools)

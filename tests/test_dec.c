@@ -10,6 +10,7 @@
 #include "au_mesh.h"
 #include "au_par.h"
 #include "au_solver.h"
+#include "cli_threads.h"
 #include "au_test.h"
 
 /* A bumpy closed test surface: an octahedron refined n times, pushed onto an ellipsoid with bumps,
@@ -522,7 +523,7 @@ static int spd_split_case(void) {
   return 0;
 }
 
-/* OpenMP regions (au_par.c): with OMP_THREAD_LIMIT=1 (set by ctest for gomp_inline, as the command
+/* OpenMP regions (the program's tools/cli_threads.c): with OMP_THREAD_LIMIT=1 (set by ctest for gomp_inline, as the command
  * line sets it) a region's body runs once, on the calling thread, and CHOLMOD's supernodal
  * factorization reaches the program's GOMP_parallel; with a limit of 2 (gomp_forward) a region asked
  * for two threads gets them from libgomp. */
@@ -543,11 +544,11 @@ static int gomp_case(int limit) {
   const char *e = getenv("OMP_THREAD_LIMIT");
   AU_CHECK(e != NULL && atoi(e) == limit);
   gomp_probe p = {pthread_self(), 0, 0};
-  long before = au__gomp_inline_regions();
+  long before = cli_gomp_inline_regions();
   GOMP_parallel(gomp_body, &p, 2, 0);
   AU_CHECK_INT(p.calls, ==, limit == 1 ? 1 : 2);
   AU_CHECK_INT(p.on_caller, ==, 1);
-  AU_CHECK_INT((int)(au__gomp_inline_regions() - before), ==, limit == 1 ? 1 : 0);
+  AU_CHECK_INT((int)(cli_gomp_inline_regions() - before), ==, limit == 1 ? 1 : 0);
   if (limit != 1) return 0;
   /* CHOLMOD's regions come here: a 40 x 40 grid's Laplacian, factored supernodally. */
   int n = 40, nv = n * n, ne = 0;
@@ -564,9 +565,9 @@ static int gomp_case(int limit) {
   au_solver *sv = NULL;
   au_msg msg = {{0}};
   AU_CHECK_STATUS(au_solver_create(nv, ne, E, fixed, AU_ORDER_FILL, &sv, &msg), AU_OK, &msg);
-  before = au__gomp_inline_regions();
+  before = cli_gomp_inline_regions();
   AU_CHECK_STATUS(au_solver_factor(sv, w, NULL, &msg), AU_OK, &msg);
-  AU_CHECK_INT((int)(au__gomp_inline_regions() - before), >, 0);
+  AU_CHECK_INT((int)(cli_gomp_inline_regions() - before), >, 0);
   au_solver_free(&sv);
   free(E), free(fixed), free(w);
   return 0;

@@ -749,7 +749,7 @@ static int validate_components(void) {
 
 static int validate_disk_for_sphere(void) {
   au_mesh *m = grid(FLAT, 8, 8);
-  return check_validate(m, expect(0, 0, "sphere"), AU_E_BOUNDARY, "1 boundary loop (32 vertices)", "use `authalic disk`");
+  return check_validate(m, expect(0, 0, "sphere"), AU_E_BOUNDARY, "1 boundary loop (32 vertices)", "map a disk-like mesh onto the disk");
 }
 
 static int validate_boundary_before_genus(void) {
@@ -757,11 +757,11 @@ static int validate_boundary_before_genus(void) {
   au_mesh *m = grid(TORUS, 8, 6);
   AU_CHECK(m);
   m->nf--;
-  return check_validate(m, expect(0, 0, "sphere"), AU_E_BOUNDARY, "1 boundary loop (3 vertices)", "`authalic sphere` needs a closed surface");
+  return check_validate(m, expect(0, 0, "sphere"), AU_E_BOUNDARY, "1 boundary loop (3 vertices)", "the sphere map needs a closed surface");
 }
 
 static int validate_closed_for_disk(void) {
-  return check_validate(octahedron(), expect(1, 0, "disk"), AU_E_BOUNDARY, "closed mesh given to `authalic disk`", "use `authalic sphere`");
+  return check_validate(octahedron(), expect(1, 0, "disk"), AU_E_BOUNDARY, "closed mesh given to the disk map", "map it onto the sphere");
 }
 
 static int validate_annulus_for_disk(void) {

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "cli_threads.h"
 
 typedef struct command {
   const char *name, *usage;
@@ -14,10 +15,10 @@ typedef struct command {
 } command;
 
 static const command commands[] = {
-    {"sphere", "sphere IN OUT [options]    a closed genus-0 mesh onto the unit sphere", cli_cmd_sphere},
-    {"disk", "disk IN OUT [options]      a mesh with one boundary loop onto the unit disk", cli_cmd_disk},
-    {"annulus", "annulus IN OUT [options]   a mesh with two boundary loops onto an annulus", cli_cmd_disk},
-    {"square", "square IN OUT [options]    a mesh with one boundary loop onto the unit square", cli_cmd_disk},
+    {"sphere", "sphere IN OUT [options]    a closed genus-0 mesh onto the unit sphere", cli_cmd_map},
+    {"disk", "disk IN OUT [options]      a mesh with one boundary loop onto the unit disk", cli_cmd_map},
+    {"annulus", "annulus IN OUT [options]   a mesh with two boundary loops onto an annulus", cli_cmd_map},
+    {"square", "square IN OUT [options]    a mesh with one boundary loop onto the unit square", cli_cmd_map},
     {"texture", "texture IN OUT.obj [opts]  equal-area spherical texture coordinates (and baking)", cli_cmd_texture},
     {"sample", "sample IN --grid WxH OUT  the surface sampled on an equal-area grid of the sphere", cli_cmd_sample},
 };
@@ -31,7 +32,7 @@ static void print_help(void) {
          "IN is read as .obj .off .ply or .stl; OUT is written as .obj .off or .ply (by extension),\n"
          "with the input's vertex order and faces. Exit status: 0 ok (also with warnings), 2 bad usage\n"
          "or bad input, 1 internal or numerical failure.\n\n");
-  cli_print_sphere_options();
+  cli_print_options(CLI_SPHERE);
 }
 
 /* CHOLMOD's supernodal factorization opens an OpenMP team of a fixed size (ignoring
@@ -55,6 +56,7 @@ static void single_threaded_libraries(char **argv) {
 int main(int argc, char **argv) {
   const char *help = "authalic --help";
   single_threaded_libraries(argv);
+  cli_blas_one_thread();
   cli_install_signal_cleanup();
   if (argc < 2) return cli_usage_error(help, "no command given");
   const char *cmd = argv[1];

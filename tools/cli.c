@@ -3,6 +3,8 @@
 
 #include "cli.h"
 
+#include <strings.h>
+
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -90,11 +92,16 @@ int cli_check_writable_path(const char *help, const char *path, const char *what
   return rc;
 }
 
+int cli_has_ext(const char *path, const char *ext) {
+  const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+  return dot && (!slash || dot > slash) && strcasecmp(dot, ext) == 0;
+}
+
 int cli_check_outputs(const char *help, const char *in, const char *out, const char *report) {
   if (cli_same_file(in, out)) return cli_usage_error(help, "output '%s' is the input file; refusing to overwrite it", out);
   if (report && cli_same_file(report, in)) return cli_usage_error(help, "report '%s' is the input file", report);
   if (report && cli_same_file(report, out)) return cli_usage_error(help, "report '%s' is the output file", report);
-  if (!au_io_can_write(out)) {
+  if (!au_mesh_can_write(out)) {
     const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
     if (!dot || (slash && dot < slash))
       return cli_usage_error(help, "output '%s' has no extension (use .obj, .off or .ply)", out);
@@ -105,16 +112,181 @@ int cli_check_outputs(const char *help, const char *in, const char *out, const c
   return rc;
 }
 
+/* ---------------------------------------------------------------- the option table */
+
+typedef struct cli_option {
+  cli_opt_id id;
+  const char *name, *metavar;
+  int kind, cmds;
+  const char *help;
+} cli_option;
+
+static const cli_option options[] = {
+#define CLI_OPTION_ROW(id, name, metavar, kind, cmds, help) {id, name, metavar, kind, cmds, help},
+    CLI_OPTIONS(CLI_OPTION_ROW)
+#undef CLI_OPTION_ROW
+};
+#define NOPTIONS (int)(sizeof options / sizeof options[0])
+
+static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample"};
+
+const char *cli_cmd_name(int cmd) {
+  for (int k = 0; k < 6; k++)
+    if (cmd == 1 << k) return cmd_names[k];
+  return "?";
+}
+
+static au_target cmd_target(int cmd) {
+  return cmd == CLI_DISK ? AU_TARGET_DISK : cmd == CLI_ANNULUS ? AU_TARGET_ANNULUS : cmd == CLI_SQUARE ? AU_TARGET_SQUARE
+                                                                                                       : AU_TARGET_SPHERE;
+}
+
+/* An option's default and largest value as the help shows them ("%D", "%M"). */
+static void option_values(cli_opt_id id, int cmd, char *dflt, char *max, size_t n) {
+  int steps;
+  double tol;
+  au_target_defaults(cmd_target(cmd), &steps, &tol);
+  dflt[0] = max[0] = '\0';
+  if (id == OPT_STEPS) snprintf(dflt, n, "%d", steps), snprintf(max, n, "%d", AU_MAX_STEPS);
+  if (id == OPT_TOL) snprintf(dflt, n, "%g", tol);
+  if (id == OPT_ANGLES) snprintf(max, n, "%d", AU_MAX_ANGLE_STEPS);
+  if (id == OPT_RESTORE) snprintf(dflt, n, "%g", au_expert_default(AU_TARGET_SPHERE, 0).restore);
+}
+
+/* Print text from column col, wrapped at the words to lines of at most width columns. */
+static void print_wrapped(const char *text, int col, int width) {
+  int x = col;
+  const char *p = text;
+  while (*p) {
+    const char *e = p;
+    while (*e && *e != ' ') e++;
+    int w = (int)(e - p);
+    if (x > col && x + 1 + w > width) printf("\n%*s", col, ""), x = col;
+    else if (x > col) putchar(' '), x++;
+    printf("%.*s", w, p);
+    x += w;
+    p = *e ? e + 1 : e;
+  }
+  putchar('\n');
+}
+
+void cli_print_options(int cmd) {
+  printf("options of %s:\n", cli_cmd_name(cmd));
+  for (int k = 0; k < NOPTIONS; k++) {
+    const cli_option *o = &options[k];
+    if (!(o->cmds & cmd)) continue;
+    char head[64], dflt[32], max[32], text[1024];
+    snprintf(head, sizeof head, "  --%s%s%s", o->name, o->metavar ? " " : "", o->metavar ? o->metavar : "");
+    option_values(o->id, cmd, dflt, max, sizeof dflt);
+    size_t n = 0;
+    for (const char *s = o->help; *s && n < sizeof text - 40; s++) {
+      if (s[0] == '%' && (s[1] == 'D' || s[1] == 'M')) n += (size_t)snprintf(text + n, sizeof text - n, "%s", s[1] == 'D' ? dflt : max), s++;
+      else text[n++] = *s;
+    }
+    text[n] = '\0';
+    int col = 22;
+    printf("%-*s", col, head);
+    if ((int)strlen(head) >= col) printf("\n%*s", col, "");
+    print_wrapped(text, col, 104);
+  }
+}
+
+static const cli_option *find_option(const char *name, int cmd) {
+  for (int k = 0; k < NOPTIONS; k++)
+    if ((options[k].cmds & cmd) && strcmp(options[k].name, name) == 0) return &options[k];
+  return NULL;
+}
+
+int cli_parse(int argc, char **argv, int cmd, int maxpos, const char *usage_text, cli_args *a) {
+  static char helps[6][40];
+  memset(a, 0, sizeof *a);
+  a->cmd = cmd;
+  const char *name = cli_cmd_name(cmd);
+  for (int k = 0; k < 6; k++)
+    if (cmd == 1 << k) snprintf(helps[k], sizeof helps[k], "authalic %s --help", name), a->help = helps[k];
+  int dashdash = 0;
+  for (int i = 1; i < argc; i++) {
+    const char *s = argv[i];
+    if (dashdash || s[0] != '-' || s[1] == '\0') {
+      if (a->npos >= maxpos) return cli_usage_error(a->help, "unexpected extra argument '%s'", s);
+      a->pos[a->npos++] = s;
+      continue;
+    }
+    if (strcmp(s, "--") == 0) {
+      dashdash = 1;
+      continue;
+    }
+    const cli_option *o = strncmp(s, "--", 2) == 0 ? find_option(s + 2, cmd) : strcmp(s, "-h") == 0 ? find_option("help", cmd) : NULL;
+    if (!o) return cli_usage_error(a->help, "unknown option '%s'", s);
+    if (o->id == OPT_HELP) {
+      fputs(usage_text, stdout);
+      cli_print_options(cmd);
+      return EXIT_OK;
+    }
+    const char *v = "";
+    if (o->kind != CLI_FLAG) {
+      if (i + 1 >= argc) return cli_usage_error(a->help, "option '%s' needs a value", s);
+      v = argv[++i];
+      if ((o->kind == CLI_FILE || o->kind == CLI_REPEAT) && !*v)
+        return cli_usage_error(a->help, "option '%s' needs a file name", s);
+    }
+    if (o->kind == CLI_REPEAT) {
+      if (a->nrep >= CLI_MAX_REPEAT) return cli_usage_error(a->help, "at most %d %s files", CLI_MAX_REPEAT, s);
+      a->rep[a->nrep++] = v;
+    } else if (a->val[o->id]) {
+      return cli_usage_error(a->help, "option '%s' given twice", s);
+    }
+    a->val[o->id] = v;
+  }
+  return -1;
+}
+
+static const char *opt_name(cli_opt_id id) {
+  for (int k = 0; k < NOPTIONS; k++)
+    if (options[k].id == id) return options[k].name;
+  return "?";
+}
+
+int cli_opt_int(const cli_args *a, cli_opt_id id, long lo, long hi, int *out) {
+  const char *v = a->val[id];
+  if (!v || cli_parse_int(v, lo, hi, out) == 0) return 0;
+  return cli_usage_error(a->help, "--%s '%s': expected a whole number from %ld to %ld", opt_name(id), v, lo, hi);
+}
+
+int cli_opt_nonneg(const cli_args *a, cli_opt_id id, double *out) {
+  const char *v = a->val[id];
+  if (!v || cli_parse_nonneg(v, out) == 0) return 0;
+  return cli_usage_error(a->help, "--%s '%s': expected a finite number >= 0", opt_name(id), v);
+}
+
+int cli_opt_size(const cli_args *a, cli_opt_id id, int *W, int *H) {
+  const char *s = a->val[id];
+  if (!s) return 0;
+  const char *x = strchr(s, 'x');
+  char w[32];
+  size_t n = x ? (size_t)(x - s) : 0;
+  int ok = x && x != s && x[1] && !strchr(x + 1, 'x') && n < sizeof w;
+  if (ok) {
+    memcpy(w, s, n);
+    w[n] = '\0';
+    ok = cli_parse_int(w, 1, 16384, W) == 0 && cli_parse_int(x + 1, 1, 16384, H) == 0;
+  }
+  if (ok) return 0;
+  return cli_usage_error(a->help, "--%s '%s': expected WxH with W and H whole numbers from 1 to 16384", opt_name(id), s);
+}
+
+/* ---------------------------------------------------------------- progress and warnings */
+
 void cli_progress_init(cli_progress_state *p, int quiet) {
   p->t_start = p->t_last = cli_now();
   p->tty = isatty(STDERR_FILENO) && !quiet;
   p->drawn = 0;
 }
 
-void cli_progress(void *user, int step, int max_steps, double err) {
+int cli_progress(void *user, int step, int max_steps, double err) {
   cli_progress_state *p = user;
   double t = cli_now();
-  if (t - p->t_start <= 1.0 && !p->tty) return;
+  if (t - p->t_start <= 1.0 && !p->tty) return 0;
   if (p->tty) {
     fprintf(stderr, "\rauthalic: step %d/%d  err %.3e ", step, max_steps, err);
     p->drawn = 1;
@@ -123,6 +295,7 @@ void cli_progress(void *user, int step, int max_steps, double err) {
     p->t_last = t;
   }
   fflush(stderr);
+  return 0;
 }
 
 void cli_progress_end(cli_progress_state *p) {
@@ -144,34 +317,22 @@ void cli_warn(cli_warnings *w, const char *path, const char *fmt, ...) {
   }
 }
 
-int cli_load(const char *in, const au_mesh_expect *ex, au_mesh **m, au_topo **t, cli_warnings *w,
-             au_report_stage *stages, int *nst) {
+int cli_load(const char *in, au_target t, au_mesh **m, cli_warnings *w, double *t_read, double *t_check) {
   au_msg msg = {{0}};
   double t0 = cli_now();
-  au_status st = au_io_read(in, m, &msg);
+  au_status st = au_mesh_read(in, m, &msg);
   if (st != AU_OK) return cli_fail(in, st, &msg);
-  stages[(*nst)++] = (au_report_stage){"read", cli_now() - t0};
+  *t_read = cli_now() - t0;
+  if ((int)t < 0) return -1;
   t0 = cli_now();
-  st = au_mesh_validate(*m, ex, t, &msg);
+  st = au_mesh_check((*m)->X, (*m)->nv, (*m)->F, (*m)->nf, t, &msg);
   if (st < 0) {
     au_mesh_free(m);
     return cli_fail(in, st, &msg);
   }
-  if (st > 0) cli_warn(w, in, "%s", msg.text[0] ? msg.text : au_status_str(st));
-  stages[(*nst)++] = (au_report_stage){"validate", cli_now() - t0};
+  if (st > 0 && w) cli_warn(w, in, "%s", msg.text[0] ? msg.text : au_status_str(st));
+  *t_check = cli_now() - t0;
   return -1;
-}
-
-int cli_refuse_folds(const char *in, const au_metrics *fin, int not_converged) {
-  if (fin->folds <= 0) return -1;
-  au_msg msg = {{0}};
-  /* Folded here means a sign the output's reader would see: triangles the start squeezed below a
-   * double's resolution that the flow had no steps left to grow (a 4x subdivided cow: 286 at 60
-   * steps, none at 120). */
-  au_msg_set(&msg, AU_E_FOLD, "the map has %d folded triangle%s; nothing written%s", fin->folds,
-             fin->folds == 1 ? "" : "s",
-             not_converged ? " (the flow had not converged: more --steps may grow them back)" : "");
-  return cli_fail(in, AU_E_FOLD, &msg);
 }
 
 /* The temporary name OUT is first written under: a hidden sibling with the same extension (the
@@ -184,11 +345,25 @@ static char *temp_name(const char *out) {
   return t;
 }
 
-/* The finished output waiting under its temporary name, for the signal handler. */
+/* The temporaries a fatal signal removes: the library writers' (au_temp_path) of every output the
+ * program said it would write, and the finished output waiting under its temporary name. These
+ * belong to the program, which owns its process's signals. */
+#define CLI_MAX_OUTPUTS 16
+static char cleanup_name[CLI_MAX_OUTPUTS][4200];
+static volatile sig_atomic_t cleanup_used[CLI_MAX_OUTPUTS];
 static char *volatile publishing;
 
+void cli_expect_output(const char *path) {
+  for (int i = 0; path && i < CLI_MAX_OUTPUTS; i++)
+    if (!cleanup_used[i]) {
+      if (au_temp_path(path, cleanup_name[i], sizeof cleanup_name[i]) == AU_OK) cleanup_used[i] = 1;
+      return;
+    }
+}
+
 static void on_fatal_signal(int sig) {
-  au_io_remove_pending();
+  for (int i = 0; i < CLI_MAX_OUTPUTS; i++)
+    if (cleanup_used[i]) unlink(cleanup_name[i]);
   char *tmp = publishing;
   if (tmp) unlink(tmp);
   signal(sig, SIG_DFL);
@@ -209,25 +384,28 @@ void cli_install_signal_cleanup(void) {
   }
 }
 
-int cli_publish(const char *out, const au_mesh *m, const double *P, const au_io_write_opts *wopts,
-                const char *report, const au_report_info *info, au_report_stage *write_stage) {
+int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, const au_write_opts *wopts,
+                const char *report, const au_result *r, au_report_extra *extra) {
   au_msg msg = {{0}};
   double t0 = cli_now();
   int rc = EXIT_INTERNAL;
-  char *tmp = temp_name(out);
+  char *tmp = temp_name(out), *json = NULL;
   if (!tmp) return cli_fail(out, AU_E_NOMEM, NULL);
+  cli_expect_output(tmp);
+  cli_expect_output(report);
   publishing = tmp;
-  au_status st = au_io_write(tmp, m, P, wopts, &msg);
+  au_status st = au_mesh_write(tmp, nv, P, nf, F, wopts, &msg);
   if (st != AU_OK) {
     rc = cli_fail(out, st, &msg);
     goto done;
   }
-  /* A result that replaces an earlier one keeps its permissions, as au_io_write's own would. */
+  /* A result that replaces an earlier one keeps its permissions, as the library's own writes do. */
   struct stat old;
   if (stat(out, &old) == 0 && S_ISREG(old.st_mode)) chmod(tmp, old.st_mode & 07777);
-  if (write_stage) write_stage->seconds = cli_now() - t0;
-  if (report && info) {
-    st = au_report_write(report, info, &msg);
+  if (extra) extra->t_write = cli_now() - t0;
+  if (report && r) {
+    st = au_result_json(r, extra, &json, &msg);
+    if (st == AU_OK) st = au_write_text(report, json, strlen(json), &msg);
     if (st != AU_OK) {
       rc = cli_fail(report, st, &msg);
       goto done;
@@ -243,5 +421,6 @@ done:
   if (rc != EXIT_OK) unlink(tmp); /* the temporary may not exist; then there is nothing to remove */
   publishing = NULL;
   free(tmp);
+  au_free(json);
   return rc;
 }

@@ -1,17 +1,15 @@
-/* cli.h - what the commands of the `authalic` program share: messages and exit codes, argument
- * checks, progress on stderr, reading + validating the input, and publishing the results (output
- * written to a temporary sibling, the report, then an atomic rename). Numerics live in the library;
- * a command file only parses its arguments, calls the library and reports. */
+/* cli.h - what the commands of the `authalic` program share: the option table's parser and help,
+ * messages and exit codes, argument checks, progress on stderr, reading and checking the input, and
+ * publishing the results (output written to a temporary sibling, the report, then an atomic rename).
+ * The program uses the library only through its public header; a command file parses, calls the
+ * library and writes. */
 #ifndef AU_CLI_H
 #define AU_CLI_H
 
 #include <stdarg.h>
 
-#include "au_io.h"
-#include "au_mesh.h"
-#include "au_metrics.h"
-#include "au_report.h"
-#include "au_status.h"
+#include "authalic.h"
+#include "cli_options.h"
 
 #ifndef AU_VERSION
 #define AU_VERSION "unknown"
@@ -21,18 +19,40 @@
 enum { EXIT_OK = 0, EXIT_INTERNAL = 1, EXIT_USAGE = 2 };
 
 /* The commands: each gets argv starting at its own name and returns an exit code. */
-int cli_cmd_sphere(int argc, char **argv);
-int cli_cmd_disk(int argc, char **argv);    /* disk, annulus and square: argv[0] says which */
+int cli_cmd_map(int argc, char **argv);     /* sphere, disk, annulus and square: argv[0] says which */
 int cli_cmd_texture(int argc, char **argv); /* texture */
 int cli_cmd_sample(int argc, char **argv);  /* sample */
 
-/* The sphere command's option list (also printed by `authalic --help`). */
-void cli_print_sphere_options(void);
-
 double cli_now(void);
 
+/* ---- the option table (cli_options.h) */
+
+/* Parse argv (argv[0] the command's name) for command cmd (a CLI_* bit): positional arguments (at most
+ * maxpos) and the options of the table that cmd takes; "--" ends the options. Rejects unknown
+ * options, missing values, empty file names and repeats with a usage error. --help prints the
+ * command's help (usage_text, then the options) and returns EXIT_OK. Returns -1 to go on, else the
+ * exit code. */
+int cli_parse(int argc, char **argv, int cmd, int maxpos, const char *usage_text, cli_args *a);
+/* Print the options of command cmd from the table, with their defaults. */
+void cli_print_options(int cmd);
+/* The command's name ("sphere") from its bit. */
+const char *cli_cmd_name(int cmd);
+
+/* Typed values of parsed options: 0 if absent or converted, else a usage error printed and EXIT_USAGE.
+ * The messages say "--NAME 'VALUE': expected ...". */
+int cli_opt_int(const cli_args *a, cli_opt_id id, long lo, long hi, int *out);
+int cli_opt_nonneg(const cli_args *a, cli_opt_id id, double *out);
+/* "WxH" with W and H in [1, 16384]. */
+int cli_opt_size(const cli_args *a, cli_opt_id id, int *W, int *H);
+
+/* ---- messages */
+
 /* A usage error: "authalic: error: <message> (see `<help>`)" on stderr; returns EXIT_USAGE. */
-int cli_usage_error(const char *help, const char *fmt, ...);
+int cli_usage_error(const char *help, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 int cli_vusage_error(const char *help, const char *fmt, va_list ap);
 
 /* One line "authalic: KIND: PATH: message" (the path not repeated when the message starts with it). */
@@ -46,24 +66,27 @@ int cli_parse_int(const char *s, long lo, long hi, int *out);
 int cli_parse_nonneg(const char *s, double *out);
 /* 1 if a and b name the same file: the same string, or the same inode when both exist. */
 int cli_same_file(const char *a, const char *b);
+/* 1 if path's extension is ext (".png"), any case. */
+int cli_has_ext(const char *path, const char *ext);
 /* The usual checks of an output mesh path against the input and report paths (same file, known
- * extension, existing directory). report may be NULL. Returns 0 or a usage error (help names the
- * command's help). */
+ * extension, existing directory). report may be NULL. Returns 0 or a usage error. */
 int cli_check_outputs(const char *help, const char *in, const char *out, const char *report);
 /* Check that path can be created: its directory exists and it is not a directory. 0 or usage error. */
 int cli_check_writable_path(const char *help, const char *path, const char *what);
 
-/* Progress: a redrawn line on a terminal; elsewhere a line at most every second once the run has
- * lasted a second. Use cli_progress as an au_advect_opts.progress callback with &p as user. */
+/* ---- progress */
+
+/* A redrawn line on a terminal; elsewhere a line at most every second once the run has lasted a
+ * second. Use cli_progress as an au_options.progress callback with &p as user. */
 typedef struct cli_progress_state {
   double t_start, t_last;
   int tty, drawn;
 } cli_progress_state;
 void cli_progress_init(cli_progress_state *p, int quiet);
-void cli_progress(void *user, int step, int max_steps, double err);
+int cli_progress(void *user, int step, int max_steps, double err);
 void cli_progress_end(cli_progress_state *p);
 
-/* Warnings collected for the report (they are also printed when added). */
+/* Warnings of the program's own, for the report (they are also printed when added). */
 #define CLI_MAX_WARNINGS 8
 typedef struct cli_warnings {
   const char *list[CLI_MAX_WARNINGS];
@@ -71,30 +94,33 @@ typedef struct cli_warnings {
   int n;
 } cli_warnings;
 /* Print "authalic: warning: PATH: text" and keep the text for the report. */
-void cli_warn(cli_warnings *w, const char *path, const char *fmt, ...);
+void cli_warn(cli_warnings *w, const char *path, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
 
-/* Read IN and validate it against ex. On success *m and *t are set (free with au_mesh_free /
- * au_topo_free), validation warnings are added to w, and the stages "read" and "validate" are
- * appended to stages[*nst] (room for 2 needed); returns -1. Otherwise prints the error and returns
+/* ---- input and output */
+
+/* Read IN and check it for target t (t < 0: read only, as before au_map, which checks itself). On success *m is set (free with au_mesh_free), a check warning
+ * (unreferenced vertices) goes to w, the seconds go to t_read and t_check, and -1 is returned;
+ * otherwise the error is printed and the exit code returned. */
+int cli_load(const char *in, au_target t, au_mesh **m, cli_warnings *w, double *t_read, double *t_check);
+
+/* Write the map (nv positions P, nf faces F, optional texture coordinates in wopts) and the report
+ * (r's JSON with extra; report may be NULL) so that a failure leaves neither a new OUT nor a clobbered
+ * old one: OUT goes to a temporary sibling, the report next, and OUT is renamed into place last.
+ * The seconds spent writing OUT go to extra->t_write. Returns EXIT_OK or prints the error and returns
  * the exit code. */
-int cli_load(const char *in, const au_mesh_expect *ex, au_mesh **m, au_topo **t, cli_warnings *w,
-             au_report_stage *stages, int *nst);
+int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, const au_write_opts *wopts,
+                const char *report, const au_result *r, au_report_extra *extra);
 
-/* Write the map (positions P, optional texture coordinates in opts) and the report so that a
- * failure leaves neither a new OUT nor a clobbered old one: OUT goes to a temporary sibling, the
- * report (info may be NULL) next, and OUT is renamed into place last. The seconds spent writing OUT
- * go to write_stage->seconds before the report is rendered, so info's stage list may include it
- * (write_stage may be NULL). Returns EXIT_OK or prints the error and returns the exit code. */
-int cli_publish(const char *out, const au_mesh *m, const double *P, const au_io_write_opts *wopts,
-                const char *report, const au_report_info *info, au_report_stage *write_stage);
+/* Remember that path is about to be written, so that a fatal signal removes its temporary
+ * (au_temp_path) and a run interrupted at any point leaves no file behind. At most 16 paths. */
+void cli_expect_output(const char *path);
 
-/* Install SIGINT/SIGTERM/SIGHUP handlers that remove the temporaries of the output being written
- * (cli_publish's and au_io's), then die of the signal as before: an interrupted run leaves no file. */
+/* Install SIGINT/SIGTERM/SIGHUP handlers that remove the temporaries of the outputs being written,
+ * then die of the signal as before. */
 void cli_install_signal_cleanup(void);
-
-/* The fold check every command makes before writing: prints the error and returns the exit code
- * when the metrics report folds, else -1. not_converged: the flow missed its tolerance (the message
- * then suggests more steps). */
-int cli_refuse_folds(const char *in, const au_metrics *fin, int not_converged);
 
 #endif

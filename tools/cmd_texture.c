@@ -11,67 +11,31 @@
 #include <strings.h>
 #include <unistd.h>
 
-#include "au_sphere.h"
-#include "au_texture.h"
 #include "cli.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
 
-#define HELP_TEX "authalic texture --help"
-#define HELP_SAMPLE "authalic sample --help"
-#define MAX_ATTR 16
+#define MAX_ATTR CLI_MAX_REPEAT
 
-static void print_texture_help(void) {
-  printf("usage: authalic texture IN [--map SPHERE_MAP] OUT.obj [options]\n\n"
-         "Writes the closed genus-0 mesh IN as OUT.obj with texture coordinates (`vt`) in an equal-area\n"
-         "projection of its sphere map, so every texel of a texture stands for the same surface area.\n"
-         "The sphere map is read from SPHERE_MAP (the output of `authalic sphere IN SPHERE_MAP`) or\n"
-         "computed on the fly. Faces across the projection's seam get their own copies of `vt`; with\n"
-         "cea, the faces holding a pole are split there (the pole vertices are appended after IN's).\n\n"
-         "options of texture:\n"
-         "  --map SPHERE_MAP    the sphere map of IN (same vertices and faces, positions on the sphere)\n"
-         "  --projection P      cea: Lambert cylindrical equal-area, u = (lon + pi)/(2 pi),\n"
-         "                      v = (sin lat + 1)/2; sample with u wrapped (repeat) (default)\n"
-         "                      laea: Lambert azimuthal equal-area, northern hemisphere in the left half,\n"
-         "                      southern in the right half (no wrapping needed)\n"
-         "  --lonlat FILE       write longitude and latitude in degrees of every vertex of OUT.obj\n"
-         "  --bake ATTR         bake a per-vertex attribute into --image: `normal` (unit normals as\n"
-         "                      colours (n + 1)/2), `position` (the bounding box as RGB), or a text file\n"
-         "                      with one number per vertex of IN, drawn with the viridis colour map\n"
-         "  --image OUT.png     the baked texture; OUT.mtl is written beside OUT.obj and names it\n"
-         "  --size WxH          texture size in texels (default 1024x512; laea needs an even W)\n"
-         "  --preview P.png     the sphere map from +z and -z coloured by Upsilon = ln(surface/sphere\n"
-         "                      area) from -0.5 (blue) to +0.5 (red), with the Upsilon (dark red) and\n"
-         "                      Lambda (blue) histograms\n"
-         "  --render R.png      IN drawn with the baked texture through OUT.obj's coordinates, from the\n"
-         "                      side of the seam and from the opposite side (needs --bake)\n"
-         "  --mark-seam         tint the faces across the cea seam red in --render\n"
-         "  --quiet             no progress and no summary on stderr (errors and warnings remain)\n"
-         "  --help              this text\n");
-}
+static const char *const usage_texture =
+    "usage: authalic texture IN [--map SPHERE_MAP] OUT.obj [options]\n\n"
+    "Writes the closed genus-0 mesh IN as OUT.obj with texture coordinates (`vt`) in an equal-area\n"
+    "projection of its sphere map, so every texel of a texture stands for the same surface area.\n"
+    "The sphere map is read from SPHERE_MAP (the output of `authalic sphere IN SPHERE_MAP`) or\n"
+    "computed on the fly. Faces across the projection's seam get their own copies of `vt`; with\n"
+    "cea, the faces holding a pole are split there (the pole vertices are appended after IN's).\n\n";
 
-static void print_sample_help(void) {
-  printf("usage: authalic sample IN --grid WxH OUT [--map SPHERE_MAP] [options]\n\n"
-         "Samples the closed genus-0 mesh IN on an equal-area grid of its sphere map: cell (row r,\n"
-         "column c) spans longitudes -180 + 360 [c, c+1]/W degrees and sin(latitude) in\n"
-         "1 - 2 [r, r+1]/H (row 0 at the north pole), so every cell covers 4 pi/(W H) of the sphere and,\n"
-         "through an authalic map, the same share of the surface. The cell centre's preimage on IN gives\n"
-         "the cell's values: x, y, z, then the attributes asked for.\n"
-         "OUT.npy: NumPy float64 array of shape (H, W, 3 + attributes): numpy.load(OUT).\n"
-         "OUT.csv: one line per cell: row,col,lon,lat,x,y,z,attributes (after a header line).\n\n"
-         "options of sample:\n"
-         "  --grid WxH          grid size, W and H from 1 to 16384 (required)\n"
-         "  --map SPHERE_MAP    the sphere map of IN (computed on the fly when absent)\n"
-         "  --normals           add the surface normal (3 columns)\n"
-         "  --attr FILE         add a per-vertex scalar (a text file, one number per vertex); repeatable\n"
-         "  --report R.json     the surface area of every cell's preimage (mean, std/mean, min, max) and\n"
-         "                      the map's distortion\n"
-         "  --preview P.png     the preview picture of the sphere map (see `authalic texture --help`)\n"
-         "  --quiet             no progress and no summary on stderr\n"
-         "  --help              this text\n");
-}
+static const char *const usage_sample =
+    "usage: authalic sample IN --grid WxH OUT [--map SPHERE_MAP] [options]\n\n"
+    "Samples the closed genus-0 mesh IN on an equal-area grid of its sphere map: cell (row r,\n"
+    "column c) spans longitudes -180 + 360 [c, c+1]/W degrees and sin(latitude) in\n"
+    "1 - 2 [r, r+1]/H (row 0 at the north pole), so every cell covers 4 pi/(W H) of the sphere and,\n"
+    "through an authalic map, the same share of the surface. The cell centre's preimage on IN gives\n"
+    "the cell's values: x, y, z, then the attributes asked for.\n"
+    "OUT.npy: NumPy float64 array of shape (H, W, 3 + attributes): numpy.load(OUT).\n"
+    "OUT.csv: one line per cell: row,col,lon,lat,x,y,z,attributes (after a header line).\n\n";
 
 /* Everything either command was asked to do. */
 typedef struct tex_args {
@@ -81,23 +45,6 @@ typedef struct tex_args {
   au_tex_proj proj;
   int has_proj, W, H, has_size, normals, quiet, sample, mark_seam;
 } tex_args;
-
-/* "WxH" with both in [1, 16384]. */
-static int parse_size(const char *s, int *W, int *H) {
-  const char *x = strchr(s, 'x');
-  if (!x || x == s || !x[1] || strchr(x + 1, 'x')) return -1;
-  char a[32];
-  size_t n = (size_t)(x - s);
-  if (n >= sizeof a) return -1;
-  memcpy(a, s, n);
-  a[n] = '\0';
-  return cli_parse_int(a, 1, 16384, W) || cli_parse_int(x + 1, 1, 16384, H) ? -1 : 0;
-}
-
-static int has_ext(const char *path, const char *ext) {
-  const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
-  return dot && (!slash || dot > slash) && strcasecmp(dot, ext) == 0;
-}
 
 /* The .mtl path beside an .obj path (malloc'ed). */
 static char *mtl_path(const char *obj) {
@@ -110,80 +57,34 @@ static char *mtl_path(const char *obj) {
 }
 
 static int parse_args(int argc, char **argv, tex_args *a) {
-  const char *help = a->sample ? HELP_SAMPLE : HELP_TEX;
-  int npos = 0, dashdash = 0;
-  const char *pos[2] = {NULL, NULL};
-  for (int i = 1; i < argc; i++) {
-    const char *s = argv[i];
-    if (dashdash || s[0] != '-' || s[1] == '\0') {
-      if (npos >= 2) return cli_usage_error(help, "unexpected extra argument '%s'", s);
-      pos[npos++] = s;
-      continue;
-    }
-    if (strcmp(s, "--") == 0) {
-      dashdash = 1;
-    } else if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
-      if (a->sample) print_sample_help();
-      else print_texture_help();
-      return EXIT_OK;
-    } else if (strcmp(s, "--quiet") == 0) {
-      if (a->quiet++) return cli_usage_error(help, "option '%s' given twice", s);
-    } else if (a->sample && strcmp(s, "--normals") == 0) {
-      if (a->normals++) return cli_usage_error(help, "option '%s' given twice", s);
-    } else if (!a->sample && strcmp(s, "--mark-seam") == 0) {
-      if (a->mark_seam++) return cli_usage_error(help, "option '%s' given twice", s);
-    } else {
-      /* Options with a value. */
-      const char **slot = NULL;
-      int is_known = 1;
-      if (strcmp(s, "--map") == 0) slot = &a->map;
-      else if (strcmp(s, "--preview") == 0) slot = &a->preview;
-      else if (!a->sample && strcmp(s, "--lonlat") == 0) slot = &a->lonlat;
-      else if (!a->sample && strcmp(s, "--bake") == 0) slot = &a->bake;
-      else if (!a->sample && strcmp(s, "--image") == 0) slot = &a->image;
-      else if (!a->sample && strcmp(s, "--render") == 0) slot = &a->render;
-      else if (a->sample && strcmp(s, "--report") == 0) slot = &a->report;
-      else if (!a->sample && strcmp(s, "--projection") == 0) ;
-      else if (!a->sample && strcmp(s, "--size") == 0) ;
-      else if (a->sample && strcmp(s, "--grid") == 0) ;
-      else if (a->sample && strcmp(s, "--attr") == 0) ;
-      else is_known = 0;
-      if (!is_known) return cli_usage_error(help, "unknown option '%s'", s);
-      if (i + 1 >= argc) return cli_usage_error(help, "option '%s' needs a value", s);
-      const char *v = argv[++i];
-      if (slot) {
-        if (*slot) return cli_usage_error(help, "option '%s' given twice", s);
-        if (!*v) return cli_usage_error(help, "option '%s' needs a file name", s);
-        *slot = v;
-      } else if (strcmp(s, "--projection") == 0) {
-        if (a->has_proj++) return cli_usage_error(help, "option '%s' given twice", s);
-        if (strcmp(v, "cea") == 0) a->proj = AU_TEX_CEA;
-        else if (strcmp(v, "laea") == 0) a->proj = AU_TEX_LAEA;
-        else return cli_usage_error(help, "--projection '%s': expected cea or laea", v);
-      } else if (strcmp(s, "--size") == 0 || strcmp(s, "--grid") == 0) {
-        if (a->has_size++) return cli_usage_error(help, "option '%s' given twice", s);
-        if (parse_size(v, &a->W, &a->H))
-          return cli_usage_error(help, "%s '%s': expected WxH with W and H whole numbers from 1 to 16384", s, v);
-      } else {
-        if (a->nattr >= MAX_ATTR) return cli_usage_error(help, "at most %d --attr files", MAX_ATTR);
-        if (!*v) return cli_usage_error(help, "option '--attr' needs a file name");
-        a->attr[a->nattr++] = v;
-      }
-    }
-  }
-  if (npos < 2) return cli_usage_error(help, npos == 0 ? "missing input and output files" : "missing output file");
-  a->in = pos[0], a->out = pos[1];
+  cli_args c;
+  int rc = cli_parse(argc, argv, a->sample ? CLI_SAMPLE : CLI_TEXTURE, 2, a->sample ? usage_sample : usage_texture, &c);
+  if (rc >= 0) return rc;
+  const char *help = c.help;
+  if (c.npos < 2) return cli_usage_error(help, c.npos == 0 ? "missing input and output files" : "missing output file");
+  a->in = c.pos[0], a->out = c.pos[1];
   if (!*a->in || !*a->out) return cli_usage_error(help, "empty file name");
+  a->map = c.val[OPT_MAP], a->lonlat = c.val[OPT_LONLAT], a->bake = c.val[OPT_BAKE], a->image = c.val[OPT_IMAGE];
+  a->preview = c.val[OPT_PREVIEW], a->render = c.val[OPT_RENDER], a->report = c.val[OPT_REPORT];
+  a->normals = c.val[OPT_NORMALS] != NULL, a->mark_seam = c.val[OPT_MARK_SEAM] != NULL, a->quiet = c.val[OPT_QUIET] != NULL;
+  for (int k = 0; k < c.nrep; k++) a->attr[a->nattr++] = c.rep[k];
+  const char *v = c.val[OPT_PROJECTION];
+  if (v && strcmp(v, "cea") == 0) a->proj = AU_TEX_CEA;
+  else if (v && strcmp(v, "laea") == 0) a->proj = AU_TEX_LAEA;
+  else if (v) return cli_usage_error(help, "--projection '%s': expected cea or laea", v);
+  cli_opt_id size = a->sample ? OPT_GRID : OPT_SIZE;
+  a->has_size = c.val[size] != NULL;
+  if (cli_opt_size(&c, size, &a->W, &a->H)) return EXIT_USAGE;
 
   /* Combinations and output names. */
   if (a->sample) {
     if (!a->has_size) return cli_usage_error(help, "missing --grid WxH");
     if ((long)a->W * a->H > 16L * 1024 * 1024) return cli_usage_error(help, "--grid %dx%d: more than 16M cells", a->W, a->H);
-    if (!has_ext(a->out, ".npy") && !has_ext(a->out, ".csv"))
+    if (!cli_has_ext(a->out, ".npy") && !cli_has_ext(a->out, ".csv"))
       return cli_usage_error(help, "output '%s': use .npy or .csv", a->out);
-    if (a->report && !has_ext(a->report, ".json")) return cli_usage_error(help, "report '%s': use .json", a->report);
+    if (a->report && !cli_has_ext(a->report, ".json")) return cli_usage_error(help, "report '%s': use .json", a->report);
   } else {
-    if (!has_ext(a->out, ".obj")) return cli_usage_error(help, "output '%s': texture coordinates are written as .obj", a->out);
+    if (!cli_has_ext(a->out, ".obj")) return cli_usage_error(help, "output '%s': texture coordinates are written as .obj", a->out);
     if (a->bake && !a->image) return cli_usage_error(help, "--bake needs --image OUT.png");
     if (a->image && !a->bake) return cli_usage_error(help, "--image needs --bake ATTR");
     if (a->render && !a->bake) return cli_usage_error(help, "--render needs --bake ATTR and --image");
@@ -192,10 +93,10 @@ static int parse_args(int argc, char **argv, tex_args *a) {
     if (!a->has_size) a->W = 1024, a->H = 512;
     if (a->proj == AU_TEX_LAEA && a->W % 2) return cli_usage_error(help, "--size %dx%d: laea needs an even width", a->W, a->H);
     if ((long)a->W * a->H > 64L * 1024 * 1024) return cli_usage_error(help, "--size %dx%d: more than 64M texels", a->W, a->H);
-    if (a->image && !has_ext(a->image, ".png")) return cli_usage_error(help, "image '%s': use .png", a->image);
-    if (a->render && !has_ext(a->render, ".png")) return cli_usage_error(help, "render '%s': use .png", a->render);
+    if (a->image && !cli_has_ext(a->image, ".png")) return cli_usage_error(help, "image '%s': use .png", a->image);
+    if (a->render && !cli_has_ext(a->render, ".png")) return cli_usage_error(help, "render '%s': use .png", a->render);
   }
-  if (a->preview && !has_ext(a->preview, ".png")) return cli_usage_error(help, "preview '%s': use .png", a->preview);
+  if (a->preview && !cli_has_ext(a->preview, ".png")) return cli_usage_error(help, "preview '%s': use .png", a->preview);
 
   /* Every output distinct from the inputs and from each other, in an existing directory. */
   char *mtl = (!a->sample && a->bake) ? mtl_path(a->out) : NULL;
@@ -205,8 +106,9 @@ static int parse_args(int argc, char **argv, tex_args *a) {
   int nin = 2;
   for (int k = 0; k < a->nattr; k++) ins[nin++] = a->attr[k];
   if (!a->sample && a->bake && strcmp(a->bake, "normal") && strcmp(a->bake, "position")) ins[nin++] = a->bake;
-  int rc = -1;
+  rc = -1;
   for (int k = 0; k < 7 && rc < 0; k++) {
+    cli_expect_output(outs[k]);
     if (!outs[k]) continue;
     for (int j = 0; j < nin && rc < 0; j++)
       if (ins[j] && cli_same_file(outs[k], ins[j]))
@@ -222,13 +124,12 @@ static int parse_args(int argc, char **argv, tex_args *a) {
 
 /* The sphere map of m: read from a->map (checked against m) or computed. P: out, nv x 3.
  * Returns -1 on success, else the exit code (the error printed). */
-static int get_map(const tex_args *a, const au_mesh *m, const au_topo *topo, double *P, cli_warnings *warn,
-                   au_metrics *met) {
+static int get_map(const tex_args *a, const au_mesh *m, double *P, cli_warnings *warn, au_metrics *met) {
   au_msg msg = {{0}};
   au_status st;
   if (a->map) {
     au_mesh *s = NULL;
-    st = au_io_read(a->map, &s, &msg);
+    st = au_mesh_read(a->map, &s, &msg);
     if (st != AU_OK) return cli_fail(a->map, st, &msg);
     int bad = s->nv != m->nv || s->nf != m->nf;
     for (long i = 0; !bad && i < 3L * m->nf; i++) bad = s->F[i] != m->F[i];
@@ -238,37 +139,50 @@ static int get_map(const tex_args *a, const au_mesh *m, const au_topo *topo, dou
       au_mesh_free(&s);
       return cli_fail(a->map, AU_E_FORMAT, &msg);
     }
-    for (int i = 0; i < m->nv; i++) {
+    /* Vertices no face uses may lie anywhere. */
+    unsigned char *used = calloc((size_t)m->nv, 1);
+    if (!used) {
+      au_mesh_free(&s);
+      return cli_fail(a->map, AU_E_NOMEM, NULL);
+    }
+    for (long i = 0; i < 3L * m->nf; i++) used[m->F[i]] = 1;
+    int rc = -1;
+    for (int i = 0; i < m->nv && rc < 0; i++) {
       const double *q = s->X + 3 * (size_t)i;
       double r = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-      if (topo->vused[i] && !(fabs(r - 1) <= 1e-6)) {
+      if (used[i] && !(fabs(r - 1) <= 1e-6)) {
         au_msg_set(&msg, AU_E_FORMAT, "vertex %d is not on the unit sphere (|p| = %.9g)", i, r);
-        au_mesh_free(&s);
-        return cli_fail(a->map, AU_E_FORMAT, &msg);
+        rc = cli_fail(a->map, AU_E_FORMAT, &msg);
       }
       for (int j = 0; j < 3; j++) P[3 * i + j] = r > 0 ? q[j] / r : (j == 2);
     }
+    free(used);
     au_mesh_free(&s);
+    if (rc >= 0) return rc;
   } else {
     cli_progress_state prog;
     cli_progress_init(&prog, a->quiet);
-    au_sphere_opts opts = au_sphere_opts_default();
-    if (!a->quiet) opts.flow.progress = cli_progress, opts.flow.user = &prog;
-    au_sphere_report rep;
-    memset(&rep, 0, sizeof rep);
-    st = au_sphere_map(m, topo, &opts, P, NULL, &rep, &msg);
+    au_options opts = au_options_default();
+    if (!a->quiet) opts.progress = cli_progress, opts.user = &prog;
+    au_result *r = NULL;
+    st = au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &opts, &r, &msg);
     cli_progress_end(&prog);
     if (st < 0) return cli_fail(a->in, st, &msg);
-    if (st == AU_W_NOT_CONVERGED)
-      cli_warn(warn, a->in, "sphere map: tolerance %g not reached in %d steps", opts.flow.tol, rep.flow.steps);
+    memcpy(P, r->P, 3 * (size_t)m->nv * sizeof *P);
+    if (st == AU_W_NOT_CONVERGED) {
+      int steps;
+      double tol;
+      au_target_defaults(AU_TARGET_SPHERE, &steps, &tol);
+      cli_warn(warn, a->in, "sphere map: tolerance %g not reached in %d steps", tol, r->conv.steps);
+    }
+    au_result_free(&r);
   }
   st = au_metrics_compute(m->nv, m->nf, m->X, P, m->F, AU_DOMAIN_SPHERE, met, NULL, NULL);
   if (st != AU_OK) return cli_fail(a->in, st, NULL);
   if (met->folds > 0) {
-    if (!a->map) return cli_refuse_folds(a->in, met, 0);
     au_msg_set(&msg, AU_E_FORMAT, "the sphere map has %d folded triangle%s; nothing written", met->folds,
                met->folds == 1 ? "" : "s");
-    return cli_fail(a->map, AU_E_FORMAT, &msg);
+    return cli_fail(a->map ? a->map : a->in, a->map ? AU_E_FORMAT : AU_E_FOLD, &msg);
   }
   return -1;
 }
@@ -367,12 +281,11 @@ static char *image_ref(const char *out, const char *image) {
 
 static int run_texture(const tex_args *a) {
   double t_start = cli_now();
-  au_report_stage stages[4];
-  int nst = 0, rc;
+  double t_read = 0, t_check = 0;
+  int rc;
   cli_warnings warn;
   warn.n = 0;
   au_mesh *m = NULL;
-  au_topo *topo = NULL;
   au_tex_mesh *t = NULL;
   au_locator *loc = NULL;
   double *P = NULL;
@@ -384,16 +297,14 @@ static int run_texture(const tex_args *a) {
   written w = {{0}, 0};
   double range[2] = {0, 0};
 
-  au_mesh_expect ex = au_mesh_expect_default();
-  ex.loops = 0, ex.genus = 0, ex.command = "texture";
-  rc = cli_load(a->in, &ex, &m, &topo, &warn, stages, &nst);
+  rc = cli_load(a->in, AU_TARGET_SPHERE, &m, &warn, &t_read, &t_check);
   if (rc >= 0) goto done;
   P = malloc(3 * (size_t)m->nv * sizeof *P);
   if (!P) {
     rc = cli_fail(a->in, AU_E_NOMEM, NULL);
     goto done;
   }
-  rc = get_map(a, m, topo, P, &warn, &met);
+  rc = get_map(a, m, P, &warn, &met);
   if (rc >= 0) goto done;
   st = au_tex_coords(m, P, a->proj, &t, &msg);
   if (st != AU_OK) {
@@ -425,7 +336,7 @@ static int run_texture(const tex_args *a) {
     }
     int k = snprintf(mtlbuf, len, "# authalic texture: material of the baked attribute '%s'\nnewmtl authalic\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd %s\n",
                      a->bake, ref);
-    rc = write_done(&w, mtl, au_io_write_text(mtl, mtlbuf, (size_t)k, &msg), &msg);
+    rc = write_done(&w, mtl, au_write_text(mtl, mtlbuf, (size_t)k, &msg), &msg);
     if (rc >= 0) goto done;
   }
   const char *mtl_base = NULL;
@@ -442,7 +353,7 @@ static int run_texture(const tex_args *a) {
     len += (size_t)snprintf(ll, cap, "# longitude latitude (degrees) of each vertex of %s\n", a->out);
     for (int i = 0; i < t->nv && len < cap; i++)
       len += (size_t)snprintf(ll + len, cap - len, "%.12g %.12g\n", t->lonlat[2 * i], t->lonlat[2 * i + 1]);
-    rc = write_done(&w, a->lonlat, au_io_write_text(a->lonlat, ll, len, &msg), &msg);
+    rc = write_done(&w, a->lonlat, au_write_text(a->lonlat, ll, len, &msg), &msg);
     if (rc >= 0) goto done;
   }
   if (a->preview) {
@@ -467,7 +378,6 @@ static int run_texture(const tex_args *a) {
 done:
   au_tex_mesh_free(&t);
   au_locator_free(&loc);
-  au_topo_free(&topo);
   au_mesh_free(&m);
   free(P), free(rgb), free(mtl), free(mtlbuf), free(ref), free(ll);
   return rc;
@@ -481,12 +391,11 @@ static void json_num(char *s, size_t n, double v) {
 
 static int run_sample(const tex_args *a) {
   double t_start = cli_now();
-  au_report_stage stages[4];
-  int nst = 0, rc;
+  double t_read = 0, t_check = 0;
+  int rc;
   cli_warnings warn;
   warn.n = 0;
   au_mesh *m = NULL;
-  au_topo *topo = NULL;
   au_locator *loc = NULL;
   double *P = NULL, *bary = NULL, *out = NULL, *A = NULL, *tmp = NULL, *area = NULL;
   int *face = NULL;
@@ -496,9 +405,7 @@ static int run_sample(const tex_args *a) {
   au_metrics met;
   written w = {{0}, 0};
 
-  au_mesh_expect ex = au_mesh_expect_default();
-  ex.loops = 0, ex.genus = 0, ex.command = "sample";
-  rc = cli_load(a->in, &ex, &m, &topo, &warn, stages, &nst);
+  rc = cli_load(a->in, AU_TARGET_SPHERE, &m, &warn, &t_read, &t_check);
   if (rc >= 0) goto done;
   size_t n = (size_t)a->W * a->H;
   int K = 3 + (a->normals ? 3 : 0) + a->nattr;
@@ -529,7 +436,7 @@ static int run_sample(const tex_args *a) {
       }
     }
   }
-  rc = get_map(a, m, topo, P, &warn, &met);
+  rc = get_map(a, m, P, &warn, &met);
   if (rc < 0) {
     st = au_locator_build(m->nv, P, m->nf, m->F, &loc, &msg);
     au_tex_layout lay = au_tex_layout_default(AU_TEX_CEA);
@@ -575,7 +482,7 @@ static int run_sample(const tex_args *a) {
   }
 
   /* Writing: the samples, then the extras. */
-  if (has_ext(a->out, ".npy")) {
+  if (cli_has_ext(a->out, ".npy")) {
     long shape[3] = {a->H, a->W, K};
     rc = write_done(&w, a->out, au_npy_write(a->out, 3, shape, out, &msg), &msg);
   } else {
@@ -597,7 +504,7 @@ static int run_sample(const tex_args *a) {
         for (int k = 0; k < K; k++) len += (size_t)snprintf(text + len, cap - len, ",%.17g", v[k]);
         len += (size_t)snprintf(text + len, cap - len, "\n");
       }
-    rc = write_done(&w, a->out, len < cap ? au_io_write_text(a->out, text, len, &msg) : AU_E_INTERNAL, &msg);
+    rc = write_done(&w, a->out, len < cap ? au_write_text(a->out, text, len, &msg) : AU_E_INTERNAL, &msg);
   }
   if (rc >= 0) goto done;
   if (a->report) {
@@ -614,7 +521,7 @@ static int run_sample(const tex_args *a) {
                      "  \"map_upsilon_mean_abs\": %s,\n  \"map_folds\": %d,\n  \"seconds\": %.3f\n}\n",
                      AU_VERSION, m->nv, m->nf, a->W, a->H, K, 4 * M_PI / n, b[0], b[1], b[2], b[3], b[4], b[5],
                      met.folds, cli_now() - t_start);
-    rc = write_done(&w, a->report, au_io_write_text(a->report, rep, (size_t)k, &msg), &msg);
+    rc = write_done(&w, a->report, au_write_text(a->report, rep, (size_t)k, &msg), &msg);
     if (rc >= 0) goto done;
   }
   if (a->preview) {
@@ -629,7 +536,6 @@ static int run_sample(const tex_args *a) {
   rc = EXIT_OK;
 done:
   au_locator_free(&loc);
-  au_topo_free(&topo);
   au_mesh_free(&m);
   free(P), free(A), free(face), free(bary), free(out), free(tmp), free(area), free(text);
   return rc;

@@ -12,22 +12,22 @@ OUT=$T/o/map.obj
 case $1 in
 closed_to_disk)
   run disk "$CLOSED" "$OUT" --report "$T/o/r.json"
-  expect_rejected "closed mesh given to \`authalic disk\`: use \`authalic sphere\`"
+  expect_rejected "closed mesh given to the disk map: map it onto the sphere"
   expect_err "^authalic: error: $CLOSED:"
   ;;
 closed_to_square)
   run square "$CLOSED" "$OUT"
-  expect_rejected "closed mesh given to \`authalic square\`: use \`authalic sphere\`"
+  expect_rejected "closed mesh given to the square map: map it onto the sphere"
   ;;
 disk_to_annulus)
   run annulus "$DISK" "$OUT"
-  expect_rejected "mesh has 1 boundary loop \(144 vertices\); \`authalic annulus\` needs 2"
+  expect_rejected "mesh has 1 boundary loop \(144 vertices\); the annulus map needs 2"
   ;;
 annulus_to_disk)
   run disk "$ANN" "$OUT"
-  expect_rejected "mesh has 2 boundary loops \(sizes 96, 96\); \`authalic disk\` needs 1"
+  expect_rejected "mesh has 2 boundary loops \(sizes 96, 96\); the disk map needs 1"
   run square "$ANN" "$OUT"
-  expect_rejected "\`authalic square\` needs 1"
+  expect_rejected "the square map needs 1"
   ;;
 corners_not_on_boundary)
   # Vertex 0 is the disk's centre.

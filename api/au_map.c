@@ -1,0 +1,412 @@
+/* au_map.c - the whole map behind the public header: check the mesh, make the initial map, run the
+ * flow, measure, refuse folds, and hand back one result (include/authalic.h: au_map). The data flow
+ * is mesh -> validate -> initial map -> advection -> metrics; the writers are the caller's. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "au_api_internal.h"
+#include "au_disk.h"
+#include "au_metrics.h"
+#include "au_report.h"
+#include "au_sphere.h"
+
+/* A planar map's boundary vertices must lie on the domain's boundary to this distance; the flow
+ * projects them there, so more means a numerical failure. */
+#define AU_BOUNDARY_TOL 1e-12
+/* A sphere map that missed its tolerance warns of the chord floor only when it matters: a single
+ * floor-bound face after a short run is no news. */
+#define AU_FLOOR_WARN_EXCESS 1e-4
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void warn(au_result *r, const char *fmt, ...) {
+  if (r->nwarnings >= AU_MAX_WARNINGS) return;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(r->warnings[r->nwarnings++], sizeof r->warnings[0], fmt, ap);
+  va_end(ap);
+}
+
+void au_result_free(au_result **rp) {
+  if (!rp || !*rp) return;
+  au_result *r = *rp;
+  free(r->P), free(r->P0), free(r->X), free(r->F), free(r->uv);
+  free(r->conv.err), free(r->conv.face_err), free(r->conv.frac);
+  free(r);
+  *rp = NULL;
+}
+
+/* The progress adapter: the user's callback may cancel, and so may the user's flag; either sets the
+ * flag the flow reads. */
+typedef struct progress_ctx {
+  const au_options *o;
+  int cancel;
+} progress_ctx;
+
+static int cancelled(progress_ctx *c) {
+  if (c->o->cancel && __atomic_load_n(c->o->cancel, __ATOMIC_ACQUIRE)) __atomic_store_n(&c->cancel, 1, __ATOMIC_RELEASE);
+  return __atomic_load_n(&c->cancel, __ATOMIC_ACQUIRE);
+}
+
+static void on_progress(void *user, int step, int max_steps, double err) {
+  progress_ctx *c = user;
+  if (c->o->progress && c->o->progress(c->o->user, step, max_steps, err)) __atomic_store_n(&c->cancel, 1, __ATOMIC_RELEASE);
+  cancelled(c);
+}
+
+/* Check the options that do not depend on the mesh. */
+static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg) {
+  if (o->max_steps < 0 || o->max_steps > AU_ADVECT_MAX_STEPS)
+    return au_msg_set(msg, AU_E_ARG, "max_steps %d: expected 1..%d (0: default)", o->max_steps, AU_ADVECT_MAX_STEPS);
+  if (o->tol != o->tol || isinf(o->tol)) return au_msg_set(msg, AU_E_ARG, "tol: expected a finite number");
+  if (o->angle_steps < 0 || o->angle_steps > AU_ANGLE_STEPS_MAX)
+    return au_msg_set(msg, AU_E_ARG, "angle_steps %d: expected 0..%d", o->angle_steps, AU_ANGLE_STEPS_MAX);
+  if (!(o->restore_shapes <= 1) || isinf(o->restore_shapes))
+    return au_msg_set(msg, AU_E_ARG, "restore_shapes: expected a number from 0 to 1 (negative: default)");
+  if (o->vertex_density && o->face_density)
+    return au_msg_set(msg, AU_E_ARG, "give a vertex density or a face density, not both");
+  if (!(o->inner_radius >= 0 && o->inner_radius < 1))
+    return au_msg_set(msg, AU_E_ARG, "inner_radius: expected 0 < r < 1 (0: the conformal modulus's)");
+  if (o->boundary != AU_BOUNDARY_SLIDE && o->boundary != AU_BOUNDARY_FIXED)
+    return au_msg_set(msg, AU_E_ARG, "boundary: expected AU_BOUNDARY_SLIDE or AU_BOUNDARY_FIXED");
+  if (o->outer_loop < AU_OUTER_SHORTER)
+    return au_msg_set(msg, AU_E_ARG, "outer_loop %d: expected AU_OUTER_LONGER, AU_OUTER_SHORTER or a vertex index",
+                      o->outer_loop);
+  const double *d = o->vertex_density ? o->vertex_density : o->face_density;
+  int n = o->vertex_density ? nv : nf;
+  for (int i = 0; d && i < n; i++)
+    if (!(d[i] > 0) || isinf(d[i]))
+      return au_msg_set(msg, AU_E_DENSITY, "%s density value %d (%g) is not a positive finite number",
+                        o->vertex_density ? "vertex" : "face", i, d[i]);
+  return AU_OK;
+}
+
+/* The flow's options from the user's. */
+static void flow_options(au_target t, const au_options *o, progress_ctx *pc, au_advect_opts *f, double *lantern_retry,
+                         double *retry_above) {
+  au__flow_defaults(t, o->refine_faces, f, lantern_retry, retry_above);
+  if (o->expert) {
+    au__flow_from_expert(o->expert, f);
+    *lantern_retry = o->expert->lantern_retry, *retry_above = o->expert->retry_above;
+  }
+  if (o->max_steps > 0) f->max_steps = o->max_steps;
+  if (o->tol >= 0) f->tol = o->tol;
+  if (o->restore_shapes >= 0) f->restore = o->restore_shapes;
+  f->angle_steps = o->angle_steps;
+  f->weight = o->vertex_density, f->face_weight = o->face_density;
+  f->progress = on_progress, f->user = pc, f->cancel = &pc->cancel;
+}
+
+/* The annulus loop the user picked for the unit circle, or -1 (msg set). */
+static int pick_outer(const au_options *o, const au_topo *t, au_msg *msg) {
+  double l0 = t->loop_len ? t->loop_len[0] : t->loop_start[1] - t->loop_start[0];
+  double l1 = t->loop_len ? t->loop_len[1] : t->loop_start[2] - t->loop_start[1];
+  if (o->outer_loop == AU_OUTER_LONGER) return l1 > l0 ? 1 : 0;
+  if (o->outer_loop == AU_OUTER_SHORTER) return l1 > l0 ? 0 : 1;
+  for (int l = 0; l < 2; l++)
+    for (int k = t->loop_start[l]; k < t->loop_start[l + 1]; k++)
+      if (t->loop_vert[k] == o->outer_loop) return l;
+  au_msg_set(msg, AU_E_ARG, "outer_loop: vertex %d is on neither boundary loop", o->outer_loop);
+  return -1;
+}
+
+/* The square's corners (given, put in loop order; or chosen) and the split mesh it is mapped on. */
+static au_status square_mesh(const au_mesh *m, const au_topo *t, const au_options *o, int c[4], au_mesh **ms,
+                             au_topo **ts, int *nsplit, au_msg *msg) {
+  au_status st;
+  if (o->corners[0] >= 0 || o->corners[1] >= 0 || o->corners[2] >= 0 || o->corners[3] >= 0) {
+    memcpy(c, o->corners, 4 * sizeof *c);
+    st = au_square_order_corners(t, c, msg);
+    if (st != AU_OK) {
+      char why[sizeof msg->text];
+      snprintf(why, sizeof why, "%s", msg ? msg->text : "");
+      return au_msg_set(msg, AU_E_ARG, "corners: %s", why);
+    }
+  } else if ((st = au_square_corners(m, t, c, msg)) != AU_OK) {
+    return AU_E_BOUNDARY; /* too few boundary vertices for four corners: a fault of the input */
+  }
+  st = au_square_split(m, t, c, ms, nsplit, msg);
+  if (st == AU_OK) st = au_mesh_topology(*ms, ts, msg);
+  return st;
+}
+
+/* Everything one map holds while it runs. */
+typedef struct map_run {
+  au_target target;
+  const au_options *o;
+  au_mesh *m, *ms; /* the input's copy, and the square's split mesh */
+  au_topo *t, *ts;
+  const au_mesh *mm; /* the mesh that is mapped: m, or ms for the square */
+  const au_topo *tt;
+  au_advect_opts flow;
+  double lantern_retry, retry_above;
+  progress_ctx pc;
+  au_result *r;
+  int outer; /* annulus: the loop index on the unit circle */
+  double t_split;
+} map_run;
+
+static au_status alloc_result(map_run *x, au_msg *msg) {
+  au_result *r = x->r;
+  size_t n3 = 3 * (size_t)x->mm->nv;
+  r->nv = x->mm->nv, r->nf = x->mm->nf;
+  r->P = malloc(n3 * sizeof *r->P), r->P0 = malloc(n3 * sizeof *r->P0), r->X = malloc(n3 * sizeof *r->X);
+  r->F = malloc(3 * (size_t)r->nf * sizeof *r->F);
+  if (x->target != AU_TARGET_SPHERE) r->uv = malloc(2 * (size_t)r->nv * sizeof *r->uv);
+  if (!r->P || !r->P0 || !r->X || !r->F || (x->target != AU_TARGET_SPHERE && !r->uv))
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory for the result");
+  memcpy(r->X, x->mm->X, n3 * sizeof *r->X);
+  memcpy(r->F, x->mm->F, 3 * (size_t)r->nf * sizeof *r->F);
+  return AU_OK;
+}
+
+/* Keep the flow's log in the result. */
+static au_status keep_log(au_result *r, const au_advect_report *f, au_msg *msg) {
+  au_convergence *c = &r->conv;
+  c->steps = f->steps, c->converged = f->converged, c->undone = f->undone;
+  c->polish_from = f->polish_from, c->angle_from = f->angle_from, c->resolved = f->resolved;
+  c->start_jump = f->start_jump;
+  size_t n = (size_t)f->steps + 1;
+  c->err = malloc(n * sizeof *c->err), c->face_err = malloc(n * sizeof *c->face_err);
+  c->frac = malloc(n * sizeof *c->frac);
+  if (!c->err || !c->face_err || !c->frac) return au_msg_set(msg, AU_E_NOMEM, "out of memory for the log");
+  memcpy(c->err, f->err, n * sizeof *c->err);
+  memcpy(c->face_err, f->face_err, n * sizeof *c->face_err);
+  memcpy(c->frac, f->frac, (n - 1) * sizeof *c->frac);
+  return AU_OK;
+}
+
+static au_status run_sphere(map_run *x, au_msg *msg) {
+  au_result *r = x->r;
+  au_status st;
+  if (x->o->init_only) {
+    double t0 = now_s();
+    st = au_sphere_conformal(x->m, x->t, r->P, msg);
+    if (st == AU_OK && x->o->balance) st = au_sphere_balance(x->m, x->t, r->P, msg);
+    r->t_init = now_s() - t0;
+    if (st == AU_OK) memcpy(r->P0, r->P, 3 * (size_t)r->nv * sizeof *r->P);
+    return st;
+  }
+  au_sphere_opts so = au_sphere_opts_default();
+  so.flow = x->flow, so.balance = x->o->balance != 0;
+  so.lantern_retry = x->lantern_retry, so.retry_above = x->retry_above;
+  au_sphere_report *rep = calloc(1, sizeof *rep);
+  if (!rep) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
+  st = au_sphere_map(x->m, x->t, &so, r->P, r->P0, rep, msg);
+  r->t_init = rep->t_init, r->t_flow = rep->t_flow;
+  if (st >= 0) {
+    au_status s2 = keep_log(r, &rep->flow, msg);
+    r->conv.lantern_retry = rep->retry, r->conv.retry_err[0] = rep->retry_err[0], r->conv.retry_err[1] = rep->retry_err[1];
+    if (s2 != AU_OK) st = s2;
+  }
+  free(rep);
+  return st;
+}
+
+static au_status run_planar(map_run *x, au_msg *msg) {
+  au_result *r = x->r;
+  const au_options *o = x->o;
+  au_disk_opts d = au_disk_opts_default();
+  d.flow = x->flow, d.boundary = o->boundary == AU_BOUNDARY_FIXED ? AU_DISK_FIXED : AU_DISK_SLIDE;
+  d.inner_radius = o->inner_radius, d.outer_loop = x->outer;
+  memcpy(d.corners, r->corners, sizeof d.corners);
+  au_disk_report *rep = calloc(1, sizeof *rep);
+  if (!rep) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
+  au_status st;
+  if (o->init_only) {
+    double t0 = now_s();
+    if (x->target == AU_TARGET_DISK) st = au_disk_init(x->mm, x->tt, r->P, &rep->init, msg);
+    else if (x->target == AU_TARGET_ANNULUS)
+      st = au_annulus_init(x->mm, x->tt, x->outer, d.inner_radius, r->P, &rep->inner_radius, &rep->modulus_radius,
+                           &rep->init, msg);
+    else st = au_square_init(x->mm, x->tt, d.corners, r->P, &rep->init, msg);
+    rep->t_init = now_s() - t0;
+    if (st == AU_OK) memcpy(r->P0, r->P, 3 * (size_t)r->nv * sizeof *r->P);
+  } else {
+    if (x->target == AU_TARGET_DISK) st = au_disk_map(x->mm, x->tt, &d, r->P, r->P0, rep, msg);
+    else if (x->target == AU_TARGET_ANNULUS) st = au_annulus_map(x->mm, x->tt, &d, r->P, r->P0, rep, msg);
+    else st = au_square_map(x->mm, x->tt, &d, r->P, r->P0, rep, msg);
+    if (st >= 0) {
+      au_status s2 = keep_log(r, &rep->flow, msg);
+      if (s2 != AU_OK) st = s2;
+    }
+  }
+  r->t_init = rep->t_init, r->t_flow = rep->t_flow;
+  r->init_method = rep->init == AU_INIT_COTAN ? "cotan" : "meanvalue";
+  if (x->target == AU_TARGET_ANNULUS) r->inner_radius = rep->inner_radius, r->modulus_radius = rep->modulus_radius;
+  free(rep);
+  return st;
+}
+
+/* The planar result's texture coordinates, and how far its boundary is from the domain's. */
+static au_status planar_finish(map_run *x, au_msg *msg) {
+  au_result *r = x->r;
+  const au_topo *t = x->tt;
+  double bdev = 0;
+  for (int i = 0; i < r->nv; i++) {
+    const double *p = r->P + 3 * (size_t)i;
+    if (x->target == AU_TARGET_SQUARE) {
+      r->uv[2 * i] = p[0], r->uv[2 * i + 1] = p[1];
+      if (t->vb[i]) bdev = fmax(bdev, fmin(fmin(fabs(p[0]), fabs(p[0] - 1)), fmin(fabs(p[1]), fabs(p[1] - 1))));
+    } else {
+      r->uv[2 * i] = 0.5 * (p[0] + 1), r->uv[2 * i + 1] = 0.5 * (p[1] + 1);
+    }
+  }
+  if (x->target != AU_TARGET_SQUARE)
+    for (int l = 0; l < t->nloops; l++) {
+      double want = x->target == AU_TARGET_DISK || l == x->outer ? 1.0 : r->inner_radius;
+      for (int k = t->loop_start[l]; k < t->loop_start[l + 1]; k++) {
+        const double *p = r->P + 3 * (size_t)t->loop_vert[k];
+        bdev = fmax(bdev, fabs(hypot(p[0], p[1]) - want));
+      }
+    }
+  r->boundary_dev = bdev;
+  if (!(bdev <= AU_BOUNDARY_TOL))
+    return au_msg_set(msg, AU_E_NUMERIC, "a boundary vertex is %.3g off the domain's boundary", bdev);
+  return AU_OK;
+}
+
+/* Metrics of the result (and of its start), the fold check, the warnings about the flow. */
+static au_status measure(map_run *x, au_status st, au_msg *msg) {
+  au_result *r = x->r;
+  au_domain dom = x->target == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE;
+  double t0 = now_s();
+  au_status ms = AU_OK;
+  if (!x->o->init_only) ms = au_metrics_compute(r->nv, r->nf, r->X, r->P0, r->F, dom, &r->init_metrics, NULL, NULL);
+  if (ms == AU_OK) ms = au_metrics_compute(r->nv, r->nf, r->X, r->P, r->F, dom, &r->metrics, NULL, NULL);
+  r->t_metrics = now_s() - t0;
+  if (ms != AU_OK) return au_msg_set(msg, ms, "metrics of the map failed");
+  const int not_converged = st == AU_W_NOT_CONVERGED;
+  if (not_converged)
+    warn(r, "tolerance %g not reached in %d steps (error %.3e)", x->flow.tol, r->conv.steps, r->conv.err[r->conv.steps]);
+  /* A folded map is never handed back: zero folds is the promise, not a hope. Folded here means a
+   * sign a reader of the output would see: triangles the start squeezed below a double's resolution
+   * that the flow had no steps left to grow. */
+  if (r->metrics.folds > 0)
+    return au_msg_set(msg, AU_E_FOLD, "the map has %d folded triangle%s%s", r->metrics.folds,
+                      r->metrics.folds == 1 ? "" : "s",
+                      not_converged ? " (the flow had not converged: more steps may grow them back)" : "");
+  if (dom == AU_DOMAIN_SPHERE && not_converged && r->metrics.chord_floor_faces > 0 &&
+      r->metrics.chord_floor_excess >= AU_FLOOR_WARN_EXCESS)
+    warn(r,
+         "%d long, thin triangles of the map cannot bring their chord area down to their share without shorter "
+         "long edges (a long edge's chord runs under the sphere; excess %.2g%% of the area): a finer mesh there "
+         "lowers that error",
+         r->metrics.chord_floor_faces, 100 * r->metrics.chord_floor_excess);
+  return dom == AU_DOMAIN_PLANE ? planar_finish(x, msg) : AU_OK;
+}
+
+/* Check the mesh and prepare the mesh that is mapped. */
+static au_status prepare(map_run *x, const double *V, int nv, const int *F, int nf, au_status *check, au_msg *msg) {
+  au_status st = au_mesh_alloc(nv, nf, &x->m);
+  if (st != AU_OK) return au_msg_set(msg, st, "out of memory for the mesh");
+  memcpy(x->m->X, V, 3 * (size_t)nv * sizeof *V);
+  memcpy(x->m->F, F, 3 * (size_t)nf * sizeof *F);
+  au_mesh_expect ex = au__target_expect(x->target);
+  double t0 = now_s();
+  *check = au_mesh_validate(x->m, &ex, &x->t, msg);
+  x->r->t_check = now_s() - t0;
+  if (*check < 0) return *check;
+  if (*check > 0) warn(x->r, "%s", msg && msg->text[0] ? msg->text : au_status_str(*check));
+  x->mm = x->m, x->tt = x->t;
+  x->r->nv_in = nv, x->r->nf_in = nf;
+  if (x->target == AU_TARGET_ANNULUS) {
+    if ((x->outer = pick_outer(x->o, x->t, msg)) < 0) return AU_E_ARG;
+    const au_topo *t = x->t;
+    x->r->outer_loop_vertex = t->loop_vert[t->loop_start[x->outer]];
+  } else if (x->target == AU_TARGET_SQUARE) {
+    t0 = now_s();
+    st = square_mesh(x->m, x->t, x->o, x->r->corners, &x->ms, &x->ts, &x->r->nsplit, msg);
+    if (st != AU_OK) return st;
+    x->mm = x->ms, x->tt = x->ts;
+    if (x->r->nsplit)
+      warn(x->r, "split %d edge%s joining vertices of one side; vertices %d..%d are their midpoints", x->r->nsplit,
+           x->r->nsplit == 1 ? "" : "s", nv, x->ms->nv - 1);
+    x->t_split = now_s() - t0;
+  }
+  return AU_OK;
+}
+
+au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, const au_options *opts, au_result **out,
+                 au_msg *msg) {
+  if (msg) msg->text[0] = '\0';
+  if (!out) return au_msg_set(msg, AU_E_ARG, "au_map: out is NULL");
+  *out = NULL;
+  if (!au_target_name(t)) return au_msg_set(msg, AU_E_ARG, "au_map: unknown target %d", (int)t);
+  if (nv < 0 || nf < 0 || (nv > 0 && !V) || (nf > 0 && !F)) return au_msg_set(msg, AU_E_ARG, "au_map: bad mesh arrays");
+  au_options dflt = au_options_default();
+  const au_options *o = opts ? opts : &dflt;
+  au_status st = check_options(o, nv, nf, msg);
+  if (st != AU_OK) return st;
+
+  map_run x;
+  memset(&x, 0, sizeof x);
+  x.target = t, x.o = o, x.pc.o = o;
+  if (!(x.r = calloc(1, sizeof *x.r))) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
+  x.r->target = t, x.r->init_only = o->init_only != 0;
+  memcpy(x.r->corners, (int[4]){-1, -1, -1, -1}, sizeof x.r->corners);
+  flow_options(t, o, &x.pc, &x.flow, &x.lantern_retry, &x.retry_above);
+
+  au_status check = AU_OK;
+  st = prepare(&x, V, nv, F, nf, &check, msg);
+  if (st == AU_OK) st = alloc_result(&x, msg);
+  if (st == AU_OK && cancelled(&x.pc)) st = au_msg_set(msg, AU_E_CANCELLED, "cancelled");
+  if (st == AU_OK) st = t == AU_TARGET_SPHERE ? run_sphere(&x, msg) : run_planar(&x, msg);
+  if (st >= 0) {
+    x.r->t_init += x.t_split;
+    st = measure(&x, st, msg) == AU_OK ? st : AU_E_FOLD;
+  }
+  if (st >= 0 && st == AU_OK && check > 0) st = check;
+  if (st >= 0) x.r->status = st, *out = x.r;
+  else au_result_free(&x.r);
+  au_topo_free(&x.ts);
+  au_mesh_free(&x.ms);
+  au_topo_free(&x.t);
+  au_mesh_free(&x.m);
+  return st;
+}
+
+au_status au_result_json(const au_result *r, const au_report_extra *extra, char **json, au_msg *msg) {
+  if (!r || !json) return au_msg_set(msg, AU_E_ARG, "au_result_json: bad arguments");
+  au_report_extra e;
+  memset(&e, 0, sizeof e);
+  e.t_read = e.t_validate = e.t_write = -1;
+  if (extra) e = *extra;
+  au_report_stage stages[8];
+  int ns = 0;
+  if (e.t_read >= 0) stages[ns++] = (au_report_stage){"read", e.t_read};
+  stages[ns++] = (au_report_stage){"validate", e.t_validate >= 0 ? e.t_validate : r->t_check};
+  stages[ns++] = (au_report_stage){"init", r->t_init};
+  stages[ns++] = (au_report_stage){"flow", r->t_flow};
+  stages[ns++] = (au_report_stage){"metrics", r->t_metrics};
+  if (e.t_write >= 0) stages[ns++] = (au_report_stage){"write", e.t_write};
+  const char *warnings[2 * AU_MAX_WARNINGS];
+  int nw = 0;
+  for (int i = 0; i < r->nwarnings; i++) warnings[nw++] = r->warnings[i];
+  for (int i = 0; i < e.nwarnings && nw < 2 * AU_MAX_WARNINGS; i++) warnings[nw++] = e.warnings[i];
+  const int flow = !r->init_only;
+  au_report_info info;
+  memset(&info, 0, sizeof info);
+  info.tool_version = au_version(), info.command = au_target_name(r->target);
+  info.input = e.input, info.output = e.output;
+  info.nv = r->nv, info.nf = r->nf;
+  info.steps = r->conv.steps, info.converged = flow && r->conv.converged;
+  info.init = flow ? &r->init_metrics : NULL, info.final = &r->metrics;
+  info.stages = stages, info.nstages = ns;
+  info.step_err = flow ? r->conv.err : NULL, info.step_frac = flow ? r->conv.frac : NULL;
+  info.step_face_err = flow ? r->conv.face_err : NULL;
+  info.warnings = warnings, info.nwarnings = nw;
+  info.polish_from = flow ? r->conv.polish_from : 0, info.undone = flow ? r->conv.undone : 0;
+  info.has_schedule = flow, info.start_jump = r->conv.start_jump, info.resolved = r->conv.resolved;
+  info.retry = r->conv.lantern_retry, info.retry_err[0] = r->conv.retry_err[0], info.retry_err[1] = r->conv.retry_err[1];
+  info.angle_from = flow ? r->conv.angle_from : 0;
+  return au_report_json(&info, json, msg);
+}

@@ -1,0 +1,579 @@
+/* authalic.h - equal-area (authalic) maps of triangle meshes: the one public header of libauthalic.
+ *
+ * This header is the manual. authalic maps a triangle mesh onto a canonical domain - the unit
+ * sphere (closed genus-0 meshes), the unit disk or the unit square (one boundary loop), an annulus
+ * (two boundary loops) - so that every part of the surface gets its fair share of the domain's
+ * area, and no triangle is ever folded. The method is Lie advection (Zou, Hu, Gu & Hua, "Authalic
+ * parameterization of general surfaces using Lie advection", IEEE TVCG 2011): a conformal start,
+ * then a flow of the domain until the areas match.
+ *
+ *     #include <authalic.h>
+ *
+ *     au_mesh *m = NULL;
+ *     au_result *r = NULL;
+ *     au_msg msg = {{0}};
+ *     if (au_mesh_read("bunny.obj", &m, &msg) < 0) { fprintf(stderr, "%s\n", msg.text); return 2; }
+ *     au_options o = au_options_default();
+ *     au_status st = au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &r, &msg);
+ *     if (st >= 0) au_mesh_write("bunny_sphere.obj", r->nv, r->P, r->nf, r->F, NULL, &msg);
+ *     au_result_free(&r);
+ *     au_mesh_free(&m);
+ *
+ * Build with `pkg-config --cflags --libs authalic` or CMake's `find_package(authalic)` and the
+ * target `authalic::authalic`.
+ *
+ * Conventions:
+ * - Every fallible function returns an au_status: 0 success, > 0 a warning (the result is usable),
+ *   < 0 an error. Errors at or below -100 are faults of the input (a bad file, a mesh of the wrong
+ *   topology); the others are internal or numerical. Functions that take an `au_msg *msg` fill it
+ *   with one line naming the problem ("edge (12, 40) is shared by 3 faces"); msg may be NULL.
+ * - Arrays are row-major and 0-based: V or X is nv x 3 doubles (x, y, z of vertex i at 3i..3i+2),
+ *   F is nf x 3 ints, counter-clockwise seen from outside. The caller's arrays are never modified
+ *   and need not outlive the call.
+ * - What the library allocates, the caller frees with the function named beside it; every free
+ *   function takes the address of the pointer, is NULL-safe, and sets the pointer to NULL.
+ * - The library keeps no mutable global state, installs no signal handler, sets no thread counts
+ *   and prints nothing: two maps may run at once in two threads of one process. A map uses up to
+ *   two threads of its own (the target machine has two cores). CHOLMOD's OpenMP regions and
+ *   OpenBLAS's threads follow the process's settings: on a two-core machine, OMP_THREAD_LIMIT=1 and
+ *   OPENBLAS_NUM_THREADS=1 in the environment before the process starts are faster (the `authalic`
+ *   program sets both for itself).
+ * - Thread safety: distinct calls on distinct results are independent; a result may be read from
+ *   several threads at once.
+ */
+#ifndef AUTHALIC_H
+#define AUTHALIC_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define AU_VERSION_MAJOR 1
+#define AU_VERSION_MINOR 0
+#define AU_VERSION_PATCH 0
+
+/* Marks what the shared library exports; everything else is hidden. */
+#if defined(AU_BUILDING_LIBRARY) && defined(__GNUC__)
+#define AU_API __attribute__((visibility("default")))
+#else
+#define AU_API
+#endif
+
+/* ================================================================ status and messages */
+
+/* One list generates the enum and the strings, so they cannot drift. X(name, value, description).
+ * 0 success; > 0 warnings; -1..-99 internal or numerical errors; <= -100 faults of the input. */
+#define AU_STATUS_MAP(X)                                                          \
+  X(AU_OK, 0, "ok")                                                               \
+  X(AU_W_UNREFERENCED, 1, "unreferenced vertices")                                \
+  X(AU_W_NOT_CONVERGED, 2, "tolerance not reached")                               \
+  X(AU_E_NOMEM, -1, "out of memory")                                              \
+  X(AU_E_ARG, -2, "invalid argument")                                             \
+  X(AU_E_NOT_SPD, -3, "matrix not positive definite")                             \
+  X(AU_E_NUMERIC, -4, "numerical failure")                                        \
+  X(AU_E_FOLD, -5, "map has folded triangles")                                    \
+  X(AU_E_INTERNAL, -6, "internal error")                                          \
+  X(AU_E_CANCELLED, -7, "cancelled")                                              \
+  X(AU_E_IO, -101, "cannot read or write file")                                   \
+  X(AU_E_FORMAT, -102, "unknown or malformed file format")                        \
+  X(AU_E_EMPTY, -103, "empty mesh")                                               \
+  X(AU_E_NONFINITE, -104, "non-finite coordinates")                               \
+  X(AU_E_INDEX, -105, "face index out of range")                                  \
+  X(AU_E_FACE, -106, "bad face")                                                  \
+  X(AU_E_NONMANIFOLD_EDGE, -107, "non-manifold edge")                             \
+  X(AU_E_NONMANIFOLD_VERTEX, -108, "non-manifold vertex")                         \
+  X(AU_E_ORIENTATION, -109, "inconsistent orientation")                           \
+  X(AU_E_COMPONENTS, -110, "several connected components")                        \
+  X(AU_E_BOUNDARY, -111, "wrong number of boundary loops")                        \
+  X(AU_E_GENUS, -112, "wrong genus")                                              \
+  X(AU_E_DEGENERATE, -113, "zero-area face")                                      \
+  X(AU_E_DENSITY, -114, "bad density values")
+
+typedef enum au_status {
+#define AU_STATUS_ENUM(name, value, text) name = value,
+  AU_STATUS_MAP(AU_STATUS_ENUM)
+#undef AU_STATUS_ENUM
+} au_status;
+
+/* The short description of a status ("non-manifold edge"); never NULL. */
+AU_API const char *au_status_str(au_status s);
+/* The enum name of a status ("AU_E_NONMANIFOLD_EDGE"); never NULL. */
+AU_API const char *au_status_name(au_status s);
+/* 1 if s is an error caused by the input (a bad file or mesh, s <= -100), else 0. */
+AU_API int au_status_is_input_error(au_status s);
+
+/* One line naming a problem, filled by fallible functions; empty when nothing was said. */
+typedef struct au_msg {
+  char text[512]; /* NUL-terminated */
+} au_msg;
+
+/* printf into m (NULL-safe); returns s. */
+AU_API au_status au_msg_set(au_msg *m, au_status s, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* The library's version as "MAJOR.MINOR.PATCH"; never NULL. */
+AU_API const char *au_version(void);
+
+/* Free memory the library handed out as a plain pointer (the JSON of au_result_json). NULL-safe. */
+AU_API void au_free(void *p);
+
+/* ================================================================ meshes */
+
+/* A triangle mesh as two arrays. Meshes made by the library are freed with au_mesh_free. */
+typedef struct au_mesh {
+  int nv;    /* number of vertices, >= 0 */
+  int nf;    /* number of triangles, >= 0 */
+  double *X; /* X [0..3*nv-1]: x, y, z of vertex i at X[3i..3i+2] */
+  int *F;    /* F [0..3*nf-1]: the corners of face f at F[3f..3f+2], counter-clockwise from outside */
+} au_mesh;
+
+/* Allocate a mesh with room for nv vertices and nf faces (contents zeroed); *out owns it.
+ * Returns AU_OK, AU_E_ARG (negative counts, out NULL), AU_E_NOMEM. */
+AU_API au_status au_mesh_alloc(int nv, int nf, au_mesh **out);
+/* Deep copy. Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
+AU_API au_status au_mesh_copy(const au_mesh *m, au_mesh **out);
+/* Free a mesh and set *m to NULL; NULL-safe. */
+AU_API void au_mesh_free(au_mesh **m);
+
+/* Read a triangle mesh; the format follows the extension: .obj .off .ply (ASCII or binary) .stl.
+ * The file's vertex and face order is kept exactly; polygons with more than three corners are
+ * rejected (AU_E_FACE), not triangulated; nothing is repaired (au_mesh_check says what is wrong).
+ * On success *out owns the mesh. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO (missing, unreadable,
+ * a directory), AU_E_FORMAT (unknown extension, malformed or truncated), AU_E_EMPTY, AU_E_INDEX,
+ * AU_E_FACE. */
+AU_API au_status au_mesh_read(const char *path, au_mesh **out, au_msg *msg);
+
+/* How au_mesh_write writes. Start from au_write_opts_default(). */
+typedef struct au_write_opts {
+  const double *uv; /* uv [0..2*nv-1]: per-vertex texture coordinates written as OBJ `vt` lines;
+                       NULL (default): none. Ignored by formats other than OBJ. */
+  int precision;    /* significant digits of coordinates, 1..17 (default 17: exact round trip) */
+} au_write_opts;
+
+AU_API au_write_opts au_write_opts_default(void);
+
+/* Write nv vertices V (nv x 3) with nf faces F (nf x 3) to path; the format follows the extension
+ * (.obj .off .ply, ASCII). The file is written beside path under a temporary name
+ * (au_temp_path) and renamed over path only when complete, so a failed write leaves neither a
+ * partial file nor a clobbered old one. opts may be NULL.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO, AU_E_FORMAT (unknown extension). */
+AU_API au_status au_mesh_write(const char *path, int nv, const double *V, int nf, const int *F,
+                               const au_write_opts *opts, au_msg *msg);
+
+/* 1 if au_mesh_write can write path's extension, else 0. */
+AU_API int au_mesh_can_write(const char *path);
+
+/* The temporary name a write to path uses in this process ("<path>.tmp<pid>"), into buf (len
+ * bytes). A program that wants an interrupted run to leave nothing behind computes these names
+ * before it writes and removes them in its signal handler (unlink is async-signal-safe).
+ * Returns AU_OK, AU_E_ARG (buf too short). */
+AU_API au_status au_temp_path(const char *path, char *buf, size_t len);
+
+/* Write len bytes of text to path atomically (as au_mesh_write does). Returns AU_OK, AU_E_ARG, AU_E_IO. */
+AU_API au_status au_write_text(const char *path, const char *text, size_t len, au_msg *msg);
+
+/* Read a per-vertex scalar file: whitespace-separated numbers (lines starting with '#' skipped),
+ * exactly n of them, all finite. vals: out [0..n-1]. Returns AU_OK, AU_E_ARG, AU_E_IO, AU_E_FORMAT
+ * (msg names the line and what is wrong, or how many values were found). */
+AU_API au_status au_read_scalars(const char *path, int n, double *vals, au_msg *msg);
+
+/* ================================================================ maps */
+
+/* The domain a mesh is mapped onto. */
+typedef enum au_target {
+  AU_TARGET_SPHERE = 0,  /* closed genus-0 mesh onto the unit sphere */
+  AU_TARGET_DISK = 1,    /* one boundary loop onto the unit disk */
+  AU_TARGET_ANNULUS = 2, /* two boundary loops onto the annulus of outer radius 1 (inner radius from
+                            the conformal modulus, or au_options.inner_radius) */
+  AU_TARGET_SQUARE = 3   /* one boundary loop onto [0,1]^2, four boundary vertices at the corners */
+} au_target;
+
+/* The name of a target ("sphere", "disk", "annulus", "square"); NULL for an unknown value. */
+AU_API const char *au_target_name(au_target t);
+
+/* Check that a mesh can be mapped onto target t, and name the first problem: empty, non-finite
+ * coordinates, index out of range, repeated corner, non-manifold edge or vertex, inconsistent
+ * orientation, several components, wrong number of boundary loops, wrong genus, zero-area faces.
+ * au_map makes the same check. Returns AU_OK, AU_W_UNREFERENCED (usable; msg says how many
+ * vertices no face uses), AU_E_ARG, AU_E_NOMEM, or one of the input errors (<= -100). */
+AU_API au_status au_mesh_check(const double *V, int nv, const int *F, int nf, au_target t, au_msg *msg);
+
+#define AU_MAX_STEPS 512      /* the most advection steps a map may take (au_options.max_steps) */
+#define AU_MAX_ANGLE_STEPS 50 /* the most angle steps (au_options.angle_steps) */
+
+/* The defaults au_map uses for target t when au_options leaves them open: the most steps, and the
+ * tolerance (vertex mean |ln ratio|). Either pointer may be NULL. */
+AU_API void au_target_defaults(au_target t, int *max_steps, double *tol);
+
+/* Named starting points for au_options (au_options_preset). */
+typedef enum au_preset {
+  AU_PRESET_DEFAULT = 0,      /* fast: stop once the vertex cells are within the tolerance */
+  AU_PRESET_REFINE_FACES = 1, /* then go on refining the triangles' areas as long as it helps at all
+                                 (several times the default's time for about half its per-face error) */
+  AU_PRESET_ANGLES = 2        /* then 5 angle steps: less angle distortion, vertex cells to ~1e-4, at a
+                                 higher per-face error */
+} au_preset;
+
+/* Boundary handling of the planar targets. */
+typedef enum au_boundary {
+  AU_BOUNDARY_SLIDE = 0, /* boundary vertices slide along their circle or side (default) */
+  AU_BOUNDARY_FIXED = 1  /* the initial map's boundary is kept */
+} au_boundary;
+
+/* au_options.outer_loop: which loop of an annulus goes to the unit circle. */
+#define AU_OUTER_LONGER (-1)  /* the longer loop (default) */
+#define AU_OUTER_SHORTER (-2) /* the shorter loop */
+
+/* A step-by-step report to a progress callback: step k of at most max_steps, with the current area
+ * error (per-face mean |r - 1|). Return 0 to go on, nonzero to cancel the map (au_map then returns
+ * AU_E_CANCELLED). */
+typedef int (*au_progress_fn)(void *user, int step, int max_steps, double err);
+
+typedef struct au_expert au_expert;
+
+/* What au_map is asked to do. Start from au_options_default() or au_options_preset(); fields that
+ * do not apply to the target are ignored. */
+typedef struct au_options {
+  int max_steps;          /* most advection steps, 1..512; 0 (default): 60 */
+  double tol;             /* stop when the vertex-level mean |ln(area ratio)| is at most tol, >= 0;
+                             negative (default -1): the target's default, 2e-3 on the sphere and 3e-3
+                             on planar targets */
+  int refine_faces;       /* 1: after the vertex cells meet tol, refine the triangles' areas while it
+                             helps at all (AU_PRESET_REFINE_FACES); 0 (default): while it gains 10% in
+                             4 steps */
+  int angle_steps;        /* 0..50 angle steps after the flow (AU_PRESET_ANGLES: 5): steps towards the
+                             map of least Dirichlet energy with the vertex cells held at their areas.
+                             On the sphere they begin as soon as the vertex error is 0.01 (unless
+                             refine_faces). 0 (default): none */
+  const double *vertex_density; /* [0..nv-1], each > 0 and finite: the domain area of a vertex's
+                                   cell is proportional to density x its surface area; NULL (default):
+                                   equal area. At most one of vertex_density and face_density. */
+  const double *face_density;   /* [0..nf-1], the same per face; NULL (default) */
+  double restore_shapes;  /* sphere: while the spherical areas are driven, each step's shear aims this
+                             fraction (0..1) back at the surface's triangle shapes (fewer long, thin
+                             triangles); negative (default -1): 0.1 */
+  int balance;            /* sphere: 1 (default) Moebius-balance the conformal start; 0 skip */
+  int init_only;          /* 1: stop after the initial (conformal / harmonic) map; 0 (default) */
+  au_boundary boundary;   /* planar targets: default AU_BOUNDARY_SLIDE */
+  double inner_radius;    /* annulus: inner radius in (0, 1); 0 (default): the conformal modulus's */
+  int outer_loop;         /* annulus: AU_OUTER_LONGER (default), AU_OUTER_SHORTER, or the index of a
+                             vertex on the loop that goes to the unit circle */
+  int corners[4];         /* square: boundary vertices for (0,0), (1,0), (1,1), (0,1), the last three
+                             taken in the order they follow corners[0] along the boundary; all -1
+                             (default): the most corner-like vertices near the arc-length quarters */
+  au_progress_fn progress; /* called once per step from the calling thread; NULL (default) */
+  void *user;             /* passed to progress */
+  const int *cancel;      /* when *cancel becomes nonzero (set from any thread; read atomically at
+                             each step), the map stops and au_map returns AU_E_CANCELLED; NULL
+                             (default) */
+  const au_expert *expert; /* the flow's tuning (au_expert_default); NULL (default): the target's
+                              defaults with refine_faces applied. When given, it replaces them all. */
+} au_options;
+
+AU_API au_options au_options_default(void);
+/* au_options_default() with the preset applied. */
+AU_API au_options au_options_preset(au_preset p);
+
+/* The flow's tuning, for experiments: most users never need it. Get the values au_map would use
+ * from au_expert_default, change some, and point au_options.expert at the struct. The meaning of
+ * each rule is in docs/tuning-history.md and the flow's source (common/au_advect.h). */
+struct au_expert {
+  int method;             /* 0 least-shear steps (default), 1 the paper's Poisson steps */
+  double shear;           /* shear weight against the area residual while the schedule runs, >= 0 (1) */
+  double shear_tail;      /* the same after the schedule, >= 0 (0.01) */
+  double face_shear_tail; /* the shear weight's floor in the per-face refinement; 0: shear_tail (0;
+                             planar refine_faces: 3e-4) */
+  int schedule_steps;     /* K of the paper's eq. 19: the excess spread over K-k+1 steps (4) */
+  double max_log_step;    /* a cell's area changes by at most this factor's log in one step (1.2) */
+  double newton_below;    /* Poisson method: exact Gauss-Newton steps below this error (0.7) */
+  int face_steps;         /* Poisson method: at most this many per-face steps (30) */
+  double face_tol;        /* stop refining at this per-face mean |r - 1| (1e-3; planar 1e-2, planar
+                             refine_faces 1e-3) */
+  double face_damping;    /* Poisson method: damping of the face steps, relative (0.1) */
+  double max_move;        /* Poisson method: a vertex moves at most this fraction of its triangles'
+                             inradius per step, 0 < x < 0.5 (0.3) */
+  double face_gain;       /* refinement goes on while it gains this fraction in 4 steps (0.1;
+                             refine_faces 0.02) */
+  int sphere_areas;       /* sphere: 1 drive the spherical triangles' areas first, then polish the
+                             chord triangles' (1) */
+  double polish_gap;      /* sphere: polish only if the chord error exceeds the spherical one by more
+                             than this fraction (0.1; refine_faces 0) */
+  double restore;         /* sphere: shape restoring (0.1), as au_options.restore_shapes */
+  double lantern;         /* sphere: shape restoring raised on faces near the chord floor (0) */
+  double lantern_retry;   /* sphere: a map missing tol by more than retry_above x is mapped again with
+                             lantern = this, the better map kept (2; 0 off) */
+  double retry_above;     /* see lantern_retry (2) */
+  double resolved_jump;   /* a start whose mean jump of log r across edges is at most this runs the
+                             resolved schedule (0.1; refine_faces 0: never) */
+  double resolved_shear;  /* resolved schedule: first shear weight (0.1) */
+  double resolved_decay;  /* resolved schedule: shear weight factor per accepted step (0.25) */
+  double resolved_log_step; /* resolved schedule: per-step area change bound, log (2) */
+  double angle_faces;     /* angle steps: weight of the triangles' areas (300) */
+  double angle_cells;     /* angle steps: weight of the vertex cells' areas (1e6) */
+  double angle_trust;     /* angle steps: Levenberg-Marquardt term (1) */
+  double angle_switch;    /* sphere: the angle steps begin at this vertex error (0.01; planar and
+                             refine_faces 0: after the flow) */
+};
+
+/* The tuning au_map uses for target t, with or without refine_faces. */
+AU_API au_expert au_expert_default(au_target t, int refine_faces);
+
+/* Distortion of a map, with the names and definitions of ../shared/tools/param-eval (they agree to
+ * 1e-9). Per face, J is the affine map from the domain triangle (the chord triangle on the sphere)
+ * to the surface triangle, the surface scaled to the domain's total area; gmax >= gmin its singular
+ * values; Upsilon = ln(gmax gmin) (area), Lambda = ln(gmax / gmin) (angle); r = domain share /
+ * surface share. Faces whose domain or surface area is <= 1e-14 of the total are left out (counted
+ * in excluded). */
+typedef enum au_domain { AU_DOMAIN_SPHERE = 0, AU_DOMAIN_PLANE = 1 } au_domain;
+
+typedef struct au_metrics {
+  int nv, nf;
+  au_domain domain;
+  double upsilon_mean_abs, upsilon_std, upsilon_max_abs, upsilon_p95_abs, upsilon_p99_abs;
+  double upsilon_wmean_abs;                 /* |Upsilon| weighted by surface area */
+  double lambda_mean, lambda_std, lambda_max, lambda_p95;
+  double logr_mean_abs;                     /* mean |ln r| per face */
+  double r_std, r_mean_abs_dev, r_cv;       /* std of r, mean |r - 1|, std/mean of r */
+  double authalic_energy;                   /* sum |domain share - surface share| */
+  double vertex_logr_mean_abs, vertex_logr_max_abs; /* barycentric vertex cells, |ln ratio| */
+  double angle_diff_mean_deg;               /* mean |domain angle - surface angle| over corners */
+  double sph_r_mean_abs_dev, sph_r_cv, sph_vertex_logr_mean_abs; /* sphere: with spherical areas */
+  double sphere_radius_max_dev;             /* sphere: max | |p| - 1 | */
+  int chord_floor_faces;                    /* sphere: faces whose longest chord edge keeps their chord
+                                               area above their share */
+  double chord_floor_excess;                /* and that excess, as a fraction of the total */
+  int folds;                                /* faces with orientation <= 0 */
+  int excluded;                             /* faces left out as degenerate */
+  double surface_area, domain_area;         /* totals (domain: chord or planar triangles) */
+} au_metrics;
+
+/* The metrics of the map X -> P. X, P: nv x 3 (planar domains: z ignored); F: nf x 3. ups, lam:
+ * optional per-face Upsilon and Lambda [0..nf-1] (NaN for excluded faces), may be NULL.
+ * Returns AU_OK, AU_E_ARG (NULL arrays, nf <= 0, zero total area), AU_E_NOMEM. */
+AU_API au_status au_metrics_compute(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
+                                    au_metrics *out, double *ups, double *lam);
+
+/* The per-step log of a map's flow. */
+typedef struct au_convergence {
+  int steps;         /* advection steps taken */
+  int converged;     /* 1 if the tolerance was met */
+  int undone;        /* steps solved and then undone for making the areas worse (not in steps) */
+  double *err;       /* err [0..steps]: vertex mean |ln ratio| before each step and at the end */
+  double *face_err;  /* face_err [0..steps]: per-face mean |r - 1| likewise */
+  double *frac;      /* frac [0..steps-1]: mean fraction of the wanted displacement taken */
+  int polish_from;   /* sphere: the step from which err and face_err measure chord triangles
+                        (spherical ones before it); 0: one measure throughout */
+  int angle_from;    /* the step at which the angle steps began; 0: none */
+  int resolved;      /* 1 if the flow ran its resolved schedule (a start the mesh resolves well) */
+  double start_jump; /* the start's mean jump of log r across interior edges */
+  int lantern_retry; /* sphere: 0 none; 1 the retry ran and was discarded; 2 its map was kept */
+  double retry_err[2]; /* the first map's and the retry's chord vertex error */
+} au_convergence;
+
+#define AU_MAX_WARNINGS 8
+
+/* What au_map returns: the mapped mesh, its metrics and the log. Free with au_result_free. */
+typedef struct au_result {
+  au_target target;
+  au_status status;   /* AU_OK, or AU_W_NOT_CONVERGED: valid and fold-free, tolerance not met */
+  int nv, nf;         /* the mapped mesh: the input's counts, or more for the square, which splits
+                         edges whose two ends would lie on one side */
+  int nv_in, nf_in;   /* the input's counts: vertices [0, nv_in) and faces [0, nf_in) are the
+                         input's, in order; split midpoints and their faces come after */
+  double *P;          /* P [0..3*nv-1]: the map (unit vectors on the sphere; (u, v, 0) in the plane) */
+  double *P0;         /* P0 [0..3*nv-1]: the initial (conformal or harmonic) map */
+  double *X;          /* X [0..3*nv-1]: surface positions (the input's, then split midpoints) */
+  int *F;             /* F [0..3*nf-1]: faces (the input's, then the split faces) */
+  double *uv;         /* planar targets: uv [0..2*nv-1] texture coordinates in [0,1]^2 ((u+1)/2,
+                         (v+1)/2 for disk and annulus; (u, v) for the square); NULL on the sphere */
+  au_metrics metrics;      /* of P */
+  au_metrics init_metrics; /* of P0 */
+  au_convergence conv;     /* the flow's log (zero with init_only) */
+  int init_only;           /* 1 if the flow was not run */
+  double t_check, t_init, t_flow, t_metrics; /* seconds in the mesh check, the initial map, the flow,
+                                                the metrics */
+  double boundary_dev;     /* planar: the boundary's largest distance from the domain's boundary */
+  const char *init_method; /* planar: "cotan" or "meanvalue" (how the harmonic start was made) */
+  double inner_radius, modulus_radius; /* annulus: the inner radius used, the conformal modulus's */
+  int outer_loop_vertex;   /* annulus: a vertex on the loop mapped to the unit circle */
+  int corners[4];          /* square: the corner vertices, in the order (0,0), (1,0), (1,1), (0,1) */
+  int nsplit;              /* square: vertices added by splitting */
+  int nwarnings;
+  char warnings[AU_MAX_WARNINGS][600]; /* one line each, e.g. "tolerance 0.002 not reached in 60
+                                          steps (error 3.1e-03)" */
+} au_result;
+
+/* Map the mesh (V, F) onto target t.
+ * V: nv x 3, F: nf x 3 (see the conventions above); not modified, and not needed after the call.
+ * opts: may be NULL for au_options_default(). out: on success (status >= 0) *out owns the result;
+ * on failure *out is NULL.
+ * The mesh is checked first (au_mesh_check). A map is never folded: a map that would be returns
+ * AU_E_FOLD and no result.
+ * Returns AU_OK; AU_W_NOT_CONVERGED (the map is valid and fold-free, the tolerance was not met:
+ * more steps may help); AU_W_UNREFERENCED (unreferenced vertices: they keep P = (0,0,1) or the
+ * origin); AU_E_ARG (a bad option: msg names it); AU_E_CANCELLED; AU_E_NOMEM; AU_E_NOT_SPD,
+ * AU_E_NUMERIC, AU_E_FOLD, AU_E_INTERNAL; or an input error (<= -100) of the check, AU_E_DENSITY
+ * (a density value not positive and finite). The warnings of the result say more than the status. */
+AU_API au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, const au_options *opts,
+                        au_result **out, au_msg *msg);
+
+/* Free a result and set *r to NULL; NULL-safe. */
+AU_API void au_result_free(au_result **r);
+
+/* What the report names besides the result (all optional). */
+typedef struct au_report_extra {
+  const char *input, *output;  /* file names to record; NULL: none */
+  const char *tool;            /* the program's name and version; NULL: "libauthalic <version>" */
+  double t_read, t_validate, t_write; /* seconds the caller spent; < 0: not reported (t_validate:
+                                         the result's own check is reported) */
+  const char *const *warnings; int nwarnings; /* the caller's own warnings, after the result's */
+} au_report_extra;
+
+/* The JSON report of a result (the `authalic` program's --report): sizes, steps, stage times,
+ * warnings, the metrics of the final and initial maps under param-eval's key names, the per-step
+ * errors. extra may be NULL. On success *json is a NUL-terminated string the caller frees with
+ * au_free. Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
+AU_API au_status au_result_json(const au_result *r, const au_report_extra *extra, char **json, au_msg *msg);
+
+/* ================================================================ equal-area textures and sampling
+ * Given a surface (X, F) and its fold-free sphere map P (au_map onto AU_TARGET_SPHERE), lay the
+ * sphere out in an equal-area projection (texture coordinates), locate points exactly in the map's
+ * triangles, bake and sample attributes, and draw pictures. Texture coordinates (u, v) as in OBJ,
+ * v = 0 at the bottom; images row-major with row 0 at the top, so texel (row r, column c) has its
+ * centre at u = (c + 0.5)/W, v = 1 - (r + 0.5)/H. lon = atan2(y, x), lat = asin(z). */
+
+typedef enum au_tex_proj {
+  AU_TEX_CEA = 0,  /* Lambert cylindrical equal-area: u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; the
+                      seam is the meridian lon = +-pi, the poles are the top and bottom rows */
+  AU_TEX_LAEA = 1  /* two Lambert azimuthal equal-area charts: the northern hemisphere in the left
+                      half of the image, the southern in the right half; each chart is a square of
+                      half side `half` around its pole, its ring outside the equator (radius sqrt 2)
+                      holding the continuation used by faces across the equator */
+} au_tex_proj;
+
+typedef struct au_tex_layout {
+  au_tex_proj proj;
+  double half; /* laea: half side of each chart, in [sqrt 2, 2] (set by au_tex_coords so that every
+                  face fits in its chart); cea: ignored */
+} au_tex_layout;
+
+/* The layout's default: cea; laea with half = 1.5. */
+AU_API au_tex_layout au_tex_layout_default(au_tex_proj proj);
+
+/* Texture coordinates uv [0..2n-1] -> points p [0..3n-1] on the unit sphere. valid: out [0..n-1]
+ * (may be NULL): 1 where (u, v) is the image of a point (cea: 0 <= v <= 1, u modulo 1; laea: inside
+ * the chart of radius 2), else 0 and p = 0. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
+AU_API au_status au_tex_to_sphere(const au_tex_layout *lay, int n, const double *uv, double *p, unsigned char *valid,
+                                  au_msg *msg);
+/* Points p [0..3n-1] (nonzero, normalized here) -> uv [0..2n-1] in the layout's primary chart.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
+AU_API au_status au_tex_from_sphere(const au_tex_layout *lay, int n, const double *p, double *uv, au_msg *msg);
+/* Longitude, latitude in degrees of points p [0..3n-1] into lonlat [0..2n-1] (lon 0 at the poles).
+ * Returns AU_OK, AU_E_ARG. */
+AU_API au_status au_tex_lonlat(int n, const double *p, double *lonlat);
+
+/* Exact sign of det[a b c] = a . (b x c): +1, 0 or -1 (a floating-point filter, then an exact
+ * expansion). On the sphere, +1 says c lies left of the great circle from a to b. */
+AU_API int au_sph_orient(const double a[3], const double b[3], const double c[3]);
+
+/* Exact point location in the triangles of a sphere map (read-only after building; may be shared
+ * by threads). */
+typedef struct au_locator au_locator;
+
+/* Build the locator of the map P (nv x 3, unit vectors) with faces F (nf x 3), fold-free (all
+ * triangles of one orientation). On success *out owns it. Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
+AU_API au_status au_locator_build(int nv, const double *P, int nf, const int *F, au_locator **out, au_msg *msg);
+AU_API void au_locator_free(au_locator **loc);
+
+/* The face whose spherical triangle contains the ray of p (any nonzero vector), by exact
+ * predicates; points on shared edges go to the first face found. bary: out (may be NULL), the
+ * barycentric coordinates of the piecewise linear map (sum bary_k X[F[f,k]] is p's preimage).
+ * hint: in/out (may be NULL), a face to try first. Returns the face, or -1 if none contains p. */
+AU_API int au_locator_find(const au_locator *loc, const double p[3], int *hint, double bary[3]);
+
+/* A mesh with per-corner texture coordinates (au_tex_coords): the input's vertices first, then
+ * vertices added at the poles or on split edges; the input's faces first (a split face keeps its
+ * index for its first part), then the added ones. */
+typedef struct au_tex_mesh {
+  int nv, nf;         /* after the splits */
+  int nv_in, nf_in;   /* the input's counts */
+  double *X;          /* X [0..3*nv-1]: positions on the surface */
+  double *P;          /* P [0..3*nv-1]: positions on the sphere */
+  int *F;             /* F [0..3*nf-1] */
+  int *src_face;      /* src_face [0..nf-1]: the input face each face comes from */
+  int nvt;            /* number of texture coordinates */
+  double *vt;         /* vt [0..2*nvt-1]; cea: u may leave [0, 1] on faces across the seam (repeat) */
+  int *Ft;            /* Ft [0..3*nf-1]: the texture coordinate of each corner */
+  double *lonlat;     /* lonlat [0..2*nv-1]: longitude, latitude in degrees of P */
+  au_tex_layout layout; /* the layout the coordinates refer to */
+  int seam_faces;     /* faces whose corners were shifted across the seam (cea) */
+  int pole_splits;    /* faces split at a pole (cea, 0..2) */
+  int pole_vertices;  /* input vertices on a pole */
+  int edge_splits;    /* cea: edges split because a face came out flipped in (u, v) */
+} au_tex_mesh;
+
+/* Texture coordinates of the sphere map P (nv x 3, fold-free) of m in projection proj. On success
+ * *out owns the result. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC, AU_E_FOLD. */
+AU_API au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_tex_mesh **out, au_msg *msg);
+AU_API void au_tex_mesh_free(au_tex_mesh **t);
+
+/* Write t as OBJ (v, vt, f v/vt), atomically. mtl_name: NULL, or a material library to name
+ * (`mtllib`, `usemtl authalic`). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */
+AU_API au_status au_tex_write_obj(const char *path, const au_tex_mesh *t, const char *mtl_name, au_msg *msg);
+
+/* For each texel of a W x H image in layout lay, the face holding the texel centre's point and its
+ * barycentric coordinates. face: out [0..W*H-1] (-1: no point); bary: out [0..3*W*H-1] (may be
+ * NULL). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
+AU_API au_status au_tex_locate_texels(const au_tex_layout *lay, const au_locator *loc, int W, int H, int *face,
+                                      double *bary, au_msg *msg);
+/* out[i*k + j] = sum_c bary[3i+c] A[F[3 face[i] + c]*k + j] for n located points with k components;
+ * NaN where face[i] < 0. Returns AU_OK, AU_E_ARG. */
+AU_API au_status au_tex_interpolate(int n, const int *face, const double *bary, const int *F, int k, const double *A,
+                                    double *out);
+/* Area-weighted unit vertex normals N [0..3*nv-1] (0 for unreferenced). Returns AU_OK, AU_E_ARG,
+ * AU_E_NOMEM. */
+AU_API au_status au_tex_vertex_normals(const au_mesh *m, double *N);
+/* The surface area of the preimage of every cell of the W x H equal-area (cea) grid, the surface
+ * scaled to total area 4 pi (an exact authalic map gives every cell 4 pi / (W H)); sub x sub
+ * sub-cells each. area: out [0..W*H-1], rows top to bottom. Returns AU_OK, AU_E_ARG, AU_E_NOMEM,
+ * AU_E_NUMERIC. */
+AU_API au_status au_tex_cell_areas(const au_mesh *m, const double *P, const au_locator *loc, int W, int H, int sub,
+                                   double *area, au_msg *msg);
+
+/* Write an 8-bit RGB image (rgb [0..3*W*H-1], rows top to bottom) as PNG, atomically.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */
+AU_API au_status au_png_write(const char *path, int W, int H, const unsigned char *rgb, au_msg *msg);
+/* Read an 8-bit RGB(A) or grey PNG as RGB; *rgb (3*W*H bytes) is freed with au_free.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO, AU_E_FORMAT. */
+AU_API au_status au_png_read(const char *path, int *W, int *H, unsigned char **rgb, au_msg *msg);
+/* Colour maps, t in [0, 1] (clamped; NaN grey): viridis, and blue - white - dark red. */
+AU_API void au_cmap_viridis(double t, unsigned char rgb[3]);
+AU_API void au_cmap_diverging(double t, unsigned char rgb[3]);
+
+/* The preview picture of a sphere map: the sphere from +z and -z side by side, faces coloured by
+ * Upsilon over [-range, range] (range <= 0: 0.5), and the Upsilon and Lambda histograms below.
+ * size: width in pixels (>= 200). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO, AU_E_NUMERIC. */
+AU_API au_status au_tex_preview(const char *path, const au_mesh *m, const double *P, int size, double range,
+                                au_msg *msg);
+/* Render the surface of t with the texture img (tw x th RGB) from direction view and from -view,
+ * side by side; size: height in pixels (>= 64); mark_seam: 1 tints the cea seam's faces red.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */
+AU_API au_status au_tex_render(const char *path, const au_tex_mesh *t, const unsigned char *img, int tw, int th,
+                               const double view[3], int size, int mark_seam, au_msg *msg);
+/* A unit direction from the surface's centroid towards the middle of the cea seam. Returns AU_OK,
+ * AU_E_ARG. */
+AU_API au_status au_tex_seam_view(const au_tex_mesh *t, double view[3]);
+
+/* Write a NumPy .npy file (version 1.0, '<f8', C order) of the given shape (ndim 1..4), atomically.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */
+AU_API au_status au_npy_write(const char *path, int ndim, const long *shape, const double *data, au_msg *msg);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

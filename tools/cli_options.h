@@ -1,0 +1,113 @@
+/* cli_options.h - every option of every command of the `authalic` program, in one table that
+ * generates the parser and the --help texts (cli_parse, cli_print_options in cli.c). A command
+ * reads the parsed values by id and converts them with the cli_opt_* helpers (cli.h). */
+#ifndef AU_CLI_OPTIONS_H
+#define AU_CLI_OPTIONS_H
+
+/* The commands, as bits: an option lists the commands that take it. */
+enum {
+  CLI_SPHERE = 1,
+  CLI_DISK = 2,
+  CLI_ANNULUS = 4,
+  CLI_SQUARE = 8,
+  CLI_TEXTURE = 16,
+  CLI_SAMPLE = 32,
+  CLI_PLANAR = CLI_DISK | CLI_ANNULUS | CLI_SQUARE,
+  CLI_MAPS = CLI_SPHERE | CLI_PLANAR,
+  CLI_ALL = CLI_MAPS | CLI_TEXTURE | CLI_SAMPLE
+};
+
+/* How an option takes its value. */
+enum {
+  CLI_FLAG = 0,   /* no value; at most once */
+  CLI_VALUE = 1,  /* one value; at most once */
+  CLI_FILE = 2,   /* one file name, not empty; at most once */
+  CLI_REPEAT = 3  /* a file name, repeatable (up to CLI_MAX_REPEAT times) */
+};
+#define CLI_MAX_REPEAT 16
+
+/* X(id, name, metavar, kind, commands, help). An id may appear in several rows, one per wording of
+ * its help (the rows' commands must not overlap). In the help, "%D" is replaced by the option's
+ * default for the command (cli.c, option_default), "%M" by its largest value. Rows are printed in
+ * this order. */
+#define CLI_OPTIONS(X)                                                                                                 \
+  X(OPT_MAP, "map", "SPHERE_MAP", CLI_FILE, CLI_TEXTURE | CLI_SAMPLE,                                                 \
+    "the sphere map of IN (same vertices and faces, positions on the sphere); computed on the fly when absent")     \
+  X(OPT_GRID, "grid", "WxH", CLI_VALUE, CLI_SAMPLE, "grid size, W and H from 1 to 16384 (required)")                \
+  X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_MAPS,                                                              \
+    "write a JSON report: metrics of the result and of the initial map, per-step errors, stage times, warnings")    \
+  X(OPT_STEPS, "steps", "K", CLI_VALUE, CLI_MAPS, "most advection steps, 1..%M (default %D)")                       \
+  X(OPT_TOL, "tol", "T", CLI_VALUE, CLI_MAPS, "stop when the vertex mean |log area ratio| is below T, T >= 0 (default %D)") \
+  X(OPT_DENSITY, "density", "FILE", CLI_FILE, CLI_MAPS,                                                              \
+    "prescribed density: one positive number per vertex (or per face) of IN, in order, whitespace-separated; "      \
+    "domain area is proportional to density x surface area")                                                        \
+  X(OPT_BOUNDARY, "boundary", "MODE", CLI_VALUE, CLI_PLANAR,                                                         \
+    "slide (default): boundary vertices slide along the domain's boundary (square: corners fixed); fixed: the "     \
+    "initial map's boundary is kept")                                                                                \
+  X(OPT_INNER_RADIUS, "inner-radius", "R", CLI_VALUE, CLI_ANNULUS,                                                   \
+    "radius of the inner circle, 0 < R < 1 (default: the conformal modulus's)")                                      \
+  X(OPT_OUTER_LOOP, "outer-loop", "WHICH", CLI_VALUE, CLI_ANNULUS,                                                   \
+    "the loop mapped to the unit circle: longer (default), shorter, or the index of a vertex on it")                 \
+  X(OPT_CORNERS, "corners", "I,J,K,L", CLI_VALUE, CLI_SQUARE,                                                        \
+    "boundary vertices (0-based) for the corners: I goes to (0,0), the others to (1,0), (1,1), (0,1) in the "       \
+    "order they follow I along the boundary (default: the most corner-like vertices near the arc-length quarters)") \
+  X(OPT_RESTORE, "restore-shapes", "F", CLI_VALUE, CLI_SPHERE,                                                       \
+    "while the spherical areas are driven, aim each step's shear a fraction F (0..1, default %D; 0: off) back at "  \
+    "the surface's triangle shapes: fewer long, thin triangles")                                                     \
+  X(OPT_REFINE_FACES, "refine-faces", NULL, CLI_FLAG, CLI_MAPS,                                                      \
+    "once the vertex cells meet the tolerance, go on refining the triangles' areas as long as it helps at all "     \
+    "(default: while it gains 10% in 4 steps), on the flow's ordinary schedule")                                     \
+  X(OPT_ANGLES, "angles", "N", CLI_VALUE, CLI_MAPS,                                                                  \
+    "N steps (1..%M) towards the map of least Dirichlet energy with the vertex cells held at their areas: less "     \
+    "angle distortion, vertex cells within about 1e-4, the triangles' areas held near theirs (on the sphere from "  \
+    "a vertex error of 0.01 on, elsewhere after the flow)")                                                          \
+  X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
+  X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_MAPS,                                                            \
+    "stop after the initial (conformal or harmonic) map, for comparison")                                            \
+  X(OPT_PROJECTION, "projection", "P", CLI_VALUE, CLI_TEXTURE,                                                       \
+    "cea (default): Lambert cylindrical equal-area, u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; sample with u "     \
+    "wrapped (repeat). laea: Lambert azimuthal equal-area, northern hemisphere in the left half, southern in the "  \
+    "right half (no wrapping needed)")                                                                               \
+  X(OPT_LONLAT, "lonlat", "FILE", CLI_FILE, CLI_TEXTURE,                                                             \
+    "write longitude and latitude in degrees of every vertex of OUT.obj")                                            \
+  X(OPT_BAKE, "bake", "ATTR", CLI_FILE, CLI_TEXTURE,                                                                 \
+    "bake a per-vertex attribute into --image: `normal` (unit normals as colours (n + 1)/2), `position` (the "      \
+    "bounding box as RGB), or a text file with one number per vertex of IN, drawn with the viridis colour map")     \
+  X(OPT_IMAGE, "image", "OUT.png", CLI_FILE, CLI_TEXTURE,                                                            \
+    "the baked texture; OUT.mtl is written beside OUT.obj and names it")                                             \
+  X(OPT_SIZE, "size", "WxH", CLI_VALUE, CLI_TEXTURE, "texture size in texels (default 1024x512; laea needs an even W)") \
+  X(OPT_NORMALS, "normals", NULL, CLI_FLAG, CLI_SAMPLE, "add the surface normal (3 columns)")                       \
+  X(OPT_ATTR, "attr", "FILE", CLI_REPEAT, CLI_SAMPLE,                                                                \
+    "add a per-vertex scalar (a text file, one number per vertex); repeatable")                                      \
+  X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_SAMPLE,                                                            \
+    "the surface area of every cell's preimage (mean, std/mean, min, max) and the map's distortion")                \
+  X(OPT_PREVIEW, "preview", "P.png", CLI_FILE, CLI_TEXTURE | CLI_SAMPLE,                                             \
+    "the sphere map from +z and -z coloured by Upsilon = ln(surface/sphere area) from -0.5 (blue) to +0.5 (red), " \
+    "with the Upsilon (dark red) and Lambda (blue) histograms")                                                      \
+  X(OPT_RENDER, "render", "R.png", CLI_FILE, CLI_TEXTURE,                                                            \
+    "IN drawn with the baked texture through OUT.obj's coordinates, from the side of the seam and from the "       \
+    "opposite side (needs --bake)")                                                                                  \
+  X(OPT_MARK_SEAM, "mark-seam", NULL, CLI_FLAG, CLI_TEXTURE, "tint the faces across the cea seam red in --render")  \
+  X(OPT_QUIET, "quiet", NULL, CLI_FLAG, CLI_ALL, "no progress and no summary on stderr (errors and warnings remain)") \
+  X(OPT_HELP, "help", NULL, CLI_FLAG, CLI_ALL, "this text")
+
+/* The ids, each once. */
+typedef enum cli_opt_id {
+  OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
+  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_NO_BALANCE, OPT_INIT_ONLY, OPT_PROJECTION, OPT_LONLAT,
+  OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
+  OPT_COUNT
+} cli_opt_id;
+
+/* What cli_parse found. */
+typedef struct cli_args {
+  int cmd;                 /* the command's bit */
+  const char *help;        /* "authalic CMD --help", for error messages */
+  const char *pos[3];      /* positional arguments in order */
+  int npos;
+  const char *val[OPT_COUNT]; /* the value of each option given (flags: "" ), NULL if absent */
+  const char *rep[CLI_MAX_REPEAT]; /* the values of the repeatable option, in order */
+  int nrep;
+} cli_args;
+
+#endif

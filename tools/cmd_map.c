@@ -1,0 +1,244 @@
+/* cmd_map.c - `authalic sphere | disk | annulus | square IN OUT`: a mesh onto the unit sphere, the unit
+ * disk, an annulus with outer radius 1 or the unit square (argv[0] says which), through the public
+ * entry point au_map. Parses, reads, maps, writes; no numerics. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+static const char *const usage_sphere =
+    "usage: authalic sphere IN OUT [options]\n\n"
+    "Maps the closed genus-0 triangle mesh IN onto the unit sphere so that every vertex cell keeps\n"
+    "its share of the surface area, and writes the map to OUT (.obj .off or .ply). Progress and a\n"
+    "summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n";
+static const char *const usage_disk =
+    "usage: authalic disk IN OUT [options]\n\n"
+    "Maps the triangle mesh IN, which must have one boundary loop (a topological disk), onto the\n"
+    "unit disk so that every vertex cell keeps its share of the surface area. The boundary stays on\n"
+    "the unit circle and slides along it during the flow.\n\n";
+static const char *const usage_annulus =
+    "usage: authalic annulus IN OUT [options]\n\n"
+    "Maps the triangle mesh IN, which must have two boundary loops (a topological annulus), onto\n"
+    "an annulus centred at the origin with outer radius 1 so that every vertex cell keeps its share\n"
+    "of the surface area. Both loops slide along their circles during the flow.\n\n";
+static const char *const usage_square =
+    "usage: authalic square IN OUT [options]\n\n"
+    "Maps the triangle mesh IN, which must have one boundary loop, onto the unit square [0,1]^2 so\n"
+    "that every vertex cell keeps its share of the surface area (Zou et al. 2011, sec. 4.1). Four\n"
+    "boundary vertices go to the corners and stay there; the others slide along their sides.\n"
+    "Triangles whose three vertices would land on one side are split first: the new vertices\n"
+    "(edge midpoints) come after the input's vertices in OUT, the new faces after its faces.\n\n";
+static const char *const usage_planar_out =
+    "OUT (.obj .off or .ply) has the input's vertices in the input's order and its faces, with\n"
+    "positions (u, v, 0); an .obj also gets `vt` texture coordinates in [0,1]^2. Progress and a\n"
+    "summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n";
+
+/* Four comma-separated whole numbers >= 0; 0 on success. */
+static int parse_corners(const char *s, int c[4]) {
+  const char *p = s;
+  for (int q = 0; q < 4; q++) {
+    char buf[32];
+    const char *e = strchr(p, ',');
+    size_t n = e ? (size_t)(e - p) : strlen(p);
+    if ((q < 3) != (e != NULL) || n == 0 || n >= sizeof buf) return -1;
+    memcpy(buf, p, n);
+    buf[n] = '\0';
+    if (cli_parse_int(buf, 0, 2147483647L, &c[q])) return -1;
+    p = e ? e + 1 : p + n;
+  }
+  return 0;
+}
+
+/* The options' values into o; -1 to go on, else the exit code (a usage error printed). */
+static int map_options(const cli_args *a, au_options *o) {
+  const char *h = a->help;
+  const char *v;
+  if (cli_opt_int(a, OPT_STEPS, 1, AU_MAX_STEPS, &o->max_steps)) return EXIT_USAGE;
+  if (cli_opt_nonneg(a, OPT_TOL, &o->tol)) return EXIT_USAGE;
+  if (cli_opt_int(a, OPT_ANGLES, 1, AU_MAX_ANGLE_STEPS, &o->angle_steps)) return EXIT_USAGE;
+  if ((v = a->val[OPT_RESTORE]) && (cli_parse_nonneg(v, &o->restore_shapes) || o->restore_shapes > 1))
+    return cli_usage_error(h, "--restore-shapes '%s': expected a number from 0 to 1", v);
+  o->refine_faces = a->val[OPT_REFINE_FACES] != NULL;
+  o->init_only = a->val[OPT_INIT_ONLY] != NULL;
+  o->balance = a->val[OPT_NO_BALANCE] == NULL;
+  if ((v = a->val[OPT_BOUNDARY])) {
+    if (strcmp(v, "slide") == 0) o->boundary = AU_BOUNDARY_SLIDE;
+    else if (strcmp(v, "fixed") == 0) o->boundary = AU_BOUNDARY_FIXED;
+    else return cli_usage_error(h, "--boundary '%s': expected slide or fixed", v);
+  }
+  if ((v = a->val[OPT_INNER_RADIUS]) && (cli_parse_nonneg(v, &o->inner_radius) || !(o->inner_radius > 0 && o->inner_radius < 1)))
+    return cli_usage_error(h, "--inner-radius '%s': expected a number between 0 and 1 (exclusive)", v);
+  if ((v = a->val[OPT_OUTER_LOOP])) {
+    if (strcmp(v, "longer") == 0) o->outer_loop = AU_OUTER_LONGER;
+    else if (strcmp(v, "shorter") == 0) o->outer_loop = AU_OUTER_SHORTER;
+    else if (cli_parse_int(v, 0, 2147483647L, &o->outer_loop))
+      return cli_usage_error(h, "--outer-loop '%s': expected longer, shorter or a vertex index", v);
+  }
+  if ((v = a->val[OPT_CORNERS]) && parse_corners(v, o->corners))
+    return cli_usage_error(h, "--corners '%s': expected four vertex indices I,J,K,L", v);
+  return -1;
+}
+
+/* Parse `authalic CMD ...`; -1 to go on, else the exit code. */
+static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o) {
+  char usage[2048];
+  const char *u = cmd == CLI_SPHERE ? usage_sphere : cmd == CLI_DISK ? usage_disk : cmd == CLI_ANNULUS ? usage_annulus : usage_square;
+  snprintf(usage, sizeof usage, "%s%s", u, cmd == CLI_SPHERE ? "" : usage_planar_out);
+  int rc = cli_parse(argc, argv, cmd, 2, usage, a);
+  if (rc >= 0) return rc;
+  if (a->npos < 2) return cli_usage_error(a->help, a->npos == 0 ? "missing input and output files" : "missing output file");
+  if (!*a->pos[0] || !*a->pos[1]) return cli_usage_error(a->help, "empty file name");
+  *o = au_options_default();
+  if ((rc = map_options(a, o)) >= 0) return rc;
+  if (o->init_only) {
+    static const cli_opt_id flow_only[] = {OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_REFINE_FACES, OPT_RESTORE, OPT_ANGLES, OPT_BOUNDARY};
+    for (size_t k = 0; k < sizeof flow_only / sizeof flow_only[0]; k++)
+      if (a->val[flow_only[k]])
+        return cli_usage_error(a->help, "--init-only runs no advection: --steps, --tol, --density, --boundary, "
+                                        "--refine-faces, --restore-shapes and --angles do not apply");
+  }
+  rc = cli_check_outputs(a->help, a->pos[0], a->pos[1], a->val[OPT_REPORT]);
+  return rc ? rc : -1;
+}
+
+/* Read a density file: whitespace-separated numbers, nv of them (per vertex) or nf (per face), each
+ * positive and finite. On success *out (malloc'ed) and *count are set and -1 is returned; otherwise
+ * the error is printed and the exit code returned. */
+static int read_density(const char *path, int nv, int nf, double **out, int *count) {
+  FILE *fp = fopen(path, "r");
+  if (!fp) {
+    fprintf(stderr, "authalic: error: %s: cannot open the density file: %s\n", path, strerror(errno));
+    return EXIT_USAGE;
+  }
+  int cap = (nv > nf ? nv : nf) + 1, n = 0, rc = -1;
+  double *v = malloc(sizeof(double) * (size_t)cap);
+  char tok[128];
+  if (!v) {
+    fclose(fp);
+    return cli_fail(path, AU_E_NOMEM, NULL);
+  }
+  while (fscanf(fp, "%127s", tok) == 1) {
+    char *end = NULL;
+    double x = strtod(tok, &end);
+    if (*end || !isfinite(x) || !(x > 0)) {
+      fprintf(stderr, "authalic: error: %s: value %d ('%s') is not a positive finite number\n", path, n + 1, tok);
+      rc = EXIT_USAGE;
+      break;
+    }
+    if (n == cap - 1) {
+      fprintf(stderr, "authalic: error: %s: more values than the mesh has vertices (%d) or faces (%d)\n", path, nv, nf);
+      rc = EXIT_USAGE;
+      break;
+    }
+    v[n++] = x;
+  }
+  fclose(fp);
+  if (rc < 0 && n != nv && n != nf) {
+    fprintf(stderr, "authalic: error: %s: %d values; the mesh has %d vertices and %d faces\n", path, n, nv, nf);
+    rc = EXIT_USAGE;
+  }
+  if (rc >= 0) {
+    free(v);
+    return rc;
+  }
+  *out = v, *count = n;
+  return -1;
+}
+
+/* The one summary line on stderr. */
+static void summary(int cmd, const au_result *r, double seconds) {
+  const au_metrics *f = &r->metrics;
+  if (cmd == CLI_SPHERE) {
+    fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs%s\n", r->nv,
+            r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs, seconds,
+            r->conv.lantern_retry == 2 ? " (lantern retry kept)" : r->conv.lantern_retry == 1 ? " (lantern retry discarded)" : "");
+    return;
+  }
+  char extra[160] = "";
+  if (cmd == CLI_ANNULUS)
+    snprintf(extra, sizeof extra, " inner_radius=%.6g modulus_radius=%.6g", r->inner_radius, r->modulus_radius);
+  else if (cmd == CLI_SQUARE)
+    snprintf(extra, sizeof extra, " corners=%d,%d,%d,%d split=%d", r->corners[0], r->corners[1], r->corners[2],
+             r->corners[3], r->nsplit);
+  fprintf(stderr,
+          "authalic: %s: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g boundary_dev=%.2g%s start=%s "
+          "time=%.2fs\n",
+          cli_cmd_name(cmd), r->nv, r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs,
+          r->boundary_dev, extra, r->init_method ? r->init_method : "?", seconds);
+}
+
+static au_target target_of(int cmd) {
+  return cmd == CLI_DISK ? AU_TARGET_DISK : cmd == CLI_ANNULUS ? AU_TARGET_ANNULUS : cmd == CLI_SQUARE ? AU_TARGET_SQUARE
+                                                                                                       : AU_TARGET_SPHERE;
+}
+
+/* The command after parsing: read, map, write. */
+static int run_map(const cli_args *a, au_options *o) {
+  double t_start = cli_now();
+  const char *in = a->pos[0], *out = a->pos[1], *report = a->val[OPT_REPORT];
+  const int quiet = a->val[OPT_QUIET] != NULL;
+  au_target t = target_of(a->cmd);
+  au_report_extra extra = {NULL, NULL, NULL, -1, -1, -1, NULL, 0};
+  extra.input = in, extra.output = out, extra.tool = "authalic " AU_VERSION;
+  au_mesh *m = NULL;
+  au_result *r = NULL;
+  double *density = NULL;
+  au_msg msg = {{0}};
+  cli_progress_state prog;
+  cli_progress_init(&prog, quiet);
+  cli_expect_output(out);
+  cli_expect_output(report);
+
+  /* The check's warning (unreferenced vertices) is the result's too: not kept twice. */
+  int rc = cli_load(in, (au_target)-1, &m, NULL, &extra.t_read, &extra.t_validate);
+  if (rc >= 0) goto done;
+  if (a->val[OPT_DENSITY]) {
+    int nval = 0;
+    rc = read_density(a->val[OPT_DENSITY], m->nv, m->nf, &density, &nval);
+    if (rc >= 0) goto done;
+    if (nval == m->nv) o->vertex_density = density;
+    else o->face_density = density;
+  }
+  if (!quiet) o->progress = cli_progress, o->user = &prog;
+  au_status st = au_map(m->X, m->nv, m->F, m->nf, t, o, &r, &msg);
+  cli_progress_end(&prog);
+  if (st < 0) {
+    /* A bad corner or outer-loop vertex is the user's to fix, like bad input; the library names the
+     * option by its field (outer_loop), the program by its flag (--outer-loop). */
+    if (st == AU_E_ARG) {
+      char *colon = strchr(msg.text, ':');
+      for (char *c = msg.text; colon && c < colon; c++)
+        if (*c == '_') *c = '-';
+      fprintf(stderr, "authalic: error: %s: --%s\n", in, msg.text);
+      rc = EXIT_USAGE;
+    } else {
+      rc = cli_fail(in, st, &msg);
+    }
+    goto done;
+  }
+  for (int k = 0; k < r->nwarnings; k++) fprintf(stderr, "authalic: warning: %s: %s\n", in, r->warnings[k]);
+  au_write_opts w = au_write_opts_default();
+  w.uv = r->uv;
+  rc = cli_publish(out, r->nv, r->P, r->nf, r->F, &w, report, r, &extra);
+  if (rc == EXIT_OK && !quiet) summary(a->cmd, r, cli_now() - t_start);
+done:
+  cli_progress_end(&prog);
+  au_result_free(&r);
+  au_mesh_free(&m);
+  free(density);
+  return rc;
+}
+
+int cli_cmd_map(int argc, char **argv) {
+  int cmd = strcmp(argv[0], "disk") == 0 ? CLI_DISK : strcmp(argv[0], "annulus") == 0 ? CLI_ANNULUS
+          : strcmp(argv[0], "square") == 0 ? CLI_SQUARE : CLI_SPHERE;
+  cli_args a;
+  au_options o;
+  int rc = parse_map(argc, argv, cmd, &a, &o);
+  return rc >= 0 ? rc : run_map(&a, &o);
+}
