@@ -16,6 +16,21 @@ const char *au_version(void) { return AU_VERSION; }
 
 void au_free(void *p) { free(p); }
 
+size_t au_struct_size(const char *name) {
+  static const struct {
+    const char *name;
+    size_t size;
+  } sizes[] = {{"au_options", sizeof(au_options)},         {"au_expert", sizeof(au_expert)},
+               {"au_result", sizeof(au_result)},           {"au_metrics", sizeof(au_metrics)},
+               {"au_convergence", sizeof(au_convergence)}, {"au_mesh", sizeof(au_mesh)},
+               {"au_msg", sizeof(au_msg)},                 {"au_write_opts", sizeof(au_write_opts)},
+               {"au_report_extra", sizeof(au_report_extra)}, {"au_tex_layout", sizeof(au_tex_layout)},
+               {"au_tex_mesh", sizeof(au_tex_mesh)}};
+  for (size_t k = 0; name && k < sizeof sizes / sizeof sizes[0]; k++)
+    if (strcmp(name, sizes[k].name) == 0) return sizes[k].size;
+  return 0;
+}
+
 au_status au_mesh_read(const char *path, au_mesh **out, au_msg *msg) { return au_io_read(path, out, msg); }
 
 au_write_opts au_write_opts_default(void) {

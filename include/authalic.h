@@ -119,6 +119,12 @@ AU_API au_status au_msg_set(au_msg *m, au_status s, const char *fmt, ...)
 /* The library's version as "MAJOR.MINOR.PATCH"; never NULL. */
 AU_API const char *au_version(void);
 
+/* sizeof the public struct named name ("au_options", "au_expert", "au_result", "au_metrics",
+ * "au_convergence", "au_mesh", "au_msg", "au_write_opts", "au_report_extra", "au_tex_layout",
+ * "au_tex_mesh"), or 0 for another name: for bindings that lay the structs out themselves (Python's
+ * ctypes) to check their layout against the library they loaded. */
+AU_API size_t au_struct_size(const char *name);
+
 /* Free memory the library handed out as a plain pointer (the JSON of au_result_json). NULL-safe. */
 AU_API void au_free(void *p);
 
