@@ -1,5 +1,6 @@
-/* mkdata.c - generator of the project's own test meshes in data/: closed genus-0 ones, and a disk and an
- * annulus with a bump for the planar domains (needs only libm). */
+/* mkdata.c - generator of the project's own test meshes in data/: closed genus-0 ones, a disk and an
+ * annulus with a bump for the planar domains, and tori of revolution (genus 1) whose conformal and
+ * equal-area flat-torus maps are known in closed form (needs only libm). */
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -378,12 +379,38 @@ static void make_holed_sphere(mesh *m) {
   mesh_free(&s);
 }
 
+/* A torus of revolution about z: X(u, v) = ((R + r cos v) cos u, (R + r cos v) sin u, r sin v) with
+ * r = 1 and R = ratio; nv_tube vertices around the tube (v) and ratio x nv_tube around the axis (u),
+ * both equally spaced from u = v = 0, so the quads are square where cos v = 0. Vertex (i, j) (u_i, v_j)
+ * is row i * nv_tube + j; each quad is split along its (i, j)-(i+1, j+1) diagonal. Counter-clockwise
+ * in (u, v) is outward: X_u x X_v = (R + r cos v) r (cos u cos v, sin u cos v, sin v). */
+static void make_torus(mesh *m, double ratio, int nv_tube) {
+  const double r = 1, R = ratio * r;
+  int nu = (int)lround(ratio * nv_tube), nt = nv_tube;
+  for (int i = 0; i < nu; i++)
+    for (int j = 0; j < nt; j++) {
+      double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nt;
+      add_v(m, (R + r * cos(v)) * cos(u), (R + r * cos(v)) * sin(u), r * sin(v));
+    }
+  for (int i = 0; i < nu; i++)
+    for (int j = 0; j < nt; j++) {
+      int a = i * nt + j, b = ((i + 1) % nu) * nt + j, c = ((i + 1) % nu) * nt + (j + 1) % nt, d = i * nt + (j + 1) % nt;
+      add_f(m, a, b, c);
+      add_f(m, a, c, d);
+    }
+}
+
+static void make_torus_r2(mesh *m) { make_torus(m, 2, 24); }
+static void make_torus_r3(mesh *m) { make_torus(m, 3, 24); }
+static void make_torus_r5(mesh *m) { make_torus(m, 5, 24); }
+
 /* Self-check that every mesh is what the README promises: each directed edge used once and its
  * reverse present (closed, manifold along edges, consistently oriented), Euler characteristic 2 on
  * one component (genus 0), and positive signed volume (outward normals). Returns 0 if all hold.
  * Open meshes (loops > 0) instead: each directed edge used once, the edges without a reverse forming
  * exactly `loops` boundary loops, Euler characteristic 2 - loops (genus 0), one component, and a
- * positive projected area in the xy plane (counter-clockwise seen from +z); *volume gets the area. */
+ * positive projected area in the xy plane (counter-clockwise seen from +z); *volume gets the area.
+ * Closed meshes of genus g (the tori: g = 1) have Euler characteristic 2 - 2g instead of 2. */
 static int cmp_u64(const void *a, const void *b) {
   uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
   return (x > y) - (x < y);
@@ -394,7 +421,7 @@ static int find_root(int *parent, int i) {
   return i;
 }
 
-static int check(const mesh *m, const char *name, int loops, double *volume) {
+static int check(const mesh *m, const char *name, int loops, int genus, double *volume) {
   size_t ne = 3 * (size_t)m->nf;
   uint64_t *e = malloc(sizeof(uint64_t) * ne);
   int *parent = malloc(sizeof(int) * (size_t)m->nv);
@@ -452,6 +479,7 @@ static int check(const mesh *m, const char *name, int loops, double *volume) {
     if (nl != loops) bad++;
     euler += loops; /* compare with 2 below: V - E + F = 2 - loops for genus 0 */
   }
+  euler += 2 * genus; /* V - E + F = 2 - 2g */
   free(e);
   free(parent);
   *volume = vol;
@@ -495,22 +523,26 @@ static int write_obj(const mesh *m, double vol, int loops, const char *dir, cons
 static const struct {
   const char *name, *what;
   void (*make)(mesh *);
-  int loops; /* boundary loops: 0 closed genus 0, 1 disk, 2 annulus */
+  int loops; /* boundary loops: 0 closed, 1 disk, 2 annulus */
+  int genus; /* 0, or 1 for the tori */
 } meshes[] = {
-    {"bumpy_star", "icosphere level 4 with six long fingers and low bumps (default for make run)", make_bumpy_star, 0},
-    {"dumbbell", "two unit spheres joined by a thin neck (surface of revolution)", make_dumbbell, 0},
-    {"spiky_ico", "icosphere level 3 with 12 long spikes at the icosahedron vertices", make_spiky_ico, 0},
-    {"ellipsoid", "prolate ellipsoid 1:1:4 (surface of revolution)", make_ellipsoid, 0},
-    {"disk_bump", "unit disk lifted by a tall Gaussian bump and a low one (one boundary loop)", make_disk_bump, 1},
-    {"annulus_bump", "annulus 0.35 <= r <= 1 lifted by the same bumps (two boundary loops)", make_annulus_bump, 2},
-    {"holed_sphere", "the unit sphere with a hole of 12 degrees: a short boundary for its area (one boundary loop)", make_holed_sphere, 1},
+    {"bumpy_star", "icosphere level 4 with six long fingers and low bumps (default for make run)", make_bumpy_star, 0, 0},
+    {"dumbbell", "two unit spheres joined by a thin neck (surface of revolution)", make_dumbbell, 0, 0},
+    {"spiky_ico", "icosphere level 3 with 12 long spikes at the icosahedron vertices", make_spiky_ico, 0, 0},
+    {"ellipsoid", "prolate ellipsoid 1:1:4 (surface of revolution)", make_ellipsoid, 0, 0},
+    {"disk_bump", "unit disk lifted by a tall Gaussian bump and a low one (one boundary loop)", make_disk_bump, 1, 0},
+    {"annulus_bump", "annulus 0.35 <= r <= 1 lifted by the same bumps (two boundary loops)", make_annulus_bump, 2, 0},
+    {"holed_sphere", "the unit sphere with a hole of 12 degrees: a short boundary for its area (one boundary loop)", make_holed_sphere, 1, 0},
+    {"torus_r2", "torus of revolution R/r = 2, 48 x 24 vertices (genus 1)", make_torus_r2, 0, 1},
+    {"torus_r3", "torus of revolution R/r = 3, 72 x 24 vertices (genus 1)", make_torus_r3, 0, 1},
+    {"torus_r5", "torus of revolution R/r = 5, 120 x 24 vertices (genus 1)", make_torus_r5, 0, 1},
 };
 
 int main(int argc, char **argv) {
   if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
     printf("usage: au_mkdata OUTDIR\n"
-           "Writes the project's test meshes (genus 0; closed ones outward-oriented, open ones\n"
-           "counter-clockwise seen from +z) as OBJ into OUTDIR:\n");
+           "Writes the project's test meshes (genus 0, and tori of genus 1; closed ones outward-oriented,\n"
+           "open ones counter-clockwise seen from +z) as OBJ into OUTDIR:\n");
     for (size_t i = 0; i < sizeof meshes / sizeof *meshes; i++)
       printf("  %-12s %s\n", meshes[i].name, meshes[i].what);
     return 0;
@@ -528,7 +560,7 @@ int main(int argc, char **argv) {
     mesh m = {0};
     double vol;
     meshes[i].make(&m);
-    if (check(&m, meshes[i].name, meshes[i].loops, &vol)) status = 1;
+    if (check(&m, meshes[i].name, meshes[i].loops, meshes[i].genus, &vol)) status = 1;
     else if (write_obj(&m, vol, meshes[i].loops, argv[1], meshes[i].name, meshes[i].what)) status = 2;
     mesh_free(&m);
   }
