@@ -38,6 +38,7 @@ au_write_opts au_write_opts_default(void) {
   au_write_opts o;
   memset(&o, 0, sizeof o);
   o.uv = d.uv, o.precision = d.precision;
+  o.nvt = d.nvt, o.vt = d.vt, o.Ft = d.Ft;
   return o;
 }
 
@@ -47,7 +48,7 @@ au_status au_mesh_write(const char *path, int nv, const double *V, int nf, const
   /* The writer takes positions and faces through a mesh; it reads them only. */
   au_mesh m = {nv, nf, (double *)V, (int *)F};
   au_io_write_opts w = au_io_write_opts_default();
-  if (opts) w.uv = opts->uv, w.precision = opts->precision;
+  if (opts) w.uv = opts->uv, w.precision = opts->precision, w.nvt = opts->nvt, w.vt = opts->vt, w.Ft = opts->Ft;
   return au_io_write(path, &m, V, &w, msg);
 }
 
@@ -57,7 +58,7 @@ au_status au_write_text(const char *path, const char *text, size_t len, au_msg *
 
 int au_mesh_can_write(const char *path) { return path ? au_io_can_write(path) : 0; }
 
-static const char *const target_names[] = {"sphere", "disk", "annulus", "square"};
+static const char *const target_names[] = {"sphere", "disk", "annulus", "square", "torus"};
 
 const char *au_target_name(au_target t) {
   return (int)t >= 0 && (int)t < (int)(sizeof target_names / sizeof target_names[0]) ? target_names[t] : NULL;
@@ -65,8 +66,8 @@ const char *au_target_name(au_target t) {
 
 au_mesh_expect au__target_expect(au_target t) {
   au_mesh_expect ex = au_mesh_expect_default();
-  ex.loops = t == AU_TARGET_SPHERE ? 0 : t == AU_TARGET_ANNULUS ? 2 : 1;
-  ex.genus = 0;
+  ex.loops = t == AU_TARGET_SPHERE || t == AU_TARGET_TORUS ? 0 : t == AU_TARGET_ANNULUS ? 2 : 1;
+  ex.genus = t == AU_TARGET_TORUS ? 1 : 0;
   ex.command = au_target_name(t);
   return ex;
 }

@@ -13,6 +13,7 @@
 #include "au_metrics.h"
 #include "au_report.h"
 #include "au_sphere.h"
+#include "au_torus.h"
 
 /* A planar map's boundary vertices must lie on the domain's boundary to this distance; the flow
  * projects them there, so more means a numerical failure. */
@@ -38,7 +39,7 @@ static void warn(au_result *r, const char *fmt, ...) {
 void au_result_free(au_result **rp) {
   if (!rp || !*rp) return;
   au_result *r = *rp;
-  free(r->P), free(r->P0), free(r->X), free(r->F), free(r->uv);
+  free(r->P), free(r->P0), free(r->X), free(r->F), free(r->uv), free(r->vt), free(r->Ft);
   free(r->conv.err), free(r->conv.face_err), free(r->conv.frac);
   free(r);
   *rp = NULL;
@@ -77,6 +78,8 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
     return au_msg_set(msg, AU_E_ARG, "inner_radius: expected 0 < r < 1 (0: the conformal modulus's)");
   if (o->boundary != AU_BOUNDARY_SLIDE && o->boundary != AU_BOUNDARY_FIXED)
     return au_msg_set(msg, AU_E_ARG, "boundary: expected AU_BOUNDARY_SLIDE or AU_BOUNDARY_FIXED");
+  if (o->lattice != AU_LATTICE_CONFORMAL && o->lattice != AU_LATTICE_SQUARE)
+    return au_msg_set(msg, AU_E_ARG, "lattice: expected AU_LATTICE_CONFORMAL or AU_LATTICE_SQUARE");
   if (o->outer_loop < AU_OUTER_SHORTER)
     return au_msg_set(msg, AU_E_ARG, "outer_loop %d: expected AU_OUTER_LONGER, AU_OUTER_SHORTER or a vertex index",
                       o->outer_loop);
@@ -160,8 +163,9 @@ static au_status alloc_result(map_run *x, au_msg *msg) {
   r->nv = x->mm->nv, r->nf = x->mm->nf;
   r->P = malloc(n3 * sizeof *r->P), r->P0 = malloc(n3 * sizeof *r->P0), r->X = malloc(n3 * sizeof *r->X);
   r->F = malloc(3 * (size_t)r->nf * sizeof *r->F);
-  if (x->target != AU_TARGET_SPHERE) r->uv = malloc(2 * (size_t)r->nv * sizeof *r->uv);
-  if (!r->P || !r->P0 || !r->X || !r->F || (x->target != AU_TARGET_SPHERE && !r->uv))
+  const int per_vertex_uv = x->target != AU_TARGET_SPHERE && x->target != AU_TARGET_TORUS;
+  if (per_vertex_uv) r->uv = malloc(2 * (size_t)r->nv * sizeof *r->uv);
+  if (!r->P || !r->P0 || !r->X || !r->F || (per_vertex_uv && !r->uv))
     return au_msg_set(msg, AU_E_NOMEM, "out of memory for the result");
   memcpy(r->X, x->mm->X, n3 * sizeof *r->X);
   memcpy(r->F, x->mm->F, 3 * (size_t)r->nf * sizeof *r->F);
@@ -246,6 +250,50 @@ static au_status run_planar(map_run *x, au_msg *msg) {
   return st;
 }
 
+/* The torus: the conformal start in the lattice asked for, its seamless texture coordinates. The
+ * flow on the torus is not there yet: without init_only the start is returned with a warning. */
+static au_status run_torus(map_run *x, au_msg *msg) {
+  au_result *r = x->r;
+  au_torus_start *s = NULL;
+  double t0 = now_s();
+  au_status st = au_torus_init(x->m, x->t, &s, msg);
+  r->t_init = now_s() - t0;
+  if (st != AU_OK) return st;
+  au_torus_lattice(s, x->o->lattice == AU_LATTICE_SQUARE ? AU_TORUS_SQUARE : AU_TORUS_CONFORMAL, r->lattice);
+  memcpy(r->conformal_lattice, s->conformal, sizeof r->conformal_lattice);
+  au_torus_positions(s, (const double(*)[2])r->lattice, r->P);
+  memcpy(r->P0, r->P, 3 * (size_t)r->nv * sizeof *r->P);
+  r->init_method = s->weights == AU_TORUS_COTAN ? "cotan" : "meanvalue";
+  if (s->weights != AU_TORUS_COTAN)
+    warn(r, "the cotan start folded %d triangles: the start uses positive (mean-value) weights in the cotan lattice",
+         s->cotan_folds);
+  st = au_torus_texcoords(s, r->F, (const double(*)[2])r->lattice, &r->nvt, &r->vt, &r->Ft, msg);
+  au_torus_start_free(&s);
+  if (st != AU_OK) return st;
+  if (!x->o->init_only) {
+    warn(r, "the torus flow is not implemented yet: this is the conformal start");
+    r->init_only = 1;
+    return AU_W_NOT_CONVERGED;
+  }
+  return AU_OK;
+}
+
+/* The torus's metrics: of the mesh cut along the seams, one vertex per vt row (as param-eval measures
+ * a map given by vt), so that every face is measured by its own lifted triangle. */
+static au_status torus_metrics(au_result *r, au_metrics *out) {
+  double *Xc = malloc(3 * (size_t)r->nvt * sizeof *Xc), *Pc = calloc(3 * (size_t)r->nvt, sizeof *Pc);
+  au_status st = Xc && Pc ? AU_OK : AU_E_NOMEM;
+  for (size_t c = 0; st == AU_OK && c < 3 * (size_t)r->nf; c++)
+    memcpy(Xc + 3 * (size_t)r->Ft[c], r->X + 3 * (size_t)r->F[c], 3 * sizeof *Xc);
+  for (int i = 0; st == AU_OK && i < r->nvt; i++) {
+    if (i < r->nv) memcpy(Xc + 3 * (size_t)i, r->X + 3 * (size_t)i, 3 * sizeof *Xc);
+    Pc[3 * (size_t)i] = r->vt[2 * (size_t)i], Pc[3 * (size_t)i + 1] = r->vt[2 * (size_t)i + 1];
+  }
+  if (st == AU_OK) st = au_metrics_compute(r->nvt, r->nf, Xc, Pc, r->Ft, AU_DOMAIN_PLANE, out, NULL, NULL);
+  free(Xc), free(Pc);
+  return st;
+}
+
 /* The planar result's texture coordinates, and how far its boundary is from the domain's. */
 static au_status planar_finish(map_run *x, au_msg *msg) {
   au_result *r = x->r;
@@ -280,6 +328,15 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
   au_domain dom = x->target == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE;
   double t0 = now_s();
   au_status ms = AU_OK;
+  if (x->target == AU_TARGET_TORUS) {
+    ms = torus_metrics(r, &r->metrics);
+    r->t_metrics = now_s() - t0;
+    if (ms != AU_OK) return au_msg_set(msg, ms, "metrics of the map failed");
+    if (r->metrics.folds > 0)
+      return au_msg_set(msg, AU_E_FOLD, "the map has %d folded triangle%s", r->metrics.folds,
+                        r->metrics.folds == 1 ? "" : "s");
+    return AU_OK;
+  }
   if (!x->o->init_only) ms = au_metrics_compute(r->nv, r->nf, r->X, r->P0, r->F, dom, &r->init_metrics, NULL, NULL);
   if (ms == AU_OK) ms = au_metrics_compute(r->nv, r->nf, r->X, r->P, r->F, dom, &r->metrics, NULL, NULL);
   r->t_metrics = now_s() - t0;
@@ -359,7 +416,8 @@ au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, con
   st = prepare(&x, V, nv, F, nf, &check, msg);
   if (st == AU_OK) st = alloc_result(&x, msg);
   if (st == AU_OK && cancelled(&x.pc)) st = au_msg_set(msg, AU_E_CANCELLED, "cancelled");
-  if (st == AU_OK) st = t == AU_TARGET_SPHERE ? run_sphere(&x, msg) : run_planar(&x, msg);
+  if (st == AU_OK)
+    st = t == AU_TARGET_SPHERE ? run_sphere(&x, msg) : t == AU_TARGET_TORUS ? run_torus(&x, msg) : run_planar(&x, msg);
   if (st >= 0) {
     x.r->t_init += x.t_split;
     st = measure(&x, st, msg) == AU_OK ? st : AU_E_FOLD;
@@ -408,5 +466,8 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.has_schedule = flow, info.start_jump = r->conv.start_jump, info.resolved = r->conv.resolved;
   info.retry = r->conv.lantern_retry, info.retry_err[0] = r->conv.retry_err[0], info.retry_err[1] = r->conv.retry_err[1];
   info.angle_from = flow ? r->conv.angle_from : 0;
+  if (r->target == AU_TARGET_TORUS)
+    info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;
+  info.start = r->target == AU_TARGET_TORUS ? r->init_method : NULL;
   return au_report_json(&info, json, msg);
 }

@@ -879,6 +879,9 @@ typedef struct au_mesh_out {
   const au_mesh *m;
   const double *P, *uv;
   int prec;
+  int nvt;
+  const double *vt;
+  const int *Ft;
 } au_mesh_out;
 
 /* The lines of one part of the mesh: vertices [v0, v1), faces [f0, f1), each kind in its own buffer. */
@@ -897,12 +900,18 @@ static void *format_part(void *arg) {
   for (int i = w->v0; i < w->v1; i++) au_textbuf_printf(&w->v, vfmt, q, P[3 * i], q, P[3 * i + 1], q, P[3 * i + 2]);
   if (o->fmt == AU_FMT_OBJ && o->uv)
     for (int i = w->v0; i < w->v1; i++) au_textbuf_printf(&w->vt, "vt %.*g %.*g\n", q, o->uv[2 * i], q, o->uv[2 * i + 1]);
+  if (o->fmt == AU_FMT_OBJ && o->vt && w->v0 == 0) /* per-corner rows: all in the first part */
+    for (int i = 0; i < o->nvt; i++) au_textbuf_printf(&w->vt, "vt %.*g %.*g\n", q, o->vt[2 * i], q, o->vt[2 * i + 1]);
   for (int f = w->f0; f < w->f1; f++) {
     const int *c = &o->m->F[3 * f];
     if (o->fmt != AU_FMT_OBJ)
       au_textbuf_printf(&w->f, "3 %d %d %d\n", c[0], c[1], c[2]);
     else if (o->uv)
       au_textbuf_printf(&w->f, "f %d/%d %d/%d %d/%d\n", c[0] + 1, c[0] + 1, c[1] + 1, c[1] + 1, c[2] + 1, c[2] + 1);
+    else if (o->vt) {
+      const int *t = &o->Ft[3 * f];
+      au_textbuf_printf(&w->f, "f %d/%d %d/%d %d/%d\n", c[0] + 1, t[0] + 1, c[1] + 1, t[1] + 1, c[2] + 1, t[2] + 1);
+    }
     else
       au_textbuf_printf(&w->f, "f %d %d %d\n", c[0] + 1, c[1] + 1, c[2] + 1);
   }
@@ -949,6 +958,7 @@ au_io_write_opts au_io_write_opts_default(void) {
   au_io_write_opts o;
   o.uv = NULL;
   o.precision = 17;
+  o.nvt = 0, o.vt = NULL, o.Ft = NULL;
   return o;
 }
 
@@ -969,9 +979,14 @@ au_status au_io_write(const char *path, const au_mesh *m, const double *P, const
   for (int j = 0; j < 3 * m->nf; j++)
     if (m->F[j] < 0 || m->F[j] >= m->nv)
       return au_msg_set(msg, AU_E_ARG, "au_io_write: face %d has index %d, outside 0..%d", j / 3, m->F[j], m->nv - 1);
+  if (opts->vt && (opts->uv || !opts->Ft || opts->nvt <= 0))
+    return au_msg_set(msg, AU_E_ARG, "au_io_write: per-corner vt needs Ft and nvt > 0, and excludes uv");
+  for (int j = 0; opts->vt && j < 3 * m->nf; j++)
+    if (opts->Ft[j] < 0 || opts->Ft[j] >= opts->nvt)
+      return au_msg_set(msg, AU_E_ARG, "au_io_write: face %d has vt index %d, outside 0..%d", j / 3, opts->Ft[j], opts->nvt - 1);
   if (!au_io_can_write(path))
     return au_msg_set(msg, AU_E_FORMAT, "%s: cannot write this extension (expected .obj, .off or .ply)", path);
-  au_mesh_out o = {fmt_of(path), m, P, opts->uv, opts->precision};
+  au_mesh_out o = {fmt_of(path), m, P, opts->uv, opts->precision, opts->nvt, opts->vt, opts->Ft};
   return write_atomic(path, emit_mesh, &o, msg);
 }
 

@@ -28,6 +28,9 @@ au_status au_io_read(const char *path, au_mesh **out, au_msg *msg);
 typedef struct au_io_write_opts {
   const double *uv; /* uv [0..2*nv-1]: per-vertex texture coordinates written as OBJ `vt`; may be NULL (default) */
   int precision;    /* significant digits for coordinates, 1..17 (default 17: exact round trip) */
+  int nvt;          /* per-corner texture coordinates instead of uv: nvt rows of vt (OBJ only) */
+  const double *vt; /* vt [0..2*nvt-1]; NULL (default): none */
+  const int *Ft;    /* Ft [0..3*nf-1]: the vt row of each corner, written as `f v/vt` */
 } au_io_write_opts;
 
 au_io_write_opts au_io_write_opts_default(void);
@@ -35,7 +38,8 @@ au_io_write_opts au_io_write_opts_default(void);
 /* Write vertices P (nv x 3, row-major) with the faces of m to path; the format follows the
  * extension (.obj .off .ply). ASCII, input vertex order and faces. Written to a temporary file in
  * the target's directory and renamed over path only when complete.
- * opts may be NULL for defaults. Returns AU_OK, AU_E_ARG, AU_E_IO, AU_E_FORMAT (unknown extension). */
+ * opts may be NULL for defaults; uv and vt are exclusive (AU_E_ARG), and Ft must lie in 0..nvt-1.
+ * Returns AU_OK, AU_E_ARG, AU_E_IO, AU_E_FORMAT (unknown extension). */
 au_status au_io_write(const char *path, const au_mesh *m, const double *P, const au_io_write_opts *opts,
                       au_msg *msg);
 

@@ -434,6 +434,9 @@ static au_status au__boundary_problem(const au_topo *t, const au_mesh_expect *x,
   char sizes[96];
   au__loop_sizes(t, sizes, sizeof sizes);
   const char *plural = t->nloops == 1 ? "" : "s";
+  if (x->loops == 0 && x->genus == 1 && cmd) /* the torus: the genus matters more than which loops */
+    return au_msg_set(msg, AU_E_BOUNDARY, "mesh has %d boundary loop%s (%s) and genus %d; the %s map needs a closed "
+                      "genus-1 surface", t->nloops, plural, sizes, t->genus, cmd);
   if (x->loops == 0 && cmd)
     return au_msg_set(msg, AU_E_BOUNDARY,
                       "mesh has %d boundary loop%s (%s); the %s map needs a closed surface: map "
@@ -518,7 +521,13 @@ au_status au_mesh_validate(const au_mesh *m, const au_mesh_expect *expect, au_to
   } else if (x.loops >= 0 && t->nloops != x.loops) {
     s = au__boundary_problem(t, &x, msg);
   } else if (x.genus >= 0 && t->genus != x.genus) {
-    s = au_msg_set(msg, AU_E_GENUS, "mesh has genus %d (expected genus %d)", t->genus, x.genus);
+    if (x.command && x.genus == 1)
+      s = au_msg_set(msg, AU_E_GENUS, "mesh has genus %d (expected genus 1): the %s map needs a closed genus-1 surface%s",
+                     t->genus, x.command, t->genus == 0 ? " (map a genus-0 mesh onto the sphere)" : "; higher genus is not supported");
+    else if (x.command && x.genus == 0 && t->genus == 1 && t->nloops == 0)
+      s = au_msg_set(msg, AU_E_GENUS, "mesh has genus 1 (expected genus 0): map a closed genus-1 mesh onto the torus");
+    else
+      s = au_msg_set(msg, AU_E_GENUS, "mesh has genus %d (expected genus %d)", t->genus, x.genus);
   } else {
     s = au__check_areas(m, msg);
   }

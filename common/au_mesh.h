@@ -61,7 +61,8 @@ au_mesh_expect au_mesh_expect_default(void);
  * orientation (names the edge), several components (says how many), boundary loop count (says
  * how many were found and, if a boundary is present for a closed-surface target, suggests the
  * disk or annulus, or the sphere for a closed mesh given to the disk), genus (says which was
- * found and what was expected), zero-area faces (names the first and says how many; a face whose
+ * found and what was expected; with genus 1 expected and a command, that the map needs a closed
+ * genus-1 surface; a closed genus-1 mesh given to a genus-0 command is pointed at the torus), zero-area faces (names the first and says how many; a face whose
  * area is <= 1e-14 * total area counts as zero).
  * On success *topo (if topo is not NULL) receives the topology; free with au_topo_free.
  * Returns AU_OK, AU_W_UNREFERENCED (usable; msg says how many vertices), or one of the

@@ -128,6 +128,14 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
        put(root, "F", cJSON_CreateNumber(info->nf)) && put(root, "steps", cJSON_CreateNumber(info->steps)) &&
        put(root, "converged", cJSON_CreateBool(info->converged != 0)) &&
        put(root, "folds", cJSON_CreateNumber(info->final->folds));
+  const double(*lat[2])[2] = {info->lattice, info->conformal_lattice};
+  const char *lat_key[2] = {"lattice", "conformal_lattice"};
+  for (int q = 0; q < 2; q++) {
+    if (!ok || !lat[q]) continue;
+    cJSON *a = cJSON_CreateArray();
+    ok = put(root, lat_key[q], a) && put(a, NULL, num_array(lat[q][0], 2)) && put(a, NULL, num_array(lat[q][1], 2));
+  }
+  if (info->start) ok = ok && put(root, "start", str(info->start));
   /* Once attached, the sub-objects belong to root; clear the pointers so the failure path below
    * frees each exactly once. */
   if (ok) ok = put(root, "time", time), time = NULL;

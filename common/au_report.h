@@ -41,6 +41,10 @@ typedef struct au_report_info {
   double retry_err[2];         /* the vertex errors of the first map and of the retry's */
   int angle_from;              /* > 0: the step at which the angle steps began (au_advect_report);
                                   written as convergence.angle_from */
+  const double (*lattice)[2];  /* torus: the lattice's basis (rows a1, a2), written as "lattice": [[a1x, a1y],
+                                  [a2x, a2y]]; NULL: none */
+  const double (*conformal_lattice)[2]; /* torus: the conformal modulus's lattice, "conformal_lattice"; NULL: none */
+  const char *start;           /* how the start was made ("cotan", "meanvalue"), written as "start"; NULL: none */
 } au_report_info;
 
 /* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.

@@ -2,7 +2,7 @@
  *
  * This header is the manual. authalic maps a triangle mesh onto a canonical domain - the unit
  * sphere (closed genus-0 meshes), the unit disk or the unit square (one boundary loop), an annulus
- * (two boundary loops) - so that every part of the surface gets its fair share of the domain's
+ * (two boundary loops), a flat torus (closed genus-1 meshes) - so that every part of the surface gets its fair share of the domain's
  * area, and no triangle is ever folded. The method is Lie advection (Zou, Hu, Gu & Hua, "Authalic
  * parameterization of general surfaces using Lie advection", IEEE TVCG 2011): a conformal start,
  * then a flow of the domain until the areas match.
@@ -159,6 +159,9 @@ typedef struct au_write_opts {
   const double *uv; /* uv [0..2*nv-1]: per-vertex texture coordinates written as OBJ `vt` lines;
                        NULL (default): none. Ignored by formats other than OBJ. */
   int precision;    /* significant digits of coordinates, 1..17 (default 17: exact round trip) */
+  int nvt;          /* per-corner texture coordinates instead (a torus result's vt, Ft): nvt rows */
+  const double *vt; /* vt [0..2*nvt-1], written as OBJ `vt` lines; NULL (default): none. Not with uv */
+  const int *Ft;    /* Ft [0..3*nf-1]: the vt row of each corner, 0 <= Ft < nvt, written as `f v/vt` */
 } au_write_opts;
 
 AU_API au_write_opts au_write_opts_default(void);
@@ -196,10 +199,14 @@ typedef enum au_target {
   AU_TARGET_DISK = 1,    /* one boundary loop onto the unit disk */
   AU_TARGET_ANNULUS = 2, /* two boundary loops onto the annulus of outer radius 1 (inner radius from
                             the conformal modulus, or au_options.inner_radius) */
-  AU_TARGET_SQUARE = 3   /* one boundary loop onto [0,1]^2, four boundary vertices at the corners */
+  AU_TARGET_SQUARE = 3,  /* one boundary loop onto [0,1]^2, four boundary vertices at the corners */
+  AU_TARGET_TORUS = 4    /* closed genus-1 mesh onto a flat torus R^2 / Lambda, Lambda of determinant 1
+                            (the conformal modulus's shape, or the unit square: au_options.lattice),
+                            with no cut: the result's seamless per-corner texture coordinates (vt, Ft)
+                            repeat by the lattice. For now the conformal start only (see au_map) */
 } au_target;
 
-/* The name of a target ("sphere", "disk", "annulus", "square"); NULL for an unknown value. */
+/* The name of a target ("sphere", "disk", "annulus", "square", "torus"); NULL for an unknown value. */
 AU_API const char *au_target_name(au_target t);
 
 /* Check that a mesh can be mapped onto target t, and name the first problem: empty, non-finite
@@ -230,6 +237,14 @@ typedef enum au_boundary {
   AU_BOUNDARY_SLIDE = 0, /* boundary vertices slide along their circle or side (default) */
   AU_BOUNDARY_FIXED = 1  /* the initial map's boundary is kept */
 } au_boundary;
+
+/* The torus's lattice (au_options.lattice). */
+typedef enum au_lattice {
+  AU_LATTICE_CONFORMAL = 0, /* the conformal modulus's lattice scaled to determinant 1, reduced (|a1| <= |a2|,
+                               |a1 . a2| <= |a1|^2 / 2), a1 along +x (default) */
+  AU_LATTICE_SQUARE = 1     /* the unit square's, a1 = (1, 0), a2 = (0, 1): the linear map taking the
+                               conformal lattice's reduced basis to it, so no longer conformal */
+} au_lattice;
 
 /* au_options.outer_loop: which loop of an annulus goes to the unit circle. */
 #define AU_OUTER_LONGER (-1)  /* the longer loop (default) */
@@ -279,6 +294,7 @@ typedef struct au_options {
                              (default) */
   const au_expert *expert; /* the flow's tuning (au_expert_default); NULL (default): the target's
                               defaults with refine_faces applied. When given, it replaces them all. */
+  au_lattice lattice;     /* torus: AU_LATTICE_CONFORMAL (default) or AU_LATTICE_SQUARE */
 } au_options;
 
 AU_API au_options au_options_default(void);
@@ -412,6 +428,17 @@ typedef struct au_result {
   int nwarnings;
   char warnings[AU_MAX_WARNINGS][600]; /* one line each, e.g. "tolerance 0.002 not reached in 60
                                           steps (error 3.1e-03)" */
+  /* The torus (other targets: zero and NULL). P holds each vertex's position in the fundamental
+     domain {s a1 + t a2 : 0 <= s, t <= 1}; a face that crosses the domain's edge has corners outside
+     it, so a face is drawn from vt and Ft, not from P (uv is NULL). */
+  double lattice[2][2];   /* the lattice's basis: a1 = lattice[0], a2 = lattice[1]; determinant 1 */
+  double conformal_lattice[2][2]; /* the conformal modulus's lattice (= lattice unless AU_LATTICE_SQUARE) */
+  int nvt;                /* number of texture coordinates, >= nv */
+  double *vt;             /* vt [0..2*nvt-1]: row i < nv is P[i]'s (x, y); the rows after it are copies of
+                             vertices shifted by exact lattice vectors, for faces across the domain's edge */
+  int *Ft;                /* Ft [0..3*nf-1]: the vt row of each corner. Seamless: the two faces of an edge
+                             place its two ends at positions that differ by one lattice vector; the faces'
+                             vt triangles tile the plane periodically and cover area 1 per period */
 } au_result;
 
 /* Map the mesh (V, F) onto target t.
@@ -424,7 +451,12 @@ typedef struct au_result {
  * more steps may help); AU_W_UNREFERENCED (unreferenced vertices: they keep P = (0,0,1) or the
  * origin); AU_E_ARG (a bad option: msg names it); AU_E_CANCELLED; AU_E_NOMEM; AU_E_NOT_SPD,
  * AU_E_NUMERIC, AU_E_FOLD, AU_E_INTERNAL; or an input error (<= -100) of the check, AU_E_DENSITY
- * (a density value not positive and finite). The warnings of the result say more than the status. */
+ * (a density value not positive and finite). The warnings of the result say more than the status.
+ * AU_TARGET_TORUS: the conformal start only (tree-cotree homology basis, harmonic 1-forms, the
+ * conjugate, the period lattice; positive weights if cotan folds; docs/torus.md). init_only = 1 is
+ * the honest request; without it the result is the same start, with init_only set in the result,
+ * AU_W_NOT_CONVERGED and the warning "the torus flow is not implemented yet: this is the conformal
+ * start". A mesh that is not closed genus 1 gets AU_E_GENUS or AU_E_BOUNDARY naming its genus. */
 AU_API au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, const au_options *opts,
                         au_result **out, au_msg *msg);
 

@@ -1,0 +1,437 @@
+/* test_torus.c - tests of torus/: the tree-cotree forms, the conformal start's invariants (fold-free,
+ * lattice det 1 and reduced, lifted areas summing to 1, seamless corners and texture coordinates),
+ * the closed-form conformal map of tori of revolution (lattice aspect sqrt(R^2 - r^2)/r and the area
+ * ratio R sqrt(R^2 - r^2)/(R + r cos v)^2) with errors that shrink under refinement, the shared
+ * genus-1 meshes, and the statuses of wrong topologies. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "au_dec.h"
+#include "au_mesh.h"
+#include "au_test.h"
+#include "au_torus.h"
+#include "authalic.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* The torus of revolution r = 1, R = ratio, nt vertices around the tube and round(ratio nt) around
+ * the axis, as data/mkdata.c makes it. */
+static au_mesh *make_torus(double ratio, int nt) {
+  int nu = (int)lround(ratio * nt);
+  au_mesh *m = NULL;
+  if (au_mesh_alloc(nu * nt, 2 * nu * nt, &m) != AU_OK) return NULL;
+  for (int i = 0; i < nu; i++)
+    for (int j = 0; j < nt; j++) {
+      double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nt, *p = m->X + 3 * (i * nt + j);
+      p[0] = (ratio + cos(v)) * cos(u), p[1] = (ratio + cos(v)) * sin(u), p[2] = sin(v);
+      int a = i * nt + j, b = ((i + 1) % nu) * nt + j, c = ((i + 1) % nu) * nt + (j + 1) % nt, d = i * nt + (j + 1) % nt;
+      int *f = m->F + 6 * (i * nt + j);
+      f[0] = a, f[1] = b, f[2] = c, f[3] = a, f[4] = c, f[5] = d;
+    }
+  return m;
+}
+
+static au_status topo_of(const au_mesh *m, int genus, au_topo **t, au_msg *msg) {
+  au_mesh_expect ex = au_mesh_expect_default();
+  ex.genus = genus, ex.loops = -1, ex.command = "torus";
+  return au_mesh_validate(m, &ex, t, msg);
+}
+
+static int corner_of(const int *F, int f, int v) {
+  for (int k = 0; k < 3; k++)
+    if (F[3 * f + k] == v) return k;
+  return -1;
+}
+
+/* Every invariant of a start that holds on any mesh. */
+static int check_start(const au_mesh *m, const au_topo *t, const au_torus_start *s) {
+  AU_CHECK_INT(s->folds, ==, 0);
+  AU_CHECK_INT(au_torus_count_folds(s, m->F), ==, 0);
+  double A = 0;
+  for (int f = 0; f < m->nf; f++) A += au_torus_face_area(s, m->F, f);
+  AU_CHECK_NEAR(A, 1, 1e-12);
+  const double(*L)[2] = s->conformal;
+  AU_CHECK_NEAR(L[0][0] * L[1][1] - L[0][1] * L[1][0], 1, 1e-12);
+  AU_CHECK_DBL(L[0][1], ==, 0);
+  AU_CHECK_DBL(L[0][0], >, 0);
+  AU_CHECK_DBL(L[0][0] * L[0][0], <=, (L[1][0] * L[1][0] + L[1][1] * L[1][1]) * (1 + 1e-12));
+  AU_CHECK_DBL(fabs(L[0][0] * L[1][0]), <=, 0.5 * L[0][0] * L[0][0] * (1 + 1e-12));
+  for (int i = 0; i < 2 * m->nv; i++) AU_CHECK(s->U[i] >= 0 && s->U[i] <= 1);
+  /* Seamless: across every edge the two faces' corners differ by one lattice vector at both ends. */
+  for (int e = 0; e < t->ne; e++) {
+    int f = t->EF[2 * e], g = t->EF[2 * e + 1], d[2][2];
+    AU_CHECK(g >= 0);
+    for (int q = 0; q < 2; q++) {
+      int v = t->E[2 * e + q], kf = corner_of(m->F, f, v), kg = corner_of(m->F, g, v);
+      for (int c = 0; c < 2; c++) d[q][c] = s->off[6 * f + 2 * kf + c] - s->off[6 * g + 2 * kg + c];
+    }
+    AU_CHECK_INT(d[0][0], ==, d[1][0]);
+    AU_CHECK_INT(d[0][1], ==, d[1][1]);
+  }
+  /* The texture coordinates in both lattices: the same, up to 1e-12 and an integer lattice vector. */
+  for (int sh = 0; sh < 2; sh++) {
+    double La[2][2];
+    au_torus_lattice(s, (au_torus_shape)sh, La);
+    int nvt = 0, *Ft = NULL;
+    double *vt = NULL;
+    AU_CHECK_STATUS(au_torus_texcoords(s, m->F, (const double(*)[2])La, &nvt, &vt, &Ft, NULL), AU_OK, NULL);
+    double det = La[0][0] * La[1][1] - La[0][1] * La[1][0], worst = 0, area = 0;
+    for (int f = 0; f < m->nf; f++) {
+      const double *a = vt + 2 * Ft[3 * f], *b = vt + 2 * Ft[3 * f + 1], *c = vt + 2 * Ft[3 * f + 2];
+      area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    }
+    for (int e = 0; e < t->ne; e++) {
+      int f = t->EF[2 * e], g = t->EF[2 * e + 1];
+      double dv[2][2];
+      for (int q = 0; q < 2; q++) {
+        int v = t->E[2 * e + q], kf = corner_of(m->F, f, v), kg = corner_of(m->F, g, v);
+        for (int c = 0; c < 2; c++) dv[q][c] = vt[2 * Ft[3 * f + kf] + c] - vt[2 * Ft[3 * g + kg] + c];
+      }
+      /* lattice coefficients of the difference: (x, y) = n1 a1 + n2 a2 */
+      double n1 = (dv[0][0] * La[1][1] - dv[0][1] * La[1][0]) / det, n2 = (La[0][0] * dv[0][1] - La[0][1] * dv[0][0]) / det;
+      worst = fmax(worst, fmax(fabs(dv[0][0] - dv[1][0]), fabs(dv[0][1] - dv[1][1])));
+      worst = fmax(worst, fmax(fabs(n1 - nearbyint(n1)), fabs(n2 - nearbyint(n2))));
+    }
+    free(vt), free(Ft);
+    AU_CHECK_DBL(worst, <=, 1e-12);
+    AU_CHECK_NEAR(area, 1, 1e-12);
+  }
+  return 0;
+}
+
+/* The integer forms: closed on every face, omega_k(gen_j) = delta_jk. */
+static int homology_forms(void) {
+  au_mesh *m = make_torus(3, 12);
+  au_topo *t = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK(m != NULL);
+  AU_CHECK_STATUS(topo_of(m, 1, &t, &msg), AU_OK, &msg);
+  int gen[2], *omega = malloc(2 * sizeof(int) * (size_t)t->ne);
+  AU_CHECK(omega != NULL);
+  AU_CHECK_STATUS(au_torus_homology(t, m->F, gen, omega, &msg), AU_OK, &msg);
+  AU_CHECK(gen[0] != gen[1]);
+  for (int k = 0; k < 2; k++) {
+    for (int j = 0; j < 2; j++) AU_CHECK_INT(omega[k * t->ne + gen[j]], ==, j == k);
+    for (int f = 0; f < m->nf; f++) {
+      int d = 0;
+      for (int c = 0; c < 3; c++) {
+        int e = t->FE[3 * f + c];
+        d += (t->E[2 * e] == m->F[3 * f + (c + 1) % 3] ? 1 : -1) * omega[k * t->ne + e];
+      }
+      AU_CHECK_INT(d, ==, 0);
+    }
+  }
+  free(omega);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return 0;
+}
+
+/* The start of the torus with ratio R/r and nt vertices around the tube: its invariants, and its
+ * errors against the closed form: the lattice aspect, and the mean |log| error of the per-face area
+ * ratio against R sqrt(R^2 - 1)/(R + cos v)^2. */
+static int torus_errors(double R, int nt, double *aspect_err, double *ratio_err) {
+  au_mesh *m = make_torus(R, nt);
+  au_topo *t = NULL;
+  au_torus_start *s = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK(m != NULL);
+  AU_CHECK_STATUS(topo_of(m, 1, &t, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_torus_init(m, t, &s, &msg), AU_OK, &msg);
+  AU_CHECK_INT(s->weights, ==, AU_TORUS_COTAN);
+  if (check_start(m, t, s)) return 1;
+  const double(*L)[2] = s->conformal;
+  double aspect = hypot(L[1][0], L[1][1]) / L[0][0];
+  *aspect_err = fabs(aspect / sqrt(R * R - 1) - 1);
+  double *area = malloc(sizeof(double) * (size_t)m->nf), Xs = 0, err = 0;
+  AU_CHECK(area != NULL);
+  au_dec_face_areas(m->nf, m->F, m->X, area);
+  for (int f = 0; f < m->nf; f++) Xs += area[f];
+  for (int f = 0; f < m->nf; f++) {
+    double c[3] = {0, 0, 0};
+    for (int k = 0; k < 3; k++)
+      for (int q = 0; q < 3; q++) c[q] += m->X[3 * m->F[3 * f + k] + q] / 3;
+    double v = atan2(c[2], hypot(c[0], c[1]) - R), want = R * sqrt(R * R - 1) / ((R + cos(v)) * (R + cos(v)));
+    double got = au_torus_face_area(s, m->F, f) / (area[f] / Xs);
+    err += fabs(log(got / want)) / m->nf;
+  }
+  *ratio_err = err;
+  fprintf(stderr, "R/r %g, %d around the tube: aspect %.6f (exact %.6f, rel. error %.2e), area ratio mean |log err| %.2e, "
+                  "star gap %.3f\n", R, nt, aspect, sqrt(R * R - 1), *aspect_err, err, s->star_gap);
+  free(area);
+  au_torus_start_free(&s);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return 0;
+}
+
+/* R/r = 2, 3, 5 at 12, 24, 48 vertices around the tube: both errors shrink at each refinement, and
+ * the finest are below 2e-3 (aspect) and 1e-2 (area ratio). */
+static int conformal_modulus(void) {
+  const double ratios[3] = {2, 3, 5};
+  for (int q = 0; q < 3; q++) {
+    double ea[3], er[3];
+    for (int l = 0; l < 3; l++)
+      if (torus_errors(ratios[q], 12 << l, &ea[l], &er[l])) return 1;
+    AU_CHECK_DBL(ea[1], <, ea[0]);
+    AU_CHECK_DBL(ea[2], <, ea[1]);
+    AU_CHECK_DBL(er[1], <, er[0]);
+    AU_CHECK_DBL(er[2], <, er[1]);
+    AU_CHECK_DBL(ea[2], <, 2e-3);
+    AU_CHECK_DBL(er[2], <, 1e-2);
+  }
+  return 0;
+}
+
+/* The committed data/torus_r*.obj: the start's invariants and the aspect within 0.5%. */
+static int data_tori(void) {
+  const char *names[3] = {"torus_r2", "torus_r3", "torus_r5"};
+  const double ratios[3] = {2, 3, 5};
+  for (int q = 0; q < 3; q++) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/data/%s.obj", AU_SOURCE_DIR, names[q]);
+    au_mesh *m = NULL;
+    au_topo *t = NULL;
+    au_torus_start *s = NULL;
+    au_msg msg = {{0}};
+    AU_CHECK_STATUS(au_mesh_read(path, &m, &msg), AU_OK, &msg);
+    AU_CHECK_STATUS(topo_of(m, 1, &t, &msg), AU_OK, &msg);
+    AU_CHECK_STATUS(au_torus_init(m, t, &s, &msg), AU_OK, &msg);
+    if (check_start(m, t, s)) return 1;
+    double aspect = hypot(s->conformal[1][0], s->conformal[1][1]) / s->conformal[0][0];
+    AU_CHECK_NEAR(aspect / sqrt(ratios[q] * ratios[q] - 1), 1, 5e-3);
+    au_torus_start_free(&s);
+    au_topo_free(&t);
+    au_mesh_free(&m);
+  }
+  return 0;
+}
+
+/* Scale and translation do not change the start (up to rounding): lattice and lattice coordinates. */
+static int scale_invariance(void) {
+  au_mesh *m = make_torus(3, 12), *m2 = NULL;
+  AU_CHECK(m != NULL);
+  AU_CHECK_STATUS(au_mesh_copy(m, &m2), AU_OK, NULL);
+  for (int i = 0; i < 3 * m2->nv; i++) m2->X[i] = 1e5 * m2->X[i] + 3;
+  au_topo *t = NULL, *t2 = NULL;
+  au_torus_start *s = NULL, *s2 = NULL;
+  AU_CHECK_STATUS(topo_of(m, 1, &t, NULL), AU_OK, NULL);
+  AU_CHECK_STATUS(topo_of(m2, 1, &t2, NULL), AU_OK, NULL);
+  AU_CHECK_STATUS(au_torus_init(m, t, &s, NULL), AU_OK, NULL);
+  AU_CHECK_STATUS(au_torus_init(m2, t2, &s2, NULL), AU_OK, NULL);
+  for (int r = 0; r < 2; r++)
+    for (int c = 0; c < 2; c++) AU_CHECK_NEAR(s->conformal[r][c], s2->conformal[r][c], 1e-9);
+  for (int f = 0; f < m->nf; f++) AU_CHECK_NEAR(au_torus_face_area(s, m->F, f), au_torus_face_area(s2, m2->F, f), 1e-12);
+  au_torus_start_free(&s), au_torus_start_free(&s2);
+  au_topo_free(&t), au_topo_free(&t2);
+  au_mesh_free(&m), au_mesh_free(&m2);
+  return 0;
+}
+
+/* bob and rocker_arm (../shared/meshes): fold-free start with every invariant. */
+static int shared_meshes(void) {
+  const char *names[2] = {"bob.obj", "rocker_arm.obj"};
+  for (int q = 0; q < 2; q++) {
+    char path[1024];
+    if (!au_test_shared_mesh(names[q], path, sizeof path)) return AU_SKIP;
+    au_mesh *m = NULL;
+    au_topo *t = NULL;
+    au_torus_start *s = NULL;
+    au_msg msg = {{0}};
+    AU_CHECK_STATUS(au_mesh_read(path, &m, &msg), AU_OK, &msg);
+    AU_CHECK_STATUS(topo_of(m, 1, &t, &msg), AU_OK, &msg);
+    AU_CHECK_STATUS(au_torus_init(m, t, &s, &msg), AU_OK, &msg);
+    if (check_start(m, t, s)) return 1;
+    fprintf(stderr, "%s: lattice (%.6f, %.6f) (%.6f, %.6f), weights %d, star gap %.3f\n", names[q], s->conformal[0][0],
+            s->conformal[0][1], s->conformal[1][0], s->conformal[1][1], (int)s->weights, s->star_gap);
+    au_torus_start_free(&s);
+    au_topo_free(&t);
+    au_mesh_free(&m);
+  }
+  return 0;
+}
+
+/* The connected sum of two tori (genus 2): face 0 of each removed, the two triangular holes joined by
+ * a tube of six triangles (corner a of one hole with a of the other, b with c, c with b, which keeps
+ * the orientation consistent); the second torus is moved away along x. */
+static au_mesh *make_genus2(void) {
+  au_mesh *a = make_torus(3, 8), *m = NULL;
+  if (!a) return NULL;
+  int nv = a->nv, nf = a->nf;
+  if (au_mesh_alloc(2 * nv, 2 * (nf - 1) + 6, &m) != AU_OK) return NULL;
+  for (int i = 0; i < nv; i++)
+    for (int c = 0; c < 3; c++) m->X[3 * i + c] = a->X[3 * i + c], m->X[3 * (nv + i) + c] = a->X[3 * i + c] + (c == 0 ? 10 : 0);
+  int n = 0;
+  for (int h = 0; h < 2; h++)
+    for (int f = 1; f < nf; f++)
+      for (int k = 0; k < 3; k++) m->F[3 * n + k] = a->F[3 * f + k] + h * nv, n += k == 2;
+  int A = a->F[0], B = a->F[1], C = a->F[2], A2 = A + nv, B2 = B + nv, C2 = C + nv;
+  const int tube[6][3] = {{A, B, C2}, {A, C2, A2}, {B, C, B2}, {B, B2, C2}, {C, A, A2}, {C, A2, B2}};
+  memcpy(m->F + 3 * n, tube, sizeof tube);
+  au_mesh_free(&a);
+  return m;
+}
+
+/* Wrong topologies: the sphere and genus 2 get AU_E_GENUS naming the genus found, open meshes
+ * AU_E_BOUNDARY; from au_torus_init, au_mesh_check and au_map alike. */
+static int bad_topology(void) {
+  struct {
+    const char *file;
+    au_status want;
+    const char *says;
+  } cases[4] = {{"ellipsoid", AU_E_GENUS, "genus 0"}, {"disk_bump", AU_E_BOUNDARY, "1 boundary loop"},
+                {NULL, AU_E_GENUS, "genus 2"}, {NULL, AU_E_BOUNDARY, "genus 1"}};
+  for (int q = 0; q < 4; q++) {
+    au_mesh *m = NULL;
+    au_msg msg = {{0}};
+    if (cases[q].file) {
+      char path[1024];
+      snprintf(path, sizeof path, "%s/data/%s.obj", AU_SOURCE_DIR, cases[q].file);
+      AU_CHECK_STATUS(au_mesh_read(path, &m, &msg), AU_OK, &msg);
+    } else if (q == 2) {
+      m = make_genus2();
+    } else { /* a torus with one face removed: genus 1, one boundary loop */
+      m = make_torus(3, 8);
+      if (m) m->nf--;
+    }
+    AU_CHECK(m != NULL);
+    au_topo *t = NULL;
+    au_torus_start *s = NULL;
+    AU_CHECK_STATUS(topo_of(m, -1, &t, &msg), AU_OK, &msg);
+    AU_CHECK_STATUS(au_torus_init(m, t, &s, &msg), cases[q].want, &msg);
+    AU_CHECK(s == NULL);
+    fprintf(stderr, "au_torus_init: %s\n", msg.text);
+    AU_CHECK(strstr(msg.text, cases[q].says) && strstr(msg.text, "genus-1"));
+    AU_CHECK_STATUS(au_mesh_check(m->X, m->nv, m->F, m->nf, AU_TARGET_TORUS, &msg), cases[q].want, &msg);
+    fprintf(stderr, "au_mesh_check: %s\n", msg.text);
+    AU_CHECK(strstr(msg.text, cases[q].says) && strstr(msg.text, "torus"));
+    au_result *r = NULL;
+    au_options o = au_options_default();
+    o.init_only = 1;
+    AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_TORUS, &o, &r, &msg), cases[q].want, &msg);
+    AU_CHECK(r == NULL);
+    au_topo_free(&t);
+    au_mesh_free(&m);
+  }
+  return 0;
+}
+
+/* Across every edge of a result, the vt of its two faces differ by one lattice vector (to 1e-12 and
+ * an integer combination of the result's lattice); the vt triangles are positive and sum to 1. */
+static int check_result_vt(const au_result *r) {
+  au_mesh m = {r->nv, r->nf, r->X, r->F};
+  au_topo *t = NULL;
+  AU_CHECK_STATUS(au_mesh_topology(&m, &t, NULL), AU_OK, NULL);
+  const double(*L)[2] = r->lattice;
+  double det = L[0][0] * L[1][1] - L[0][1] * L[1][0], worst = 0, area = 0;
+  AU_CHECK_NEAR(det, 1, 1e-12);
+  AU_CHECK_INT(r->nvt, >=, r->nv);
+  for (int f = 0; f < r->nf; f++) {
+    const double *a = r->vt + 2 * r->Ft[3 * f], *b = r->vt + 2 * r->Ft[3 * f + 1], *c = r->vt + 2 * r->Ft[3 * f + 2];
+    double A = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    AU_CHECK_DBL(A, >, 0);
+    area += A;
+  }
+  for (int e = 0; e < t->ne; e++) {
+    int f = t->EF[2 * e], g = t->EF[2 * e + 1];
+    double dv[2][2];
+    for (int q = 0; q < 2; q++) {
+      int v = t->E[2 * e + q], kf = corner_of(r->F, f, v), kg = corner_of(r->F, g, v);
+      for (int c = 0; c < 2; c++) dv[q][c] = r->vt[2 * r->Ft[3 * f + kf] + c] - r->vt[2 * r->Ft[3 * g + kg] + c];
+    }
+    double n1 = (dv[0][0] * L[1][1] - dv[0][1] * L[1][0]) / det, n2 = (L[0][0] * dv[0][1] - L[0][1] * dv[0][0]) / det;
+    worst = fmax(worst, fmax(fabs(dv[0][0] - dv[1][0]), fabs(dv[0][1] - dv[1][1])));
+    worst = fmax(worst, fmax(fabs(n1 - nearbyint(n1)), fabs(n2 - nearbyint(n2))));
+  }
+  au_topo_free(&t);
+  AU_CHECK_DBL(worst, <=, 1e-12);
+  AU_CHECK_NEAR(area, 1, 1e-12);
+  for (int i = 0; i < r->nv; i++) AU_CHECK(r->vt[2 * i] == r->P[3 * i] && r->vt[2 * i + 1] == r->P[3 * i + 1]);
+  return 0;
+}
+
+/* au_map onto AU_TARGET_TORUS: the start with its lattice, seamless vt, metrics of the cut mesh
+ * (0 folds, domain area 1); without init_only the same start with AU_W_NOT_CONVERGED and the warning;
+ * the report's lattice; an OBJ with v, vt and f v/vt that reads back with the input's faces. */
+static int api_result(void) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/data/torus_r3.obj", AU_SOURCE_DIR);
+  au_mesh *m = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK_STATUS(au_mesh_read(path, &m, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_mesh_check(m->X, m->nv, m->F, m->nf, AU_TARGET_TORUS, &msg), AU_OK, &msg);
+  AU_CHECK(strcmp(au_target_name(AU_TARGET_TORUS), "torus") == 0);
+  au_options o = au_options_default();
+  AU_CHECK_INT(o.lattice, ==, AU_LATTICE_CONFORMAL);
+  o.init_only = 1;
+  au_result *r = NULL;
+  AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_TORUS, &o, &r, &msg), AU_OK, &msg);
+  if (check_result_vt(r)) return 1;
+  AU_CHECK(r->uv == NULL && r->init_only == 1 && strcmp(r->init_method, "cotan") == 0);
+  AU_CHECK_INT(r->metrics.folds, ==, 0);
+  AU_CHECK_NEAR(r->metrics.domain_area, 1, 1e-12);
+  AU_CHECK_DBL(r->lattice[0][1], ==, 0);
+  AU_CHECK_NEAR(hypot(r->lattice[1][0], r->lattice[1][1]) / r->lattice[0][0], sqrt(8), 5e-3 * sqrt(8));
+  char *json = NULL;
+  AU_CHECK_STATUS(au_result_json(r, NULL, &json, &msg), AU_OK, &msg);
+  AU_CHECK(strstr(json, "\"lattice\"") && strstr(json, "\"conformal_lattice\"") && strstr(json, "\"torus\""));
+  au_free(json);
+  char out[1100];
+  snprintf(out, sizeof out, "%s/test_torus_api.obj", AU_BINARY_DIR);
+  au_write_opts w = au_write_opts_default();
+  w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
+  AU_CHECK_STATUS(au_mesh_write(out, r->nv, r->X, r->nf, r->F, &w, &msg), AU_OK, &msg);
+  au_mesh *back = NULL;
+  AU_CHECK_STATUS(au_mesh_read(out, &back, &msg), AU_OK, &msg);
+  AU_CHECK_INT(back->nv, ==, m->nv);
+  AU_CHECK(memcmp(back->F, m->F, 3 * sizeof(int) * (size_t)m->nf) == 0);
+  AU_CHECK(memcmp(back->X, m->X, 3 * sizeof(double) * (size_t)m->nv) == 0);
+  au_mesh_free(&back);
+  remove(out);
+  au_result_free(&r);
+  o.init_only = 0;
+  AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_TORUS, &o, &r, &msg), AU_W_NOT_CONVERGED, &msg);
+  AU_CHECK(r->init_only == 1 && r->nwarnings == 1 && strstr(r->warnings[0], "torus flow is not implemented"));
+  au_result_free(&r);
+  o.lattice = (au_lattice)7;
+  AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_TORUS, &o, &r, &msg), AU_E_ARG, &msg);
+  AU_CHECK(r == NULL);
+  au_mesh_free(&m);
+  return 0;
+}
+
+/* AU_LATTICE_SQUARE: the unit square's lattice, positions in [0, 1]^2, seamless, fold-free; the
+ * conformal lattice still reported. */
+static int square_lattice(void) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/data/torus_r2.obj", AU_SOURCE_DIR);
+  au_mesh *m = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK_STATUS(au_mesh_read(path, &m, &msg), AU_OK, &msg);
+  au_options o = au_options_default();
+  o.init_only = 1, o.lattice = AU_LATTICE_SQUARE;
+  au_result *r = NULL;
+  AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_TORUS, &o, &r, &msg), AU_OK, &msg);
+  if (check_result_vt(r)) return 1;
+  AU_CHECK(r->lattice[0][0] == 1 && r->lattice[0][1] == 0 && r->lattice[1][0] == 0 && r->lattice[1][1] == 1);
+  AU_CHECK_NEAR(r->conformal_lattice[1][1] / r->conformal_lattice[0][0], sqrt(3), 5e-3 * sqrt(3));
+  for (int i = 0; i < r->nv; i++) AU_CHECK(r->P[3 * i] >= 0 && r->P[3 * i] <= 1 && r->P[3 * i + 1] >= 0 && r->P[3 * i + 1] <= 1);
+  AU_CHECK_INT(r->metrics.folds, ==, 0);
+  au_result_free(&r);
+  au_mesh_free(&m);
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  static const au_test_case cases[] = {
+      {"homology_forms", homology_forms},   {"conformal_modulus", conformal_modulus},
+      {"data_tori", data_tori},             {"scale_invariance", scale_invariance},
+      {"shared_meshes", shared_meshes},     {"bad_topology", bad_topology},
+      {"api_result", api_result},           {"square_lattice", square_lattice},
+  };
+  return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof *cases));
+}
