@@ -128,17 +128,17 @@ static const cli_option options[] = {
 };
 #define NOPTIONS (int)(sizeof options / sizeof options[0])
 
-static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample"};
+static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample", "torus"};
 
 const char *cli_cmd_name(int cmd) {
-  for (int k = 0; k < 6; k++)
+  for (int k = 0; k < 7; k++)
     if (cmd == 1 << k) return cmd_names[k];
   return "?";
 }
 
 static au_target cmd_target(int cmd) {
   return cmd == CLI_DISK ? AU_TARGET_DISK : cmd == CLI_ANNULUS ? AU_TARGET_ANNULUS : cmd == CLI_SQUARE ? AU_TARGET_SQUARE
-                                                                                                       : AU_TARGET_SPHERE;
+         : cmd == CLI_TORUS ? AU_TARGET_TORUS : AU_TARGET_SPHERE;
 }
 
 /* An option's default and largest value as the help shows them ("%D", "%M"). */
@@ -198,11 +198,11 @@ static const cli_option *find_option(const char *name, int cmd) {
 }
 
 int cli_parse(int argc, char **argv, int cmd, int maxpos, const char *usage_text, cli_args *a) {
-  static char helps[6][40];
+  static char helps[7][40];
   memset(a, 0, sizeof *a);
   a->cmd = cmd;
   const char *name = cli_cmd_name(cmd);
-  for (int k = 0; k < 6; k++)
+  for (int k = 0; k < 7; k++)
     if (cmd == 1 << k) snprintf(helps[k], sizeof helps[k], "authalic %s --help", name), a->help = helps[k];
   int dashdash = 0;
   for (int i = 1; i < argc; i++) {

@@ -19,7 +19,7 @@
 enum { EXIT_OK = 0, EXIT_INTERNAL = 1, EXIT_USAGE = 2 };
 
 /* The commands: each gets argv starting at its own name and returns an exit code. */
-int cli_cmd_map(int argc, char **argv);     /* sphere, disk, annulus and square: argv[0] says which */
+int cli_cmd_map(int argc, char **argv);     /* sphere, disk, annulus, square and torus: argv[0] says which */
 int cli_cmd_texture(int argc, char **argv); /* texture */
 int cli_cmd_sample(int argc, char **argv);  /* sample */
 

@@ -12,9 +12,10 @@ enum {
   CLI_SQUARE = 8,
   CLI_TEXTURE = 16,
   CLI_SAMPLE = 32,
+  CLI_TORUS = 64,
   CLI_PLANAR = CLI_DISK | CLI_ANNULUS | CLI_SQUARE,
   CLI_MAPS = CLI_SPHERE | CLI_PLANAR,
-  CLI_ALL = CLI_MAPS | CLI_TEXTURE | CLI_SAMPLE
+  CLI_ALL = CLI_MAPS | CLI_TEXTURE | CLI_SAMPLE | CLI_TORUS
 };
 
 /* How an option takes its value. */
@@ -34,11 +35,11 @@ enum {
   X(OPT_MAP, "map", "SPHERE_MAP", CLI_FILE, CLI_TEXTURE | CLI_SAMPLE,                                                 \
     "the sphere map of IN (same vertices and faces, positions on the sphere); computed on the fly when absent")     \
   X(OPT_GRID, "grid", "WxH", CLI_VALUE, CLI_SAMPLE, "grid size, W and H from 1 to 16384 (required)")                \
-  X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_MAPS,                                                              \
+  X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "write a JSON report: metrics of the result and of the initial map, per-step errors, stage times, warnings")    \
-  X(OPT_STEPS, "steps", "K", CLI_VALUE, CLI_MAPS, "most advection steps, 1..%M (default %D)")                       \
-  X(OPT_TOL, "tol", "T", CLI_VALUE, CLI_MAPS, "stop when the vertex mean |log area ratio| is below T, T >= 0 (default %D)") \
-  X(OPT_DENSITY, "density", "FILE", CLI_FILE, CLI_MAPS,                                                              \
+  X(OPT_STEPS, "steps", "K", CLI_VALUE, CLI_MAPS | CLI_TORUS, "most advection steps, 1..%M (default %D)")           \
+  X(OPT_TOL, "tol", "T", CLI_VALUE, CLI_MAPS | CLI_TORUS, "stop when the vertex mean |log area ratio| is below T, T >= 0 (default %D)") \
+  X(OPT_DENSITY, "density", "FILE", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "prescribed density: one positive number per vertex (or per face) of IN, in order, whitespace-separated; "      \
     "domain area is proportional to density x surface area")                                                        \
   X(OPT_BOUNDARY, "boundary", "MODE", CLI_VALUE, CLI_PLANAR,                                                         \
@@ -57,13 +58,16 @@ enum {
   X(OPT_REFINE_FACES, "refine-faces", NULL, CLI_FLAG, CLI_MAPS,                                                      \
     "once the vertex cells meet the tolerance, go on refining the triangles' areas as long as it helps at all "     \
     "(default: while it gains 10% in 4 steps), on the flow's ordinary schedule")                                     \
-  X(OPT_ANGLES, "angles", "N", CLI_VALUE, CLI_MAPS,                                                                  \
+  X(OPT_ANGLES, "angles", "N", CLI_VALUE, CLI_MAPS | CLI_TORUS,                                                      \
     "N steps (1..%M) towards the map of least Dirichlet energy with the vertex cells held at their areas: less "     \
     "angle distortion, vertex cells within about 1e-4, the triangles' areas held near theirs (on the sphere from "  \
     "a vertex error of 0.01 on, elsewhere after the flow)")                                                          \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
-  X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_MAPS,                                                            \
+  X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_MAPS | CLI_TORUS,                                                \
     "stop after the initial (conformal or harmonic) map, for comparison")                                            \
+  X(OPT_LATTICE, "lattice", "SHAPE", CLI_VALUE, CLI_TORUS,                                                           \
+    "conformal (default): the conformal modulus's lattice, scaled to area 1; square: the unit square (the linear "   \
+    "map from the conformal lattice, no longer conformal)")                                                          \
   X(OPT_PROJECTION, "projection", "P", CLI_VALUE, CLI_TEXTURE,                                                       \
     "cea (default): Lambert cylindrical equal-area, u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; sample with u "     \
     "wrapped (repeat). laea: Lambert azimuthal equal-area, northern hemisphere in the left half, southern in the "  \
@@ -94,7 +98,7 @@ enum {
 /* The ids, each once. */
 typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
-  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_NO_BALANCE, OPT_INIT_ONLY, OPT_PROJECTION, OPT_LONLAT,
+  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_NO_BALANCE, OPT_INIT_ONLY, OPT_LATTICE, OPT_PROJECTION, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
   OPT_COUNT
 } cli_opt_id;

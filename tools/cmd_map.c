@@ -1,6 +1,6 @@
-/* cmd_map.c - `authalic sphere | disk | annulus | square IN OUT`: a mesh onto the unit sphere, the unit
- * disk, an annulus with outer radius 1 or the unit square (argv[0] says which), through the public
- * entry point au_map. Parses, reads, maps, writes; no numerics. */
+/* cmd_map.c - `authalic sphere | disk | annulus | square | torus IN OUT`: a mesh onto the unit sphere,
+ * the unit disk, an annulus with outer radius 1, the unit square or a flat torus (argv[0] says which),
+ * through the public entry point au_map. Parses, reads, maps, writes; no numerics. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>
@@ -33,6 +33,16 @@ static const char *const usage_square =
     "boundary vertices go to the corners and stay there; the others slide along their sides.\n"
     "Triangles whose three vertices would land on one side are split first: the new vertices\n"
     "(edge midpoints) come after the input's vertices in OUT, the new faces after its faces.\n\n";
+static const char *const usage_torus =
+    "usage: authalic torus IN OUT.obj [options]\n\n"
+    "Maps the closed genus-1 triangle mesh IN onto a flat torus: the plane modulo a lattice of\n"
+    "area 1, with no cut (tree-cotree homology basis, harmonic 1-forms, their conjugate; the period\n"
+    "lattice is the conformal modulus). For now the conformal start only: the equal-area flow on\n"
+    "the torus is not implemented yet (without --init-only a warning says so).\n\n"
+    "OUT.obj has the input's vertices (surface positions, in order) and faces, with `vt` in the\n"
+    "plane: each vertex once in the fundamental domain, and where a face crosses the domain's edge\n"
+    "its corners get their own `vt` copies shifted by exact lattice vectors (seamless: the texture\n"
+    "repeats by the lattice). The report gives \"lattice\": [[a1x, a1y], [a2x, a2y]].\n\n";
 static const char *const usage_planar_out =
     "OUT (.obj .off or .ply) has the input's vertices in the input's order and its faces, with\n"
     "positions (u, v, 0); an .obj also gets `vt` texture coordinates in [0,1]^2. Progress and a\n"
@@ -81,14 +91,20 @@ static int map_options(const cli_args *a, au_options *o) {
   }
   if ((v = a->val[OPT_CORNERS]) && parse_corners(v, o->corners))
     return cli_usage_error(h, "--corners '%s': expected four vertex indices I,J,K,L", v);
+  if ((v = a->val[OPT_LATTICE])) {
+    if (strcmp(v, "conformal") == 0) o->lattice = AU_LATTICE_CONFORMAL;
+    else if (strcmp(v, "square") == 0) o->lattice = AU_LATTICE_SQUARE;
+    else return cli_usage_error(h, "--lattice '%s': expected conformal or square", v);
+  }
   return -1;
 }
 
 /* Parse `authalic CMD ...`; -1 to go on, else the exit code. */
 static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o) {
   char usage[2048];
-  const char *u = cmd == CLI_SPHERE ? usage_sphere : cmd == CLI_DISK ? usage_disk : cmd == CLI_ANNULUS ? usage_annulus : usage_square;
-  snprintf(usage, sizeof usage, "%s%s", u, cmd == CLI_SPHERE ? "" : usage_planar_out);
+  const char *u = cmd == CLI_SPHERE ? usage_sphere : cmd == CLI_DISK ? usage_disk : cmd == CLI_ANNULUS ? usage_annulus
+                : cmd == CLI_TORUS ? usage_torus : usage_square;
+  snprintf(usage, sizeof usage, "%s%s", u, cmd == CLI_SPHERE || cmd == CLI_TORUS ? "" : usage_planar_out);
   int rc = cli_parse(argc, argv, cmd, 2, usage, a);
   if (rc >= 0) return rc;
   if (a->npos < 2) return cli_usage_error(a->help, a->npos == 0 ? "missing input and output files" : "missing output file");
@@ -103,6 +119,8 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
                                         "--refine-faces, --restore-shapes and --angles do not apply");
   }
   rc = cli_check_outputs(a->help, a->pos[0], a->pos[1], a->val[OPT_REPORT]);
+  if (!rc && cmd == CLI_TORUS && !cli_has_ext(a->pos[1], ".obj"))
+    return cli_usage_error(a->help, "%s: the torus map is written as .obj (its seamless `vt` need OBJ)", a->pos[1]);
   return rc ? rc : -1;
 }
 
@@ -160,6 +178,13 @@ static void summary(int cmd, const au_result *r, double seconds) {
     return;
   }
   char extra[160] = "";
+  if (cmd == CLI_TORUS) {
+    const double(*L)[2] = r->lattice;
+    fprintf(stderr, "authalic: torus: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g lattice=(%.6g,%.6g),(%.6g,%.6g) "
+            "vt=%d start=%s time=%.2fs\n", r->nv, r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs,
+            L[0][0], L[0][1], L[1][0], L[1][1], r->nvt, r->init_method ? r->init_method : "?", seconds);
+    return;
+  }
   if (cmd == CLI_ANNULUS)
     snprintf(extra, sizeof extra, " inner_radius=%.6g modulus_radius=%.6g", r->inner_radius, r->modulus_radius);
   else if (cmd == CLI_SQUARE)
@@ -174,7 +199,7 @@ static void summary(int cmd, const au_result *r, double seconds) {
 
 static au_target target_of(int cmd) {
   return cmd == CLI_DISK ? AU_TARGET_DISK : cmd == CLI_ANNULUS ? AU_TARGET_ANNULUS : cmd == CLI_SQUARE ? AU_TARGET_SQUARE
-                                                                                                       : AU_TARGET_SPHERE;
+         : cmd == CLI_TORUS ? AU_TARGET_TORUS : AU_TARGET_SPHERE;
 }
 
 /* The command after parsing: read, map, write. */
@@ -224,7 +249,9 @@ static int run_map(const cli_args *a, au_options *o) {
   for (int k = 0; k < r->nwarnings; k++) fprintf(stderr, "authalic: warning: %s: %s\n", in, r->warnings[k]);
   au_write_opts w = au_write_opts_default();
   w.uv = r->uv;
-  rc = cli_publish(out, r->nv, r->P, r->nf, r->F, &w, report, r, &extra);
+  /* The torus keeps the surface in `v` and puts the map in the per-corner `vt`. */
+  if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
+  rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
   if (rc == EXIT_OK && !quiet) summary(a->cmd, r, cli_now() - t_start);
 done:
   cli_progress_end(&prog);
@@ -236,7 +263,7 @@ done:
 
 int cli_cmd_map(int argc, char **argv) {
   int cmd = strcmp(argv[0], "disk") == 0 ? CLI_DISK : strcmp(argv[0], "annulus") == 0 ? CLI_ANNULUS
-          : strcmp(argv[0], "square") == 0 ? CLI_SQUARE : CLI_SPHERE;
+          : strcmp(argv[0], "square") == 0 ? CLI_SQUARE : strcmp(argv[0], "torus") == 0 ? CLI_TORUS : CLI_SPHERE;
   cli_args a;
   au_options o;
   int rc = parse_map(argc, argv, cmd, &a, &o);

@@ -1,0 +1,122 @@
+# torus_runs.sh - `authalic torus` end to end: the output keeps the input's vertices (surface positions)
+# and faces, its per-corner `vt` are seamless (across every edge the two faces' vt differ by one
+# lattice vector of the report's lattice, at both ends, to 1e-9), positive, of total area 1; the
+# report's lattice has determinant 1; ../shared/tools/param-eval (where present) finds 0 folds.
+# Bad input and bad usage are rejected with exit 2 and one error line.
+# sh torus_runs.sh PROG SOURCE_DIR SHARED_DIR CASE
+. "$(dirname "$0")/lib.sh"
+PE=$SHARED/tools/param-eval
+OUT=$T/o/map.obj
+REP=$T/o/report.json
+
+# check IN: the output and report of the last run on IN (plain Python, no numpy).
+check() {
+  $PY - "$1" "$OUT" "$REP" <<'PYEOF' || fail "the torus map is wrong"
+import json, sys
+src, out, rep = sys.argv[1:4]
+def read(path):
+    V, F, VT, FT = [], [], [], []
+    for line in open(path):
+        t = line.split()
+        if not t: continue
+        if t[0] == 'v': V.append(tuple(map(float, t[1:4])))
+        elif t[0] == 'vt': VT.append(tuple(map(float, t[1:3])))
+        elif t[0] == 'f':
+            F.append(tuple(int(x.split('/')[0]) - 1 for x in t[1:4]))
+            FT.append(tuple(int(x.split('/')[1]) - 1 for x in t[1:4]) if '/' in t[1] else None)
+    return V, F, VT, FT
+X, FX, _, _ = read(src)
+P, F, VT, FT = read(out)
+def check(ok, what):
+    if not ok: sys.exit("torus: " + what)
+check(P == X and F == FX, "vertices or faces differ from the input's")
+check(all(ft is not None for ft in FT) and len(VT) >= len(X), "faces without vt")
+r = json.load(open(rep))
+(a, b), (c, d) = r["lattice"]
+det = a * d - b * c
+check(abs(det - 1) <= 1e-12, "lattice determinant %r" % det)
+check(r["folds"] == 0 and r["command"] == "torus", "report: folds or command")
+area = 0
+for ft in FT:
+    p, q, s = (VT[k] for k in ft)
+    A = 0.5 * ((q[0] - p[0]) * (s[1] - p[1]) - (q[1] - p[1]) * (s[0] - p[0]))
+    check(A > 0, "a vt triangle is not positive")
+    area += A
+check(abs(area - 1) <= 1e-9, "total vt area %r" % area)
+corner = {}
+for f, (fv, ft) in enumerate(zip(F, FT)):
+    for k in range(3):
+        corner.setdefault((fv[k], fv[(k + 1) % 3]), (f, ft[k], ft[(k + 1) % 3]))
+worst = 0
+for (i, j), (f, ti, tj) in corner.items():
+    g, tj2, ti2 = corner[(j, i)]
+    di = (VT[ti][0] - VT[ti2][0], VT[ti][1] - VT[ti2][1])
+    dj = (VT[tj][0] - VT[tj2][0], VT[tj][1] - VT[tj2][1])
+    n1 = (di[0] * d - di[1] * c) / det
+    n2 = (a * di[1] - b * di[0]) / det
+    worst = max(worst, abs(di[0] - dj[0]), abs(di[1] - dj[1]), abs(n1 - round(n1)), abs(n2 - round(n2)))
+check(worst <= 1e-9, "not seamless: %g" % worst)
+PYEOF
+  if [ -x "$PE" ]; then
+    "$PE" "$1" "$OUT" --coords vt --domain plane --json >"$T/log/pe.json" || fail "param-eval failed"
+    $PY -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(d['folds'] != 0)" "$T/log/pe.json" ||
+      fail "param-eval finds folds"
+  fi
+}
+
+case $1 in
+data)
+  [ -f "$SRC/data/torus_r3.obj" ] || skip "data/torus_r3.obj is missing"
+  IN=$(stage "$SRC/data/torus_r3.obj")
+  run torus "$IN" "$OUT" --init-only --report "$REP" --quiet
+  expect_status 0
+  check "$IN"
+  run torus "$IN" "$OUT" --lattice square --init-only --report "$REP" --quiet
+  expect_status 0
+  check "$IN"
+  $PY -c "import json,sys; sys.exit(json.load(open(sys.argv[1]))['lattice'] != [[1, 0], [0, 1]])" "$REP" ||
+    fail "--lattice square: the report's lattice is not the unit square's"
+  ;;
+shared)
+  for f in bob rocker_arm; do
+    [ -f "$SHARED/meshes/$f.obj" ] || skip "$SHARED/meshes/$f.obj is missing"
+    IN=$(stage "$SHARED/meshes/$f.obj")
+    run torus "$IN" "$OUT" --init-only --report "$REP"
+    expect_status 0
+    expect_err "authalic: torus: .*folds=0 .*lattice="
+    check "$IN"
+  done
+  ;;
+no_flow_yet)
+  [ -f "$SRC/data/torus_r2.obj" ] || skip "data/torus_r2.obj is missing"
+  IN=$(stage "$SRC/data/torus_r2.obj")
+  run torus "$IN" "$OUT" --report "$REP" --quiet
+  expect_status 0
+  expect_err "warning: .*the torus flow is not implemented yet"
+  check "$IN"
+  ;;
+genus0)
+  IN=$(stage "$SRC/data/ellipsoid.obj")
+  run torus "$IN" "$OUT"
+  expect_rejected "genus 0 .*the torus map needs a closed genus-1 surface"
+  ;;
+open)
+  IN=$(stage "$SRC/data/disk_bump.obj")
+  run torus "$IN" "$OUT"
+  expect_rejected "1 boundary loop .*genus 0.*closed genus-1 surface"
+  ;;
+not_obj)
+  IN=$(stage "$SRC/data/torus_r2.obj")
+  run torus "$IN" "$T/o/map.off"
+  expect_rejected "written as \.obj"
+  ;;
+bad_lattice)
+  IN=$(stage "$SRC/data/torus_r2.obj")
+  run torus "$IN" "$OUT" --lattice hex
+  expect_rejected "--lattice 'hex': expected conformal or square"
+  ;;
+*)
+  fail "unknown case $1"
+  ;;
+esac
+exit 0
