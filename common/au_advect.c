@@ -1,10 +1,11 @@
 /* au_advect.c - the Lie-advection loop (Zou, Hu, Gu & Hua 2011, sec. 4.2-4.4, eq. 19-20) with local
- * step control.
+ * step control, run as a machine of phases (see "the flow as a phase machine" below).
  *
- * Each step asks every vertex cell for a share of its remaining area excess, solves the Poisson
- * problem C g = -dA on the current domain mesh (C: cotan stiffness, one vertex pinned, so the flux of
- * grad g out of cell i is dA_i), moves the vertices along the angle-weighted vertex gradient and puts
- * them back on the domain. Two departures from the paper keep the flow fold-free on hard meshes:
+ * Each step asks every face (least-shear method, au_lm.c) or vertex cell (the paper's Poisson method:
+ * C g = -dA on the current domain mesh, C the cotan stiffness with one vertex pinned, so the flux of
+ * grad g out of cell i is dA_i) for a share of its remaining area excess, solves for a displacement,
+ * moves the vertices and puts them back on the domain. Two departures from the paper keep the flow
+ * fold-free on hard meshes:
  *  - the per-step target is geometric, a cell's area ratio moves by the factor rho^(1/(K-k)), so a
  *    cell squeezed by e^8 is never asked to grow 60x in one step (the linear eq. 19 is);
  *  - the step is limited locally: a vertex moves at most max_move times the smallest inradius of its
@@ -33,31 +34,31 @@
 #define AU_ORIENT_MARGIN 1e-13
 
 /* The part of its orientation a triangle with a sliding boundary corner must keep along the corner's
- * real (retracted) path at the step control's fraction (see step_control). */
+ * real (retracted) path at the step control's fraction (see step_control): as little as keeps its sign
+ * safe, since the backtracking after the move catches the rest and more holds the boundary back. */
 #define AU_BOUNDARY_KEEP 0.02
 
 /* The least-shear step weighs a face by its target area, but by at most this many times its current
  * area (a face squeezed by e^-20 would otherwise make the system singular in double precision). Not
  * much less either: the energy is an integral, so a face weighed by its own tiny area is free to be
- * sheared, and the step control then holds its whole neighbourhood back. Measured on cow (legs
- * squeezed to areas of 1e-22): with 100 the flow crawled (step fraction 0.2-0.4) and left 15 faces
- * too small for a sign; with 1e6 it takes full steps and ends fold-free. */
+ * sheared, and the step control then holds its whole neighbourhood back (docs/tuning-history.md). */
 #define AU_WEIGHT_CAP 1e6
 
 /* The shape restoring (au_advect_opts.restore) acts in full while the vertex error is above this and
- * fades in proportion below it: at full strength to the end it kept the areas from converging
- * (bunny: 53 steps instead of 23, vertex 0.0054 instead of 0.0014); faded, 25 steps and 0.00064. */
+ * fades in proportion below it: at full strength to the end it keeps the areas from converging. */
 #define AU_RESTORE_FADE 0.1
 
 /* The chord polish, vertex cells above the tolerance: it ends when four steps gained less than this
- * fraction of both the vertex and the per-face error (see the stall test in advect_core). */
+ * fraction of both the vertex and the per-face error (least_shear_stalled). Lower, a polish that
+ * gains almost nothing runs on to the step budget. */
 #define AU_POLISH_GAIN 0.05
 
 /* Kinetic-energy weight of the least-shear step: only fixes the rigid rotations, which change neither
  * areas nor angles. */
 #define AU_ROTATION_EPS 1e-6
 
-/* The stiffest shear weight an undone step is retried with. */
+/* The stiffest shear weight an undone step is retried with: stiffer, the step barely moves and the
+ * system's last pivots lose their sign in double precision. */
 #define AU_SHEAR_MAX 1e4
 
 /* A relative slack for "no worse": an error that equals the last one up to rounding counts as equal. */
@@ -187,7 +188,7 @@ static double vertex_error(int nv, const unsigned char *used, const double *T, c
  * orientation, 1 if it never gets there. The orientation is the triangle's area projected onto the
  * domain's normal (planar: z; sphere: the direction of the centroid), not onto its own plane: a thin
  * triangle along a great circle has a sizeable chord area but almost no spherical orientation, and a
- * small sideways move turns it over (measured on cheburashka). */
+ * small sideways move turns it over. */
 static double face_safe_t(const double *a, const double *b, const double *c, const double *da, const double *db,
                           const double *dc, double keep, int spherical) {
   double e1[3], e2[3], d1[3], d2[3], n[3];
@@ -278,8 +279,7 @@ static void adjacency_free(adjacency *a) {
  *    smaller inradius of the edge's triangles, which bounds the extra relative motion by c inradii.
  *    This is a shortest-path envelope, computed with Dijkstra's algorithm from every vertex at once.
  *    Only vertices below 1 can lower a neighbour (the bound only adds), so the heap starts with them
- *    and takes in a vertex when it is lowered: the work follows the restricted vertices, not the mesh
- *    (brain_disk: the envelope was 17% of the run when every vertex went through the heap).
+ *    and takes in a vertex when it is lowered: the work follows the restricted vertices, not the mesh.
  * inr [0..nf-1] holds the faces' inradii; heap and pos are scratch of nv ints, dn of nv doubles. */
 static void envelope(const au_topo *t, const adjacency *adj, int nv, const double *inr, const double *D, double c,
                      double *s, int *heap, int *pos, double *dn) {
@@ -323,10 +323,9 @@ static void envelope(const au_topo *t, const adjacency *adj, int nv, const doubl
  * A boundary vertex sliding by s along a circle ends about s^2/2 inside its straight path, which the
  * retraction onto the circle makes up; a straight interior move beside it does not, so a boundary
  * triangle of height h turned over once the boundary slid by sqrt(2h). An equal-area map of a surface
- * with a short boundary needs such triangles: brain_disk's 113 boundary edges are 0.056 long on the
- * circle and their triangles' areas make them 0.001 high (aspect 30-50), and the step control held the
- * whole mesh back for them (brain_disk 16 steps, sophie 35; with arcs 9 and 6). At the disk's centre
- * the bend goes to zero: full arcs there (a turn by s/r) took demosthenes 20 -> 60 steps. */
+ * with a short boundary needs such triangles (aspect 30-50), and the step control held the whole mesh
+ * back for them. At the disk's centre the bend goes to zero: full arcs there (a turn by s/r) cost many
+ * steps, since a small move near the centre turns by a large angle (docs/tuning-history.md). */
 static void move_vertex(const au_advect_domain *dom, const double *q, const double *d, double t, double *out) {
   out[0] = q[0] + t * d[0], out[1] = q[1] + t * d[1], out[2] = q[2] + t * d[2];
   if (dom->spherical || !(dom->arc_radius > 0)) return;
@@ -352,12 +351,11 @@ static void step_control(const au_topo *t, const adjacency *adj, const int *F, i
     if (!spherical) {
       /* The fraction above is exact for straight moves; a boundary vertex slides along its curve
        * (retract), off the straight line, and turned the thin triangles at the boundary over after
-       * the step (brain_disk: every triangle the backtracking in advect_core had to mend had a
-       * boundary corner, 3.5 rounds a step). So the fraction is checked on the corners' real paths
-       * (move_vertex, then retract) and halved until the triangle keeps AU_BOUNDARY_KEEP of its
-       * orientation. Asking for more than the backtracking does holds the boundary back (a fifth:
-       * brain_disk 19 -> 23 steps; a fiftieth: 18 steps, init + flow 5.7-6.3 -> 4.9-5.3 s). Interior
-       * triangles away from the boundary pass (the final orientation check covers them). */
+       * the step (they were the ones the backtracking in take_step had to mend, several rounds a
+       * step). So the fraction is checked on the corners' real paths (move_vertex, then retract) and
+       * halved until the triangle keeps AU_BOUNDARY_KEEP of its orientation. Asking for more than
+       * the backtracking does holds the boundary back. Interior triangles away from the boundary pass
+       * (the final orientation check covers them). */
       const double *a = P + 3 * v[0], *b = P + 3 * v[1], *cc = P + 3 * v[2];
       double o0 = (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0]);
       for (int h = 0; h < AU_BOUNDARY_HALVINGS && o0 > 0; h++) {
@@ -1199,7 +1197,7 @@ static au_status plan_fill(au_advect_plan *p, int least_shear, au_msg *msg) {
   if (nv >= AU_REORDER_MIN) {
     /* Large meshes are worked on in a cache-friendly copy: the step's assembly and the area and step
      * control loops read each face's corners, and in a mesh stored in scan order those reads miss the
-     * cache (measured: lion_statue's flow 5.1-5.5 s in its own order, 4.0-4.3 s along a Morton curve). */
+     * cache (a quarter of the flow's time on lion_statue, docs/tuning-history.md). */
     p->orig = malloc(sizeof(int) * (size_t)nv), p->forig = malloc(sizeof(int) * (size_t)nf);
     p->inv = malloc(sizeof(int) * (size_t)nv);
     if (!p->orig || !p->forig || !p->inv || au_mesh_alloc(nv, nf, &p->m2) != AU_OK || !locality_order(m, p->orig, p->inv, p->forig))

@@ -33,6 +33,13 @@
 /* From this many faces the assembly runs on two threads (with the factorization's split). */
 #define AU_LM_THREAD_MIN 8000
 
+/* Planar domains: a relative diagonal term that bounds the condition number where the shear weight is
+ * small and a global mode (a rotation of a sliding boundary) is nearly free; without it the last pivot
+ * can come out non-positive in double precision. Not on the sphere: it pulls every vertex towards
+ * standing still in proportion to its stiffness, and a cluster of tiny squeezed triangles that must
+ * travel far is torn by that pull (docs/tuning-history.md). */
+#define AU_LM_PLANAR_DIAG 1e-8
+
 struct au_lm {
   int nv, nf;
   const int *F;
@@ -334,14 +341,8 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
   }
   /* The rigid rotations (and any slot without an allowed direction) are fixed by the mass term; an
    * empty slot gets a unit diagonal so that its zero solution is exact.
-   * Planar domains also get a relative 1e-8 on the diagonal: it bounds the condition number where the
-   * shear weight is small and a global mode (a rotation of a sliding boundary) is nearly free; without
-   * it the last pivot of brain_disk's factorization came out non-positive in double precision, and
-   * sophie's annulus ended at per-face 0.57 instead of 0.011. On the sphere it does harm: it pulls
-   * every vertex towards standing still in proportion to its stiffness, and a cluster of 1e-10-sized
-   * triangles that must travel 0.2 is torn by that pull (cow's squeezed legs: 15 faces left too small
-   * for a sign with it, none without). */
-  const double diag_rel = dom->spherical ? 0 : 1e-8;
+   * Planar domains also get AU_LM_PLANAR_DIAG on the diagonal (see there). */
+  const double diag_rel = dom->spherical ? 0 : AU_LM_PLANAR_DIAG;
   for (int i = 0; i < nv; i++) {
     for (int b = 0; b < 2; b++) {
       int c = 2 * i + b, dg = l->colstart[c + 1] - 1;

@@ -251,8 +251,8 @@ void au_solver_free(au_solver **sp) {
 /* The matrix is filled by the caller in its own order (upper triangle of A, au_spd_values) and copied,
  * through map, into B = tril(P A P'), P the elimination order found once: the lower triangle in
  * factor order is the one form cholmod_factorize takes as it is. Given A itself it would transpose and
- * permute a copy at every factorization (measured on lion_statue: cholmod_transpose_sym 6.7% of a
- * whole run, and the allocations of the copy). */
+ * permute a copy at every factorization (a measurable share of a whole run, and the allocations of
+ * the copy). */
 /* A factorization split in two halves that run on two cores (au_spd_factor): B's columns are S (the
  * top separator of the elimination tree, eliminated last) and two sets of whole subtrees below it,
  * H0 and H1, which share no entry of B or of its factor. M_h = B restricted to H_h then S, factored as
@@ -296,8 +296,8 @@ struct au_spd {
   int factored;
 };
 
-/* Below this many unknowns a system is factored whole. From 8000 the split pays (hand_closed, 16k
- * unknowns: init + flow 2.52 -> 2.10 s; cheburashka 1.62 -> 1.20 s; same maps). The test sets it. */
+/* Below this many unknowns a system is factored whole: smaller, the second thread's start and the dense
+ * separator block cost more than the halves save (docs/tuning-history.md). The test sets it. */
 int au__spd_split_min = 8000;
 
 au_status au_graph_order(int n, int ne, const int *E, int *perm, au_msg *msg) {
