@@ -401,26 +401,9 @@ static void chord_errors(int nv, int nf, const int *F, const unsigned char *used
  * map before it is measured again at its own step number, so an undone step leaves no trace in the
  * report but its count in au_advect_report.undone).
  *
- *   phase      method        entered                                  left
- *   cells      Poisson       at the start                             vertex error <= tol: to faces
- *                                                                     (face_steps > 0 and the faces miss
- *                                                                     face_tol), else the end
- *   faces      Poisson       from cells                               the per-face error rose (that step
- *                                                                     undone), met face_tol, or face_steps
- *                                                                     refinement steps were taken: the end
- *   spherical  least shear   at the start, sphere with sphere_areas   the vertex error meets tol, the part
- *                                                                     stalls, or it used 2/3 of the budget:
- *                                                                     to polish where the chord triangles
- *                                                                     lag, else to angles or the end
- *   chord      least shear   at the start otherwise (planar domains,  both errors within tol and face_tol,
- *                            sphere_areas 0)                          or stalled: to angles, or the end
- *   polish     least shear   from spherical                           as chord
- *   angles     least shear   angle_steps > 0: from a least-shear      angle_steps taken, or a step raised the
- *                            phase at the angle switch, at its end,   vertex error above tol and above where
- *                            or when the budget is spent              it was (that step undone): the end
- *
- * Every phase but angles also ends when the budget (max_steps solves, undone ones included) is spent:
- * to angles if there are any, else the end. The table below holds these rules' functions. */
+ * The phases, with the rules by which the flow enters and leaves each, are the table flow_phases below.
+ * Every phase but the angle steps also ends when the budget (max_steps solves, undone ones included)
+ * is spent: to the angle steps if there are any, else the end (check_budget). */
 
 typedef enum flow_phase { FLOW_CELLS, FLOW_FACES, FLOW_SPHERICAL, FLOW_CHORD, FLOW_POLISH, FLOW_ANGLES } flow_phase;
 
@@ -901,18 +884,36 @@ static au_status solve_cells(flow_state *s, flow_solved *out) {
 
 typedef struct flow_phase_rule {
   const char *name;
-  flow_verdict (*decide)(flow_state *s);               /* the phase's exit rules, after measuring */
-  au_status (*solve)(flow_state *s, flow_solved *out); /* its step */
+  const char *entry; /* when the flow enters the phase */
+  const char *exit;  /* when it leaves, and for where (decide) */
+  flow_verdict (*decide)(flow_state *s);               /* the exit rules, applied after measuring */
+  au_status (*solve)(flow_state *s, flow_solved *out); /* the phase's step */
 } flow_phase_rule;
 
-/* Indexed by flow_phase; the entry and exit rules are in the banner above and in the decide functions. */
+/* Indexed by flow_phase. The least-shear phases measure the map in the spherical triangles' terms
+ * (spherical) or in the chord triangles' (the others); the Poisson ones in the chord triangles'. */
 static const flow_phase_rule flow_phases[] = {
-    [FLOW_CELLS] = {"cells", decide_cells, solve_cells},
-    [FLOW_FACES] = {"faces", decide_faces, solve_faces},
-    [FLOW_SPHERICAL] = {"spherical", decide_least_shear, solve_least_shear},
-    [FLOW_CHORD] = {"chord", decide_least_shear, solve_least_shear},
-    [FLOW_POLISH] = {"polish", decide_least_shear, solve_least_shear},
-    [FLOW_ANGLES] = {"angles", decide_angles, solve_angles},
+    [FLOW_CELLS] = {"cells", "Poisson method: at the start",
+                    "vertex error <= tol: to faces if face_steps > 0 and the faces miss face_tol, else the end",
+                    decide_cells, solve_cells},
+    [FLOW_FACES] = {"faces", "Poisson method: from cells",
+                    "the per-face error rose (that step undone), met face_tol, or face_steps were taken: the end",
+                    decide_faces, solve_faces},
+    [FLOW_SPHERICAL] = {"spherical", "least shear on the sphere with sphere_areas: at the start",
+                        "vertex error <= tol, stalled, or 2/3 of the budget used: to polish where the chord "
+                        "triangles lag, else to angles (angle_steps) or the end; the angle switch: to angles",
+                        decide_least_shear, solve_least_shear},
+    [FLOW_CHORD] = {"chord", "least shear otherwise (planar domains, sphere_areas 0): at the start",
+                    "both errors within tol and face_tol, or stalled: to angles (angle_steps) or the end; "
+                    "the angle switch: to angles",
+                    decide_least_shear, solve_least_shear},
+    [FLOW_POLISH] = {"polish", "from spherical, at a step > 0 (at step 0 the polish is the chord phase)",
+                     "as chord, with the polish's own stall tests", decide_least_shear, solve_least_shear},
+    [FLOW_ANGLES] = {"angles", "angle_steps > 0: from a least-shear phase at the angle switch, at its end, "
+                     "or when the budget is spent",
+                     "angle_steps taken, or a step raised the vertex error above tol and above where it was "
+                     "(that step undone): the end",
+                     decide_angles, solve_angles},
 };
 
 /* ---- the move ---- */
