@@ -1027,6 +1027,8 @@ static au_status flow_round(flow_state *s, flow_verdict *verdict) {
   double t0 = now_s();
   flow_solved solved = SOLVED_MOVE;
   st = flow_phases[s->phase].solve(s, &solved);
+  /* A system that came out indefinite moved nothing: a stiffer retry at the next step number, or, as
+   * stiff as it gets, this part of the flow measured again at this one (solve_least_shear). */
   if (solved == SOLVED_NEXT) return AU_OK;
   if (solved == SOLVED_REMEASURE) {
     *verdict = FLOW_REMEASURE;
@@ -1068,7 +1070,6 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   flow_state_free(&s);
   return st;
 }
-
 
 /* Below this many vertices the mesh is worked on in its own order. */
 #define AU_REORDER_MIN 4096

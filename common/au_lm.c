@@ -40,6 +40,14 @@
  * travel far is torn by that pull (docs/tuning-history.md). */
 #define AU_LM_PLANAR_DIAG 1e-8
 
+/* An axis whose constrained, orthogonalized remainder is shorter than this is not an allowed direction:
+ * the axes have unit length, so anything shorter is the constraint's rounding, not a direction. */
+#define AU_BASIS_MIN 1e-6
+
+/* Added to every diagonal entry so that a slot whose terms all vanish (a vertex with zero area) still
+ * has a positive pivot; far below any real entry, it changes nothing else. */
+#define AU_LM_DIAG_TINY 1e-300
+
 struct au_lm {
   int nv, nf;
   const int *F;
@@ -173,7 +181,7 @@ void au__allowed_basis(const au_advect_domain *dom, int i, const double *p, doub
       d[0] -= dot * e[0], d[1] -= dot * e[1], d[2] -= dot * e[2];
     }
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    if (len < 1e-6) continue;
+    if (len < AU_BASIS_MIN) continue;
     B[3 * nb] = d[0] / len, B[3 * nb + 1] = d[1] / len, B[3 * nb + 2] = d[2] / len;
     nb++;
   }
@@ -348,7 +356,7 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
       int c = 2 * i + b, dg = l->colstart[c + 1] - 1;
       const double *Bi = l->B + 6 * i + 3 * b;
       if (dot3(Bi, Bi) == 0) val[dg] = 1, l->rhs[c] = 0;
-      else val[dg] = val[dg] * (1 + diag_rel) + eps * mass[2 * i] + 1e-300;
+      else val[dg] = val[dg] * (1 + diag_rel) + eps * mass[2 * i] + AU_LM_DIAG_TINY;
     }
   }
   au_status st = au_spd_factor(l->spd, msg);
