@@ -405,13 +405,14 @@ static void chord_errors(int nv, int nf, const int *F, const unsigned char *used
  * Every phase but the angle steps also ends when the budget (max_steps solves, undone ones included)
  * is spent: to the angle steps if there are any, else the end (check_budget). */
 
+/* The phases; flow_phases gives each one's entry and exit rules. */
 typedef enum flow_phase { FLOW_CELLS, FLOW_FACES, FLOW_SPHERICAL, FLOW_CHORD, FLOW_POLISH, FLOW_ANGLES } flow_phase;
 
 /* What a phase decides after measuring the map. */
 typedef enum flow_verdict {
   FLOW_STEP,      /* solve and move, then the next step number */
   FLOW_STOP,      /* the flow ends at this step number */
-  FLOW_REMEASURE, /* the phase changed: measure this map again, same step number */
+  FLOW_REMEASURE, /* the phase changed (or its part ended): measure this map again, same step number */
   FLOW_REDO       /* the last step was undone: measure the map before it again, at its step number */
 } flow_verdict;
 
