@@ -48,8 +48,8 @@ static au_status factorize(cholmod_sparse *A, cholmod_factor *L, cholmod_common 
 }
 
 /* METIS (through GKlib) catches SIGTERM while it runs and turns it into an error return: a run told
- * to stop then failed with "ordering failed" instead of dying of the signal (measured: 1 in 12 runs
- * of the cli.interrupted test). And on its way out it puts the previous handler back with signal(),
+ * to stop then failed with "ordering failed" instead of dying of the signal (docs/tuning-history.md
+ * has how often). And on its way out it puts the previous handler back with signal(),
  * i.e. one-shot (SA_RESETHAND). So SIGTERM is held back for the length of an ordering, the handler is
  * put back exactly as it was, and a signal that came meanwhile reaches it afterwards. */
 typedef struct held_term {
