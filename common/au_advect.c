@@ -1,10 +1,11 @@
 /* au_advect.c - the Lie-advection loop (Zou, Hu, Gu & Hua 2011, sec. 4.2-4.4, eq. 19-20) with local
- * step control.
+ * step control, run as a machine of phases (see "the flow as a phase machine" below).
  *
- * Each step asks every vertex cell for a share of its remaining area excess, solves the Poisson
- * problem C g = -dA on the current domain mesh (C: cotan stiffness, one vertex pinned, so the flux of
- * grad g out of cell i is dA_i), moves the vertices along the angle-weighted vertex gradient and puts
- * them back on the domain. Two departures from the paper keep the flow fold-free on hard meshes:
+ * Each step asks every face (least-shear method, au_lm.c) or vertex cell (the paper's Poisson method:
+ * C g = -dA on the current domain mesh, C the cotan stiffness with one vertex pinned, so the flux of
+ * grad g out of cell i is dA_i) for a share of its remaining area excess, solves for a displacement,
+ * moves the vertices and puts them back on the domain. Two departures from the paper keep the flow
+ * fold-free on hard meshes:
  *  - the per-step target is geometric, a cell's area ratio moves by the factor rho^(1/(K-k)), so a
  *    cell squeezed by e^8 is never asked to grow 60x in one step (the linear eq. 19 is);
  *  - the step is limited locally: a vertex moves at most max_move times the smallest inradius of its
@@ -33,32 +34,90 @@
 #define AU_ORIENT_MARGIN 1e-13
 
 /* The part of its orientation a triangle with a sliding boundary corner must keep along the corner's
- * real (retracted) path at the step control's fraction (see step_control). */
+ * real (retracted) path at the step control's fraction (see step_control): as little as keeps its sign
+ * safe, since the backtracking after the move catches the rest and more holds the boundary back. */
 #define AU_BOUNDARY_KEEP 0.02
 
 /* The least-shear step weighs a face by its target area, but by at most this many times its current
  * area (a face squeezed by e^-20 would otherwise make the system singular in double precision). Not
  * much less either: the energy is an integral, so a face weighed by its own tiny area is free to be
- * sheared, and the step control then holds its whole neighbourhood back. Measured on cow (legs
- * squeezed to areas of 1e-22): with 100 the flow crawled (step fraction 0.2-0.4) and left 15 faces
- * too small for a sign; with 1e6 it takes full steps and ends fold-free. */
+ * sheared, and the step control then holds its whole neighbourhood back (docs/tuning-history.md). */
 #define AU_WEIGHT_CAP 1e6
 
 /* The shape restoring (au_advect_opts.restore) acts in full while the vertex error is above this and
- * fades in proportion below it: at full strength to the end it kept the areas from converging
- * (bunny: 53 steps instead of 23, vertex 0.0054 instead of 0.0014); faded, 25 steps and 0.00064. */
+ * fades in proportion below it: at full strength to the end it keeps the areas from converging. */
 #define AU_RESTORE_FADE 0.1
 
 /* The chord polish, vertex cells above the tolerance: it ends when four steps gained less than this
- * fraction of both the vertex and the per-face error (see the stall test in advect_core). */
+ * fraction of both the vertex and the per-face error (least_shear_stalled). Lower, a polish that
+ * gains almost nothing runs on to the step budget. */
 #define AU_POLISH_GAIN 0.05
 
 /* Kinetic-energy weight of the least-shear step: only fixes the rigid rotations, which change neither
  * areas nor angles. */
 #define AU_ROTATION_EPS 1e-6
 
-/* The stiffest shear weight an undone step is retried with. */
+/* The stiffest shear weight an undone step is retried with: stiffer, the step barely moves and the
+ * system's last pivots lose their sign in double precision. */
 #define AU_SHEAR_MAX 1e4
+
+/* A relative slack for "no worse": an error that equals the last one up to rounding counts as equal. */
+#define AU_SAME_REL 1e-9
+
+/* An undone least-shear step is retried with the shear weight this many times stiffer. */
+#define AU_SHEAR_UNDO_FACTOR 4
+
+/* An accepted least-shear step halves the shear weight (Levenberg-Marquardt style), down to its floor. */
+#define AU_SHEAR_DECAY 0.5
+
+/* A least-shear system that rounding made indefinite is retried this many times stiffer, up to
+ * AU_SHEAR_SPD_MAX: the shear term is definite but for the rotations, so enough of it restores
+ * definiteness, and beyond that weight the step would barely move anything. */
+#define AU_SHEAR_SPD_FACTOR 16
+#define AU_SHEAR_SPD_MAX 1e6
+
+/* The stall test compares each error with its value this many steps back: single steps are noisy
+ * (an accepted step may gain nothing while the shear weight drops). */
+#define AU_STALL_WINDOW 4
+
+/* Stalled: neither error fell below this fraction of its value AU_STALL_WINDOW steps back (a 2% gain). */
+#define AU_STALL_KEEP 0.98
+
+/* In the polish with the vertex cells within tol, a single step must gain this share of face_gain:
+ * the polish converges geometrically, so one step tells. */
+#define AU_POLISH_STEP_SHARE 0.25
+
+/* The spherical part may use this share of the budget (2/3): the rest is left for the chord polish. */
+#define AU_SPHERICAL_BUDGET_NUM 2
+#define AU_SPHERICAL_BUDGET_DEN 3
+
+/* The angle steps take over (angle_switch) once the per-face error is also within this many times the
+ * switch: earlier, the faces' areas were left further off at the end. */
+#define AU_ANGLE_SWITCH_FACES 2
+
+/* The lantern's raised shape restoring acts only once the vertex error is below this: before that the
+ * whole map is still far from its areas and the long edges are not yet the obstacle. */
+#define AU_LANTERN_BELOW 1
+
+/* Below this |c2| the orientation along a move is taken as linear in t (the quadratic formula would
+ * divide by it); any real triangle's c2 is far above it. */
+#define AU_QUADRATIC_TINY 1e-300
+
+/* The step control lets a triangle shrink to this fraction of its orientation in one step, no further:
+ * a quarter leaves room for the envelope's differences between neighbours and for the curvature of the
+ * sphere's retraction, and still lets a triangle shrink by a large factor per step. */
+#define AU_FACE_KEEP 0.25
+
+/* How often the step control halves a boundary triangle's fraction on its corners' real paths
+ * (2^-12 of the step): past that the backtracking after the move takes over. */
+#define AU_BOUNDARY_HALVINGS 12
+
+/* Backtracking rounds in which a flipped triangle's corners halve their fractions; after that they
+ * stay where they were (a triangle whose corners all stay cannot flip), so the loop ends. */
+#define AU_BACKTRACK_HALVINGS 30
+
+/* A triangle already below AU_ORIENT_MARGIN may shrink by at most this factor per step. */
+#define AU_ORIENT_SHRINK 0.5
 
 au_advect_opts au_advect_opts_default(void) {
   au_advect_opts o;
@@ -129,7 +188,7 @@ static double vertex_error(int nv, const unsigned char *used, const double *T, c
  * orientation, 1 if it never gets there. The orientation is the triangle's area projected onto the
  * domain's normal (planar: z; sphere: the direction of the centroid), not onto its own plane: a thin
  * triangle along a great circle has a sizeable chord area but almost no spherical orientation, and a
- * small sideways move turns it over (measured on cheburashka). */
+ * small sideways move turns it over. */
 static double face_safe_t(const double *a, const double *b, const double *c, const double *da, const double *db,
                           const double *dc, double keep, int spherical) {
   double e1[3], e2[3], d1[3], d2[3], n[3];
@@ -149,7 +208,7 @@ static double face_safe_t(const double *a, const double *b, const double *c, con
   if (!(c0 > 0)) return 0;
   double q0 = c0 * (1 - keep); /* solve c2 t^2 + c1 t + q0 = 0 for the first t > 0 */
   double tmin = 1;
-  if (fabs(c2) < 1e-300) {
+  if (fabs(c2) < AU_QUADRATIC_TINY) {
     if (c1 < 0) tmin = -q0 / c1;
   } else {
     double disc = c1 * c1 - 4 * c2 * q0;
@@ -220,8 +279,7 @@ static void adjacency_free(adjacency *a) {
  *    smaller inradius of the edge's triangles, which bounds the extra relative motion by c inradii.
  *    This is a shortest-path envelope, computed with Dijkstra's algorithm from every vertex at once.
  *    Only vertices below 1 can lower a neighbour (the bound only adds), so the heap starts with them
- *    and takes in a vertex when it is lowered: the work follows the restricted vertices, not the mesh
- *    (brain_disk: the envelope was 17% of the run when every vertex went through the heap).
+ *    and takes in a vertex when it is lowered: the work follows the restricted vertices, not the mesh.
  * inr [0..nf-1] holds the faces' inradii; heap and pos are scratch of nv ints, dn of nv doubles. */
 static void envelope(const au_topo *t, const adjacency *adj, int nv, const double *inr, const double *D, double c,
                      double *s, int *heap, int *pos, double *dn) {
@@ -265,10 +323,9 @@ static void envelope(const au_topo *t, const adjacency *adj, int nv, const doubl
  * A boundary vertex sliding by s along a circle ends about s^2/2 inside its straight path, which the
  * retraction onto the circle makes up; a straight interior move beside it does not, so a boundary
  * triangle of height h turned over once the boundary slid by sqrt(2h). An equal-area map of a surface
- * with a short boundary needs such triangles: brain_disk's 113 boundary edges are 0.056 long on the
- * circle and their triangles' areas make them 0.001 high (aspect 30-50), and the step control held the
- * whole mesh back for them (brain_disk 16 steps, sophie 35; with arcs 9 and 6). At the disk's centre
- * the bend goes to zero: full arcs there (a turn by s/r) took demosthenes 20 -> 60 steps. */
+ * with a short boundary needs such triangles (aspect 30-50), and the step control held the whole mesh
+ * back for them. At the disk's centre the bend goes to zero: full arcs there (a turn by s/r) cost many
+ * steps, since a small move near the centre turns by a large angle (docs/tuning-history.md). */
 static void move_vertex(const au_advect_domain *dom, const double *q, const double *d, double t, double *out) {
   out[0] = q[0] + t * d[0], out[1] = q[1] + t * d[1], out[2] = q[2] + t * d[2];
   if (dom->spherical || !(dom->arc_radius > 0)) return;
@@ -289,19 +346,19 @@ static void step_control(const au_topo *t, const adjacency *adj, const int *F, i
   for (int i = 0; i < nv; i++) s[i] = 1;
   for (int f = 0; f < nf; f++) {
     const int *v = F + 3 * f;
-    double tf = face_safe_t(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2], D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], 0.25, spherical);
+    double tf = face_safe_t(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2], D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], AU_FACE_KEEP,
+                            spherical);
     if (!spherical) {
       /* The fraction above is exact for straight moves; a boundary vertex slides along its curve
        * (retract), off the straight line, and turned the thin triangles at the boundary over after
-       * the step (brain_disk: every triangle the backtracking in advect_core had to mend had a
-       * boundary corner, 3.5 rounds a step). So the fraction is checked on the corners' real paths
-       * (move_vertex, then retract) and halved until the triangle keeps AU_BOUNDARY_KEEP of its
-       * orientation. Asking for more than the backtracking does holds the boundary back (a fifth:
-       * brain_disk 19 -> 23 steps; a fiftieth: 18 steps, init + flow 5.7-6.3 -> 4.9-5.3 s). Interior
-       * triangles away from the boundary pass (the final orientation check covers them). */
+       * the step (they were the ones the backtracking in take_step had to mend, several rounds a
+       * step). So the fraction is checked on the corners' real paths (move_vertex, then retract) and
+       * halved until the triangle keeps AU_BOUNDARY_KEEP of its orientation. Asking for more than
+       * the backtracking does holds the boundary back. Interior triangles away from the boundary pass
+       * (the final orientation check covers them). */
       const double *a = P + 3 * v[0], *b = P + 3 * v[1], *cc = P + 3 * v[2];
       double o0 = (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0]);
-      for (int h = 0; h < 12 && o0 > 0; h++) {
+      for (int h = 0; h < AU_BOUNDARY_HALVINGS && o0 > 0; h++) {
         double q[3][3];
         for (int k = 0; k < 3; k++) {
           move_vertex(dom, P + 3 * v[k], D + 3 * v[k], tf, q[k]);
@@ -334,462 +391,684 @@ static void chord_errors(int nv, int nf, const int *F, const unsigned char *used
   *ferr = e / nf, *verr = n ? v / n : 0;
 }
 
-/* The flow itself, on arguments and options au_advect_run has checked. */
-/* The flow hands over to the angle steps at step k (au_advect_opts.angle_steps): from here the map is
- * measured in the chord triangles' terms. Returns how many there may be (the report's arrays bound them). */
-static int begin_angles(const au_advect_opts *o, int k, int *ang_phase, int *sph_phase, au_advect_report *rep) {
-  *ang_phase = 1, *sph_phase = 0;
-  rep->angle_from = k;
-  return o->angle_steps < AU_ADVECT_MAX_STEPS - 1 - k ? o->angle_steps : AU_ADVECT_MAX_STEPS - 1 - k;
+/* ---------------------------------------------------------------- the flow as a phase machine
+ *
+ * The flow is a sequence of phases. Each round of the loop measures the current map (in the terms of
+ * the current phase), asks the phase whether to step, and if so solves for a displacement and moves
+ * the vertices under the step control. A phase's decision is one of four verdicts: take a step; stop;
+ * measure this map again at the same step number (the phase has changed, and with it the terms the map
+ * is measured in); or redo the previous step (the last step made the map worse: it is undone, and the
+ * map before it is measured again at its own step number, so an undone step leaves no trace in the
+ * report but its count in au_advect_report.undone).
+ *
+ * The phases, with the rules by which the flow enters and leaves each, are the table flow_phases below.
+ * Every phase but the angle steps also ends when the budget (max_steps solves, undone ones included)
+ * is spent: to the angle steps if there are any, else the end (check_budget). */
+
+/* The phases; flow_phases gives each one's entry and exit rules. */
+typedef enum flow_phase { FLOW_CELLS, FLOW_FACES, FLOW_SPHERICAL, FLOW_CHORD, FLOW_POLISH, FLOW_ANGLES } flow_phase;
+
+/* What a phase decides after measuring the map. */
+typedef enum flow_verdict {
+  FLOW_STEP,      /* solve and move, then the next step number */
+  FLOW_STOP,      /* the flow ends at this step number */
+  FLOW_REMEASURE, /* the phase changed (or its part ended): measure this map again, same step number */
+  FLOW_REDO       /* the last step was undone: measure the map before it again, at its step number */
+} flow_verdict;
+
+/* What a phase's solve produced. */
+typedef enum flow_solved {
+  SOLVED_MOVE,     /* D holds a displacement: move along it under the step control */
+  SOLVED_NEXT,     /* nothing moved; the next step number measures the same map (a stiffer retry) */
+  SOLVED_REMEASURE /* nothing moved; this part of the flow is exhausted: measure again, same step */
+} flow_solved;
+
+/* Everything the flow carries from step to step. Arrays: nv- or nf-sized scratch unless noted. */
+typedef struct flow_state {
+  const au_mesh *m;
+  const au_topo *t;
+  const au_advect_domain *dom;
+  const au_advect_opts *o;
+  au_advect_report *rep;
+  au_msg *msg;
+  int nv, nf;
+  const int *F;
+  int sph; /* spherical domain */
+  int ls;  /* least-shear method */
+  /* targets, fixed for the run */
+  double *As;  /* [nf] the surface's triangle areas */
+  double *fw;  /* [nf] the faces' densities */
+  double *AM;  /* [nv] the vertex cells' targets: a third of each face's As * fw */
+  double SM;   /* sum of AM */
+  /* the current map's measure (measure_map) */
+  double *af;  /* [nf] the domain's face areas (spherical in the spherical phase, else chord) */
+  double *AO;  /* [nv] the domain's vertex cells */
+  double *b;   /* [nv] the cells' targets in the domain's total, then the Poisson step's right side */
+  double SO, scale; /* the domain's total area, and SO / SM */
+  double err, ferr, flog; /* vertex mean |ln ratio|, per-face mean |r - 1| and mean |ln r| */
+  /* the step */
+  double *D;    /* [3nv] displacement */
+  double *Pold; /* [3nv] the map before the last step (what an undo goes back to) */
+  double *P;    /* [3nv] the map, in/out */
+  double *g, *Gf, *dA_f, *w; /* solve scratch: [nv], [3nf], [nf], [ne] */
+  double *lim, *dn, *inr, *orient_old; /* step control: fractions [nv], |D_i| [nv], inradii [nf], [nf] */
+  unsigned char *fixed, *bad;          /* [nv] the Poisson solve's pinned vertices; flipped corners */
+  int *heap, *hpos;                    /* [nv] the envelope's heap */
+  adjacency adj;
+  /* solvers, made when first needed (lm: the plan's) */
+  au_solver *solver;
+  au_gn *gn, *gnf;
+  au_ang *ang;
+  au_lm **lmp;
+  /* the machine */
+  flow_phase phase;
+  int k;            /* step number */
+  int phase_start;  /* the first step of the current least-shear part (stall tests compare like with like) */
+  double alpha;     /* the least-shear step's shear weight */
+  double prev_err, prev_ferr, prev_flog; /* the last measure that led to a step */
+  int retry;        /* the next least-shear solve retries an undone step */
+  int measured_jump;/* rep->start_jump has been measured */
+  int exhausted;    /* no stiffer step is worth a try: this part of the flow ends */
+  int ang_left;     /* angle steps that remain */
+  double ang_prev;  /* the vertex error before the last angle step */
+  int face_steps;   /* per-face refinement steps taken (Poisson method) */
+} flow_state;
+
+static void flow_state_free(flow_state *s) {
+  au_solver_free(&s->solver);
+  au__gn_free(&s->gn);
+  au__gn_free(&s->gnf);
+  au__ang_free(&s->ang);
+  free(s->AM), free(s->AO), free(s->b), free(s->g), free(s->dn), free(s->lim), free(s->af), free(s->Gf), free(s->D);
+  free(s->Pold), free(s->w), free(s->fixed), free(s->bad), free(s->heap), free(s->hpos), free(s->inr), free(s->As);
+  free(s->fw), free(s->dA_f), free(s->orient_old);
+  adjacency_free(&s->adj);
 }
 
-static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
-                             au_lm **lmp, double *P, au_advect_report *rep, au_msg *msg) {
-  const au_advect_opts o = *opts;
-  memset(rep, 0, sizeof *rep);
+/* The scratch arrays; 0 when out of memory (what was allocated is freed by flow_state_free). */
+static int flow_state_alloc(flow_state *s) {
+  const size_t nv = (size_t)s->nv, nf = (size_t)s->nf, ne = (size_t)(s->t->ne > 0 ? s->t->ne : 1);
+  s->AM = malloc(sizeof(double) * nv), s->AO = malloc(sizeof(double) * nv), s->b = malloc(sizeof(double) * nv);
+  s->g = malloc(sizeof(double) * nv), s->lim = malloc(sizeof(double) * nv), s->af = malloc(sizeof(double) * nf);
+  s->dn = malloc(sizeof(double) * nv);
+  s->Gf = malloc(sizeof(double) * 3 * nf), s->D = malloc(sizeof(double) * 3 * nv);
+  s->Pold = malloc(sizeof(double) * 3 * nv), s->w = malloc(sizeof(double) * ne);
+  s->fixed = calloc(nv, 1), s->bad = calloc(nv, 1);
+  s->heap = malloc(sizeof(int) * nv), s->hpos = malloc(sizeof(int) * nv);
+  s->inr = malloc(sizeof(double) * nf), s->As = malloc(sizeof(double) * nf), s->fw = malloc(sizeof(double) * nf);
+  s->dA_f = malloc(sizeof(double) * nf), s->orient_old = malloc(sizeof(double) * nf);
+  return s->AM && s->AO && s->b && s->g && s->dn && s->lim && s->af && s->Gf && s->D && s->Pold && s->w && s->fixed &&
+         s->bad && s->heap && s->hpos && s->inr && s->As && s->fw && s->dA_f && s->orient_old &&
+         adjacency_build(s->t, &s->adj);
+}
 
-  const int nv = m->nv, nf = m->nf, *F = m->F;
-  const int sph = dom->spherical;
-  au_status st = AU_OK;
-  au_solver *solver = NULL;
-  au_gn *gn = NULL, *gnf = NULL;
-  au_ang *ang = NULL; /* the angle step (o.angle_steps), made when first needed */
-  au_lm *lm = *lmp; /* the plan's: analyzed once, perhaps while the start was being computed */
-  const int ls = o.method == AU_ADVECT_LEAST_SHEAR;
-  double *AM = malloc(sizeof(double) * nv), *AO = malloc(sizeof(double) * nv), *b = malloc(sizeof(double) * nv);
-  double *g = malloc(sizeof(double) * nv), *lim = malloc(sizeof(double) * nv), *af = malloc(sizeof(double) * nf);
-  double *dn = malloc(sizeof(double) * nv); /* the step control's |D_i| */
-  double *Gf = malloc(sizeof(double) * 3 * nf), *D = malloc(sizeof(double) * 3 * nv);
-  double *Pold = malloc(sizeof(double) * 3 * nv), *w = malloc(sizeof(double) * (t->ne > 0 ? t->ne : 1));
-  unsigned char *fixed = calloc((size_t)nv, 1), *bad = calloc((size_t)nv, 1);
-  int *heap = malloc(sizeof(int) * nv), *hpos = malloc(sizeof(int) * nv);
-  double *inr = malloc(sizeof(double) * nf), *As = malloc(sizeof(double) * nf), *fw = malloc(sizeof(double) * nf);
-  double *dA_f = malloc(sizeof(double) * nf), *orient_old = malloc(sizeof(double) * nf);
-  adjacency adj = {NULL, NULL};
-  if (!AM || !AO || !b || !g || !dn || !lim || !af || !Gf || !D || !Pold || !w || !fixed || !bad || !heap || !hpos || !inr || !As || !fw || !dA_f || !orient_old ||
-      !adjacency_build(t, &adj)) {
-    st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
-    goto done;
-  }
-
-  /* Target areas: the surface's triangle areas times the density (per face: the face's own, or the
-   * mean of its corners'). */
-  au_dec_face_areas(nf, F, m->X, As);
+/* The targets: the surface's triangle areas times the density (per face: the face's own, or the mean of
+ * its corners'), and the vertex cells' targets. Returns AU_OK or AU_E_ARG (no area). */
+static au_status flow_targets(flow_state *s) {
+  const au_advect_opts *o = s->o;
+  const int nv = s->nv, nf = s->nf, *F = s->F;
+  double *As = s->As, *fw = s->fw, *AM = s->AM;
+  au_dec_face_areas(nf, F, s->m->X, As);
   for (int f = 0; f < nf; f++)
-    fw[f] = o.face_weight ? o.face_weight[f]
-            : o.weight    ? (o.weight[F[3 * f]] + o.weight[F[3 * f + 1]] + o.weight[F[3 * f + 2]]) / 3.0
-                          : 1.0;
+    fw[f] = o->face_weight ? o->face_weight[f]
+            : o->weight    ? (o->weight[F[3 * f]] + o->weight[F[3 * f + 1]] + o->weight[F[3 * f + 2]]) / 3.0
+                           : 1.0;
   /* A vertex cell's target is a third of each of its faces' targets, with a per-vertex density too:
    * the flow drives the faces, and vertex targets of their own (area times the vertex's density)
-   * disagree with the faces' where the density jumps, which left the vertex error at 0.057 on a sphere
+   * disagree with the faces' where the density jumps, which left the vertex error far off on a sphere
    * with density 4 on one half. */
   memset(AM, 0, sizeof(double) * nv);
   for (int f = 0; f < nf; f++)
     for (int k = 0; k < 3; k++) AM[F[3 * f + k]] += As[f] * fw[f] / 3.0;
   double SM = 0;
   for (int i = 0; i < nv; i++) SM += AM[i];
-  if (!(SM > 0)) {
-    st = au_msg_set(msg, AU_E_ARG, "advect: the surface has no area");
-    goto done;
-  }
+  s->SM = SM;
+  if (!(SM > 0)) return au_msg_set(s->msg, AU_E_ARG, "advect: the surface has no area");
+  return AU_OK;
+}
 
-  int folds = count_folds(P, F, nf, sph);
-  if (folds) {
-    st = au_msg_set(msg, AU_E_FOLD, "advect: the initial map has %d folded triangles", folds);
-    goto done;
+/* The start's resolution, measured once: the mean jump of log r between the two faces of each interior
+ * edge. Where it is small the wanted correction is smooth at the mesh's scale, and the flow can drop
+ * the shear weight faster and let faces grow more per step (au_advect_opts.resolved_jump). */
+static void measure_start_jump(flow_state *s) {
+  const au_topo *t = s->t;
+  const au_advect_opts *o = s->o;
+  const double *af = s->af, *As = s->As, *fw = s->fw;
+  double sj = 0;
+  int nj = 0;
+  for (int e = 0; e < t->ne; e++) {
+    int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+    if (f0 < 0 || f1 < 0) continue;
+    double r0 = af[f0] / (As[f0] * fw[f0]), r1 = af[f1] / (As[f1] * fw[f1]);
+    if (r0 > 0 && r1 > 0) sj += fabs(log(r0 / r1)), nj++;
   }
+  s->rep->start_jump = nj ? sj / nj : 0;
+  /* Equal-area maps only: with a prescribed density the resolved schedule undid many steps and
+   * missed the tolerance (docs/tuning-history.md). */
+  s->rep->resolved = s->ls && nj > 0 && !o->weight && !o->face_weight && s->rep->start_jump <= o->resolved_jump;
+  if (s->rep->resolved) s->alpha = o->resolved_shear;
+  s->measured_jump = 1;
+}
 
-  /* The Poisson problem is a pure Neumann problem (closed sphere, or a boundary that only slides):
-   * pin the first referenced vertex; unreferenced vertices have empty rows and are fixed too. */
-  int pinned = -1;
+/* Measure the map at step k in the current phase's terms, record the errors, report progress and
+ * honour a cancellation. Returns AU_OK, AU_E_NUMERIC or AU_E_CANCELLED. */
+static au_status measure_map(flow_state *s) {
+  const int nv = s->nv, nf = s->nf, *F = s->F, k = s->k;
+  const au_advect_opts *o = s->o;
+  double *af = s->af, *AO = s->AO, *b = s->b, *P = s->P;
+  /* On the sphere the domain's areas are the spherical triangles' (see au_lm.c): they vanish where the
+   * corners come onto one great circle, and they sum to 4 pi. */
+  if (s->phase == FLOW_SPHERICAL) au_dec_sphere_face_areas(nf, F, P, af);
+  else au_dec_face_areas(nf, F, P, af);
+  au_dec_vertex_areas(nv, nf, F, P, af, AO);
+  double SO = 0;
+  for (int f = 0; f < nf; f++) SO += af[f];
+  double scale = SO / s->SM;
+  /* b holds the target areas of this domain's total. */
+  for (int i = 0; i < nv; i++) b[i] = s->AM[i] * scale;
+  double err = vertex_error(nv, s->t->vused, b, AO);
+  /* Per face: the mean |r - 1| (reported) and, for the least-shear step's control, the mean |log r|. */
+  double ferr = 0, flog = 0;
+  for (int f = 0; f < nf; f++) {
+    double r = af[f] / (s->As[f] * s->fw[f] * scale);
+    ferr += fabs(r - 1);
+    if (s->ls) flog += fabs(log(r));
+  }
+  ferr /= nf, flog /= nf;
+  s->SO = SO, s->scale = scale, s->err = err, s->ferr = ferr, s->flog = flog;
+  if (!s->measured_jump) measure_start_jump(s);
+  s->rep->err[k] = err;
+  s->rep->face_err[k] = ferr;
+  if (!(err == err) || !(ferr == ferr))
+    return au_msg_set(s->msg, AU_E_NUMERIC, "advect: area error is not a number at step %d", k);
+  if (o->progress) o->progress(o->user, k, o->max_steps, s->ls ? ferr : err);
+  if (o->cancel && __atomic_load_n(o->cancel, __ATOMIC_ACQUIRE))
+    return au_msg_set(s->msg, AU_E_CANCELLED, "advect: cancelled at step %d", k);
+  return AU_OK;
+}
+
+/* Go back to the map before the last step. */
+static void undo_step(flow_state *s) {
+  memcpy(s->P, s->Pold, sizeof(double) * 3 * s->nv);
+  s->rep->undone++;
+}
+
+/* Enter the angle steps at step k: from here the map is measured in the chord triangles' terms, the
+ * step number staying. Their number is bounded by the report's arrays. */
+static flow_verdict begin_angles(flow_state *s) {
+  const int room = AU_ADVECT_MAX_STEPS - 1 - s->k;
+  s->phase = FLOW_ANGLES;
+  s->rep->angle_from = s->k;
+  s->ang_left = s->o->angle_steps < room ? s->o->angle_steps : room;
+  return FLOW_REMEASURE;
+}
+
+/* Whether the angle steps may still begin: there are some, and the report has room for a step. */
+static int angles_possible(const flow_state *s) { return s->o->angle_steps > 0 && s->k + 1 < AU_ADVECT_MAX_STEPS; }
+
+/* ---- decisions: one per phase (the phase table below) ---- */
+
+/* Poisson method, vertex cells: once they meet tol, go on with the triangles themselves. */
+static flow_verdict decide_cells(flow_state *s) {
+  if (s->err > s->o->tol) return FLOW_STEP;
+  s->rep->converged = 1;
+  if (s->o->face_steps > 0 && s->ferr > s->o->face_tol) {
+    s->phase = FLOW_FACES; /* this very round takes the first refinement step */
+    return FLOW_STEP;
+  }
+  return FLOW_STOP;
+}
+
+/* Poisson method, per-face refinement: refine while the per-face error falls; a step that made it worse
+ * is undone and the flow ends at the map before it. */
+static flow_verdict decide_faces(flow_state *s) {
+  au_advect_report *rep = s->rep;
+  if (s->ferr >= s->prev_ferr) {
+    memcpy(s->P, s->Pold, sizeof(double) * 3 * s->nv);
+    rep->err[s->k] = s->err = s->prev_err;
+    rep->face_err[s->k] = s->ferr = s->prev_ferr;
+    rep->converged = s->err <= s->o->tol;
+    return FLOW_STOP;
+  }
+  if (s->ferr <= s->o->face_tol || s->face_steps >= s->o->face_steps) {
+    rep->converged = s->err <= s->o->tol;
+    return FLOW_STOP;
+  }
+  return FLOW_STEP;
+}
+
+/* Least shear: Levenberg-Marquardt control of the shear weight. A step that made the per-face mean
+ * |log r| worse is undone and redone stiffer (the mean |r - 1| barely sees a squeezed face grow and
+ * punishes an overgrown one without bound, so it undid good steps). Past AU_SHEAR_MAX, or with the
+ * budget spent, no stiffer step is worth a try: this part of the flow ends at the last accepted map.
+ * Returns 1 if the step was undone. */
+static int least_shear_undo(flow_state *s) {
+  if (!(s->k > 0 && !(s->flog <= s->prev_flog * (1 + AU_SAME_REL)))) return 0;
+  undo_step(s);
+  s->retry = 1;
+  if (s->alpha * AU_SHEAR_UNDO_FACTOR <= AU_SHEAR_MAX && s->k + s->rep->undone <= s->o->max_steps)
+    s->alpha *= AU_SHEAR_UNDO_FACTOR;
+  else s->exhausted = 1;
+  return 1;
+}
+
+/* Least shear: whether this part of the flow has stalled (and the exhausted flag is consumed). Neither
+ * error gained 2% in AU_STALL_WINDOW steps, or, once the vertex cells meet tol, face_gain (the
+ * refinement must be worth its steps); in the chord polish with the vertex cells above tol,
+ * AU_POLISH_GAIN; in the polish with them within tol, one step must gain a share of face_gain. */
+static int least_shear_stalled(flow_state *s) {
+  const au_advect_opts *o = s->o;
+  const au_advect_report *rep = s->rep;
+  const int k = s->k, polish = s->phase == FLOW_POLISH;
+  const double err = s->err, ferr = s->ferr;
+  double keep = err <= o->tol ? 1 - o->face_gain : polish ? 1 - AU_POLISH_GAIN : AU_STALL_KEEP;
+  int stalled = s->exhausted || (k >= o->schedule_steps + AU_STALL_WINDOW && k >= s->phase_start + AU_STALL_WINDOW &&
+                                 ferr > keep * rep->face_err[k - AU_STALL_WINDOW] && err > keep * rep->err[k - AU_STALL_WINDOW]);
+  s->exhausted = 0;
+  if (polish && err <= o->tol && k >= s->phase_start + 1 && ferr > (1 - AU_POLISH_STEP_SHARE * o->face_gain) * rep->face_err[k - 1])
+    stalled = 1;
+  return stalled;
+}
+
+/* Least shear: this part of the flow is done. From the spherical part, polish the chord triangles' areas
+ * (the ones a reader of the output sees) where they differ from the spherical ones: on long, thin
+ * triangles, or if their vertex cells miss tol (elsewhere it costs steps for nothing). Then the angle
+ * steps, if any; else the end. */
+static flow_verdict least_shear_done(flow_state *s) {
+  const au_advect_opts *o = s->o;
+  if (s->phase == FLOW_SPHERICAL) {
+    double cferr = 0, cerr = 0;
+    chord_errors(s->nv, s->nf, s->F, s->t->vused, s->P, s->As, s->fw, s->AM, s->SM, s->af, s->AO, &cferr, &cerr);
+    if (cerr > o->tol || cferr > (1 + o->polish_gap) * s->ferr) {
+      /* The polish measures this map again in the chord triangles' terms, with the stiff start of the
+       * shear weight. One that begins at step 0 is the chord flow itself. */
+      s->phase = s->k > 0 ? FLOW_POLISH : FLOW_CHORD;
+      s->phase_start = s->k;
+      s->rep->polish_from = s->k;
+      s->prev_err = s->prev_ferr = s->prev_flog = INFINITY;
+      s->alpha = o->shear;
+      return FLOW_REMEASURE;
+    }
+  }
+  if (angles_possible(s)) return begin_angles(s);
+  s->rep->converged = s->err <= o->tol;
+  return FLOW_STOP;
+}
+
+/* Least shear (spherical, chord, polish). */
+static flow_verdict decide_least_shear(flow_state *s) {
+  const au_advect_opts *o = s->o;
+  const int k = s->k;
+  const double err = s->err, ferr = s->ferr;
+  /* The flow hands over to the angle steps early (angle_switch), once its faces are close too. */
+  if (angles_possible(s) && o->angle_switch > 0 && err <= o->angle_switch && ferr <= AU_ANGLE_SWITCH_FACES * o->angle_switch)
+    return begin_angles(s);
+  if (least_shear_undo(s)) return FLOW_REDO;
+  /* An accepted step lets the next be bolder. The resolved schedule drops the weight faster, until a
+   * step has been undone. Its floor is shear_tail, or face_shear_tail (if set) once the vertex cells
+   * meet tol. */
+  const double least = o->face_shear_tail > 0 && err <= o->tol ? o->face_shear_tail : o->shear_tail;
+  if (k > 0) s->alpha = fmax((s->rep->resolved && !s->rep->undone ? o->resolved_decay : AU_SHEAR_DECAY) * s->alpha, least);
+  s->prev_flog = s->flog;
+  const int stalled = least_shear_stalled(s);
+  /* The spherical part ends when its vertex cells meet tol (the chord polish refines the faces from
+   * there), when it stalls, or when it has used its share of the budget. */
+  const int sph_done = s->phase == FLOW_SPHERICAL &&
+                       ((k > 0 && k + s->rep->undone >= (o->max_steps * AU_SPHERICAL_BUDGET_NUM) / AU_SPHERICAL_BUDGET_DEN) ||
+                        (k >= o->schedule_steps && err <= o->tol));
+  /* Done: the vertex cells within tol and the faces within face_tol (each its own bound). */
+  if ((err <= o->tol && ferr <= o->face_tol) || stalled || sph_done) return least_shear_done(s);
+  return FLOW_STEP;
+}
+
+/* The angle steps: one that took the vertex cells above both tol and where they were is undone, and the
+ * phase ends there. */
+static flow_verdict decide_angles(flow_state *s) {
+  if (s->err > s->o->tol && s->err > s->ang_prev * (1 + AU_SAME_REL)) {
+    undo_step(s);
+    s->ang_left = 0, s->ang_prev = INFINITY;
+    return FLOW_REDO;
+  }
+  if (s->ang_left-- <= 0) return FLOW_STOP;
+  s->ang_prev = s->err;
+  return FLOW_STEP;
+}
+
+/* Every phase but the angle steps: the budget counts undone solves too. Once it is spent the angle
+ * steps (if any) come on top of it. */
+static flow_verdict check_budget(flow_state *s) {
+  if (s->phase == FLOW_ANGLES || s->k + s->rep->undone < s->o->max_steps) return FLOW_STEP;
+  if (!(s->ls && angles_possible(s))) return FLOW_STOP;
+  return begin_angles(s);
+}
+
+/* ---- solves: one per phase, each filling D ---- */
+
+/* The angle step: targets in this map's units (b holds the cells', Gf gets the faces'). */
+static au_status solve_angles(flow_state *s, flow_solved *out) {
+  const au_advect_opts *o = s->o;
+  au_status st = AU_OK;
+  *out = SOLVED_MOVE;
+  if (!s->ang && (st = au__ang_create(s->m, &s->ang, s->msg)) != AU_OK) return st;
+  for (int f = 0; f < s->nf; f++) s->Gf[f] = s->As[f] * s->fw[f] * s->scale;
+  return au__ang_step(s->ang, s->dom, s->P, s->Gf, s->b, o->angle_faces, o->angle_cells, o->angle_trust, s->D, s->msg);
+}
+
+/* The least-shear step's wanted per-face area changes dA_f: targets on the geometric schedule, each
+ * ratio moving at most e^max_log_step (on the resolved schedule e^resolved_log_step). */
+static void least_shear_targets(flow_state *s) {
+  const au_advect_opts *o = s->o;
+  const int nf = s->nf, k = s->k;
+  const double *af = s->af, *As = s->As, *fw = s->fw, scale = s->scale, SO = s->SO;
+  double *dA_f = s->dA_f;
+  double sch = k < o->schedule_steps ? 1.0 / (double)(o->schedule_steps - k) : 1.0, sum_new = 0;
+  const double cap = s->rep->resolved ? o->resolved_log_step : o->max_log_step;
+  for (int f = 0; f < nf; f++) {
+    double lr = sch * log(As[f] * fw[f] * scale / af[f]);
+    if (lr > cap) lr = cap;
+    if (lr < -cap) lr = -cap;
+    dA_f[f] = af[f] * exp(lr);
+    sum_new += dA_f[f];
+  }
+  double renorm = SO / sum_new;
+  /* The step is linear in the motion, and a triangle scaled by s has area s^2: asked to grow by rho, a
+   * linear step that predicts rho overshoots to about ((1 + rho) / 2)^2. So growth is asked as the
+   * similarity that gives it, 2 (sqrt(rho) - 1); shrinking is left as it is (the sqrt would ask for
+   * more, towards collapse), and the changes are recentred to sum to zero, as a tangent motion's do. */
+  double tot = 0;
+  for (int f = 0; f < nf; f++) {
+    double rho = dA_f[f] * renorm / af[f];
+    dA_f[f] = af[f] * (rho > 1 ? 2 * (sqrt(rho) - 1) : rho - 1);
+    tot += dA_f[f];
+  }
+  for (int f = 0; f < nf; f++) dA_f[f] -= af[f] * (tot / SO);
+}
+
+/* The least-shear step (spherical, chord, polish). */
+static au_status solve_least_shear(flow_state *s, flow_solved *out) {
+  const au_advect_opts *o = s->o;
+  const int nf = s->nf, sph_areas = s->phase == FLOW_SPHERICAL;
+  au_status st = AU_OK;
+  *out = SOLVED_MOVE;
+  least_shear_targets(s);
+  if (!*s->lmp && (st = au__lm_create(s->m, s->t, s->lmp, s->msg)) != AU_OK) return st;
+  /* Face weights: the target areas (the faces' shares of the surface), at most AU_WEIGHT_CAP times the
+   * current area so that the system stays well conditioned. */
+  for (int f = 0; f < nf; f++) s->Gf[f] = fmin(s->As[f] * s->fw[f] * s->scale, AU_WEIGHT_CAP * s->af[f]);
+  /* Shape restoring, faded out as the vertex cells approach their areas (it would hold them off), and
+   * not in a retry: the restoring target grows with the shear weight, so a step undone for making the
+   * areas worse would be retried ever more purely as shape restoring, and undone again. */
+  double restore = sph_areas && !s->retry ? o->restore * fmin(1, s->err / AU_RESTORE_FADE) : 0;
+  s->retry = 0;
+  const double lantern = restore > 0 && s->err < AU_LANTERN_BELOW ? o->lantern : 0;
+  st = au__lm_step(*s->lmp, s->dom, s->P, s->dA_f, s->Gf, s->alpha, AU_ROTATION_EPS, sph_areas, restore, lantern, s->D, s->msg);
+  if (st != AU_E_NOT_SPD) return st;
+  /* Rounding made the system indefinite: retry stiffer at the next step number, or, as stiff as it
+   * gets, end this part of the flow here. Nothing has moved: the next round sees the same map. */
+  s->rep->frac[s->k] = 0;
+  if (s->alpha < AU_SHEAR_SPD_MAX) s->alpha *= AU_SHEAR_SPD_FACTOR, *out = SOLVED_NEXT;
+  else s->exhausted = 1, *out = SOLVED_REMEASURE;
+  memcpy(s->Pold, s->P, sizeof(double) * 3 * s->nv);
+  if (s->msg) s->msg->text[0] = '\0';
+  return AU_OK;
+}
+
+/* Poisson method, per-face refinement: damped Gauss-Newton on the triangle areas. */
+static au_status solve_faces(flow_state *s, flow_solved *out) {
+  au_status st = AU_OK;
+  *out = SOLVED_MOVE;
+  if (!s->gnf && (st = au__gn_create(s->m, s->t, 1, &s->gnf, s->msg)) != AU_OK) return st;
+  for (int f = 0; f < s->nf; f++) s->dA_f[f] = s->As[f] * s->fw[f] * s->scale - s->af[f];
+  for (int i = 0; i < s->nv; i++) s->g[i] = s->AO[i] > 0 ? 1.0 / s->AO[i] : 0;
+  st = au__gn_step(s->gnf, s->dom, s->P, s->g, s->dA_f, s->o->face_damping, s->D, s->msg);
+  s->face_steps++;
+  s->rep->face_steps = s->face_steps;
+  return st;
+}
+
+/* The paper's step: C g = -dA on the current domain mesh (analyzed once), then the displacement along
+ * the angle-weighted vertex gradient, constrained to the domain. b holds dA. */
+static au_status poisson_step(flow_state *s) {
+  const int nv = s->nv, nf = s->nf, *F = s->F;
+  double *b = s->b, *g = s->g, *P = s->P;
+  au_status st = AU_OK;
+  for (int i = 0; i < nv; i++) b[i] = -b[i];
+  au_dec_cotan(s->t, F, P, s->w);
+  if (!s->solver) st = au_solver_create(nv, s->t->ne, s->t->E, s->fixed, AU_ORDER_FILL, &s->solver, s->msg);
+  if (st == AU_OK) st = au_solver_factor(s->solver, s->w, NULL, s->msg);
+  if (st == AU_OK) {
+    memset(g, 0, sizeof(double) * nv);
+    st = au_solver_solve(s->solver, 1, b, g, s->msg);
+  }
+  if (st == AU_OK) {
+    au_dec_face_grad(nf, F, P, g, s->Gf);
+    st = au_dec_vertex_grad(nv, nf, F, P, s->Gf, s->D);
+  }
+  if (st == AU_OK)
+    for (int i = 0; i < nv; i++) s->dom->constrain(s->dom->ctx, i, P + 3 * i, s->D + 3 * i);
+  return st;
+}
+
+/* Poisson method, vertex cells: the geometric schedule (each cell's ratio moves by rho^s, never by more
+ * than e^max_log_step), renormalized so the wanted changes sum to zero (the Poisson problem is then
+ * consistent); the exact Gauss-Newton step (au_gn.c) below newton_below, the paper's step above. */
+static au_status solve_cells(flow_state *s, flow_solved *out) {
+  const au_advect_opts *o = s->o;
+  const int nv = s->nv, k = s->k;
+  const unsigned char *used = s->t->vused;
+  double *b = s->b, *AO = s->AO, *g = s->g;
+  au_status st = AU_OK;
+  *out = SOLVED_MOVE;
+  double sch = k < o->schedule_steps ? 1.0 / (double)(o->schedule_steps - k) : 1.0;
+  double sum_new = 0;
   for (int i = 0; i < nv; i++) {
-    if (!t->vused[i]) fixed[i] = 1;
-    else if (pinned < 0) pinned = i, fixed[i] = 1;
-  }
-  double t0;
-
-  int k, face_phase = 0, face_steps = 0;
-  /* sph_phase: the spherical-area part of the flow (o.sphere_areas); phase_start: the first step of
-   * the current part, so that the stall test compares like with like. */
-  int sph_phase = sph && ls && o.sphere_areas, phase_start = 0;
-  double alpha = o.shear; /* the least-shear step's current shear weight */
-  double prev_err = INFINITY, prev_ferr = INFINITY, prev_flog = INFINITY;
-  int retry = 0;                 /* this step retries an undone one */
-  int measured_jump = 0;         /* the start's resolution has been measured (rep->start_jump) */
-  int exhausted = 0;             /* no stiffer step is worth a try: this part of the flow ends */
-  int ang_phase = 0, ang_left = 0; /* the angle steps (o.angle_steps, begin_angles), and how many remain */
-  double ang_prev = INFINITY;      /* the vertex error before the last angle step */
-  au_dec_face_areas(nf, F, m->X, As);
-  for (k = 0;; k++) {
-    /* On the sphere the domain's areas are the spherical triangles' (see au_lm.c): they vanish where
-     * the corners come onto one great circle, and they sum to 4 pi. */
-    if (sph_phase) au_dec_sphere_face_areas(nf, F, P, af);
-    else au_dec_face_areas(nf, F, P, af);
-    au_dec_vertex_areas(nv, nf, F, P, af, AO);
-    double SO = 0;
-    for (int f = 0; f < nf; f++) SO += af[f];
-    double scale = SO / SM;
-    /* b temporarily holds the target areas of this domain's total. */
-    for (int i = 0; i < nv; i++) b[i] = AM[i] * scale;
-    double err = vertex_error(nv, t->vused, b, AO);
-    /* Per face: the mean |r - 1| (reported) and, for the least-shear step's control, the mean |log r|. */
-    double ferr = 0, flog = 0;
-    for (int f = 0; f < nf; f++) {
-      double r = af[f] / (As[f] * fw[f] * scale);
-      ferr += fabs(r - 1);
-      if (ls) flog += fabs(log(r));
-    }
-    ferr /= nf, flog /= nf;
-    if (!measured_jump) {
-      /* The start's resolution, measured once: the mean jump of log r between the two faces of each
-       * interior edge. Where it is small the wanted correction is smooth at the mesh's scale, and the
-       * flow can drop the shear weight faster and let faces grow more per step (au_advect_opts). */
-      double sj = 0;
-      int nj = 0;
-      for (int e = 0; e < t->ne; e++) {
-        int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
-        if (f0 < 0 || f1 < 0) continue;
-        double r0 = af[f0] / (As[f0] * fw[f0]), r1 = af[f1] / (As[f1] * fw[f1]);
-        if (r0 > 0 && r1 > 0) sj += fabs(log(r0 / r1)), nj++;
-      }
-      rep->start_jump = nj ? sj / nj : 0;
-      /* Equal-area maps only: with a prescribed density bunny undid 14 steps and missed the tolerance
-       * (weight 4 on one half), or undid 5 and took longer (a smooth weight from 1 to 4). */
-      rep->resolved = ls && nj > 0 && !o.weight && !o.face_weight && rep->start_jump <= o.resolved_jump;
-      if (rep->resolved) alpha = o.resolved_shear;
-      measured_jump = 1;
-    }
-    rep->err[k] = err;
-    rep->face_err[k] = ferr;
-    if (!(err == err) || !(ferr == ferr)) {
-      st = au_msg_set(msg, AU_E_NUMERIC, "advect: area error is not a number at step %d", k);
-      goto done;
-    }
-    if (o.progress) o.progress(o.user, k, o.max_steps, ls ? ferr : err);
-    if (o.cancel && __atomic_load_n(o.cancel, __ATOMIC_ACQUIRE)) {
-      st = au_msg_set(msg, AU_E_CANCELLED, "advect: cancelled at step %d", k);
-      goto done;
-    }
-    if (ang_phase) {
-      /* An angle step that took the vertex cells above both the tolerance and where they were is undone,
-       * and the phase ends there. */
-      if (err > o.tol && err > ang_prev * (1 + 1e-9)) {
-        memcpy(P, Pold, sizeof(double) * 3 * nv);
-        rep->undone++;
-        ang_left = 0, ang_prev = INFINITY;
-        k -= 2;
-        continue;
-      }
-      if (ang_left-- <= 0) break;
-      ang_prev = err;
-    } else if (ls && o.angle_steps > 0 && o.angle_switch > 0 && err <= o.angle_switch && ferr <= 2 * o.angle_switch &&
-               k + 1 < AU_ADVECT_MAX_STEPS) {
-      /* The flow hands over to the angle steps (o.angle_switch), once its faces are within twice that
-       * too (spot: at step 7 the faces were at 0.027 and ended at 0.018; at step 9, 0.017): measured
-       * again in the chord triangles' terms, the step number staying. */
-      ang_left = begin_angles(&o, k, &ang_phase, &sph_phase, rep);
-      k--;
-      continue;
-    } else if (ls) {
-      /* Levenberg-Marquardt control of the shear weight: a step that made the per-face error worse is
-       * undone and retried stiffer; an accepted one lets the next be bolder, down to shear_tail. The
-       * error is the mean |log r| over the faces, the quantity the steps' targets are set in: the mean
-       * |r - 1| barely sees a squeezed face grow (r from 1e-6 to 1e-5) and punishes an overgrown one
-       * without bound, so it undid good steps (bunny: 9 of the first 12 with max_log_step 2). */
-      if (k > 0 && !(flog <= prev_flog * (1 + 1e-9))) {
-        /* The undone step leaves no trace: the loop goes back to the step it was taken from, which
-         * is measured again (the same map) and solved again, stiffer. Counted, each cost two steps of
-         * the budget, and the stall test read their copies of the last errors as no progress. Past
-         * AU_SHEAR_MAX, or with the budget spent (max_steps solves, undone ones included), no stiffer
-         * step is worth a try: this part of the flow ends at the last accepted map (hand_closed:
-         * retried without end, the weight reached 1e6 and the last pivots went non-positive). */
-        memcpy(P, Pold, sizeof(double) * 3 * nv);
-        retry = 1;
-        rep->undone++;
-        if (alpha * 4 <= AU_SHEAR_MAX && k + rep->undone <= o.max_steps) alpha *= 4;
-        else exhausted = 1;
-        k -= 2;
-        continue;
-      }
-      /* The resolved schedule drops the weight faster, until a step has been undone. Its floor is
-       * shear_tail, or face_shear_tail (if set) once the vertex cells meet tol. */
-      const double least = o.face_shear_tail > 0 && err <= o.tol ? o.face_shear_tail : o.shear_tail;
-      if (k > 0) alpha = fmax((rep->resolved && !rep->undone ? o.resolved_decay : 0.5) * alpha, least);
-      prev_flog = flog;
-      /* Stalled: neither error gained 2% in the last four steps, or, once the vertex cells meet the
-       * tolerance, face_gain (the refinement must be worth its steps). In the chord polish with the
-       * vertex cells still above the tolerance, AU_POLISH_GAIN: with 2% armadillo crept on to the step
-       * budget, 11 polish steps for vertex 0.00367 -> 0.00344, per-face 0.0111 -> 0.0109, about 2 s;
-       * with 5% it takes 45 steps instead of 49, vertex 0.00350 (spot_lowres, whose polish still gains
-       * 8% in four steps, is unchanged). */
-      const int polish = !sph_phase && phase_start > 0;
-      double keep = err <= o.tol ? 1 - o.face_gain : polish ? 1 - AU_POLISH_GAIN : 0.98;
-      int stalled = exhausted || (k >= o.schedule_steps + 4 && k >= phase_start + 4 && ferr > keep * rep->face_err[k - 4] &&
-                                  err > keep * rep->err[k - 4]);
-      exhausted = 0;
-      /* In the polish, with the vertex cells within the tolerance, one step tells: a quarter of the gain.
-       * (Two steps for half the gain cost lion_statue a 12th step for per-face 0.00801 -> 0.00796.) */
-      if (polish && err <= o.tol && k >= phase_start + 1 && ferr > (1 - 0.25 * o.face_gain) * rep->face_err[k - 1])
-        stalled = 1;
-      /* The spherical part ends when its vertex cells meet the tolerance (the chord polish refines the
-       * faces from there), when it stalls, or when it has used two thirds of the steps. */
-      int sph_done = sph_phase && ((k > 0 && k + rep->undone >= (o.max_steps * 2) / 3) || (k >= o.schedule_steps && err <= o.tol));
-      /* Done: the vertex cells within tol and the faces within face_tol (not the larger of the two: with
-       * the planar tol of 3e-3, --refine-faces stopped at per-face 0.0030 on every disk and annulus
-       * mesh instead of going on to its 1e-3: amoeba_annulus r_cv 0.0042 -> 0.0014). */
-      if ((err <= o.tol && ferr <= o.face_tol) || stalled || sph_done) {
-        /* The chord triangles' areas (the ones a reader of the output sees) need a polish only where
-         * they differ from the spherical ones: on long, thin triangles, or if their vertex cells miss the
-         * tolerance. Elsewhere it costs steps for nothing (lion_statue: 6 steps, per-face 0.00455 ->
-         * 0.00445). */
-        double cferr = 0, cerr = 0;
-        if (sph_phase) chord_errors(nv, nf, F, t->vused, P, As, fw, AM, SM, af, AO, &cferr, &cerr);
-        if (sph_phase && (cerr > o.tol || cferr > (1 + o.polish_gap) * ferr)) {
-          /* Polish the chord triangles' areas from here: measure this map again in their terms (the
-           * step number stays), with the stiff start of the shear weight. */
-          sph_phase = 0;
-          phase_start = k;
-          rep->polish_from = k;
-          prev_err = prev_ferr = prev_flog = INFINITY;
-          alpha = o.shear;
-          k--;
-          continue;
-        }
-        if (o.angle_steps > 0 && !ang_phase && k + 1 < AU_ADVECT_MAX_STEPS) {
-          /* The angle steps, measured in the chord triangles' terms from here (the map is measured again;
-           * the step number stays). */
-          ang_left = begin_angles(&o, k, &ang_phase, &sph_phase, rep);
-          k--;
-          continue;
-        }
-        rep->converged = err <= o.tol;
-        break;
-      }
-    } else if (face_phase) {
-      /* Refine while the per-face error falls; a step that made it worse is undone. */
-      if (ferr >= prev_ferr) {
-        memcpy(P, Pold, sizeof(double) * 3 * nv);
-        rep->err[k] = err = prev_err;
-        rep->face_err[k] = ferr = prev_ferr;
-        rep->converged = err <= o.tol;
-        break;
-      }
-      if (ferr <= o.face_tol || face_steps >= o.face_steps) {
-        rep->converged = err <= o.tol;
-        break;
-      }
-    } else if (err <= o.tol) {
-      rep->converged = 1;
-      /* The vertex cells are equal: go on with the triangles themselves. */
-      if (o.face_steps > 0 && ferr > o.face_tol) face_phase = 1;
-      else break;
-    }
-    prev_err = err, prev_ferr = ferr;
-    if (!ang_phase && k + rep->undone >= o.max_steps) { /* the budget counts undone solves too */
-      if (!(ls && o.angle_steps > 0 && k + 1 < AU_ADVECT_MAX_STEPS)) break;
-      /* The angle steps come on top of the flow's budget (measured in the chord triangles' terms). */
-      ang_left = begin_angles(&o, k, &ang_phase, &sph_phase, rep);
-      k--;
+    if (!used[i]) {
+      b[i] = 0;
       continue;
     }
+    double lr = sch * log(b[i] / AO[i]);
+    if (lr > o->max_log_step) lr = o->max_log_step;
+    if (lr < -o->max_log_step) lr = -o->max_log_step;
+    b[i] = AO[i] * exp(lr);
+    sum_new += b[i];
+  }
+  double renorm = s->SO / sum_new;
+  for (int i = 0; i < nv; i++) b[i] = used[i] ? (b[i] * renorm - AO[i]) : 0; /* b = dA */
+  if (!(s->err < o->newton_below)) return poisson_step(s);
+  /* Weights 1/(domain vertex area). */
+  if (!s->gn && (st = au__gn_create(s->m, s->t, 0, &s->gn, s->msg)) != AU_OK) return st;
+  for (int i = 0; i < nv; i++) g[i] = AO[i] > 0 ? 1.0 / AO[i] : 0;
+  return au__gn_step(s->gn, s->dom, s->P, g, b, 0, s->D, s->msg);
+}
 
-    t0 = now_s();
-    if (ang_phase) {
-      if (!ang) {
-        st = au__ang_create(m, &ang, msg);
-        if (st != AU_OK) goto done;
-      }
-      /* Targets in this map's units: b holds the cells', Gf gets the faces'. */
-      for (int f = 0; f < nf; f++) Gf[f] = As[f] * fw[f] * scale;
-      st = au__ang_step(ang, dom, P, Gf, b, o.angle_faces, o.angle_cells, o.angle_trust, D, msg);
-    } else if (ls) {
-      /* Per-face targets on the geometric schedule, each ratio moving at most e^max_log_step (on the
-       * resolved schedule e^resolved_log_step). */
-      double s = k < o.schedule_steps ? 1.0 / (double)(o.schedule_steps - k) : 1.0, sum_new = 0;
-      const double cap = rep->resolved ? o.resolved_log_step : o.max_log_step;
-      for (int f = 0; f < nf; f++) {
-        double lr = s * log(As[f] * fw[f] * scale / af[f]);
-        if (lr > cap) lr = cap;
-        if (lr < -cap) lr = -cap;
-        dA_f[f] = af[f] * exp(lr);
-        sum_new += dA_f[f];
-      }
-      double renorm = SO / sum_new;
-      /* dA_f is the wanted change of the area; the step is linear in the motion, and a triangle scaled
-       * by s has area s^2: asked to grow by rho, a linear step that predicts rho overshoots to about
-       * ((1 + rho) / 2)^2 (e^1.2 = 3.3 becomes 4.7). So growth is asked as the similarity that gives it,
-       * 2 (sqrt(rho) - 1); shrinking is left as it is (the sqrt would ask for more, towards collapse),
-       * and the changes are recentred to sum to zero, as a tangent motion's do. */
-      double tot = 0;
-      for (int f = 0; f < nf; f++) {
-        double rho = dA_f[f] * renorm / af[f];
-        dA_f[f] = af[f] * (rho > 1 ? 2 * (sqrt(rho) - 1) : rho - 1);
-        tot += dA_f[f];
-      }
-      for (int f = 0; f < nf; f++) dA_f[f] -= af[f] * (tot / SO);
-      if (!lm) {
-        st = au__lm_create(m, t, lmp, msg);
-        if (st != AU_OK) goto done;
-        lm = *lmp;
-      }
-      /* Face weights: the target areas (the faces' shares of the surface), at most AU_WEIGHT_CAP times
-       * the current area so that the system stays well conditioned. */
-      for (int f = 0; f < nf; f++) Gf[f] = fmin(As[f] * fw[f] * scale, AU_WEIGHT_CAP * af[f]);
-      /* Shape restoring, faded out as the vertex cells approach their areas (it would hold them off). */
-      /* Not in a retry: the restoring target grows with the shear weight, so a step undone for making the
-       * areas worse would be retried ever more purely as shape restoring, and undone again (measured:
-       * dumbbell stuck at 0.21 for 35 steps). */
-      double restore = sph_phase && !retry ? o.restore * fmin(1, err / AU_RESTORE_FADE) : 0;
-      retry = 0;
-      const double lantern = restore > 0 && err < 1 ? o.lantern : 0;
-      st = au__lm_step(lm, dom, P, dA_f, Gf, alpha, AU_ROTATION_EPS, sph_phase, restore, lantern, D, msg);
-      if (st == AU_E_NOT_SPD) {
-        /* Rounding made the system indefinite: retry stiffer (the shear term is definite but for the
-         * rotations), or, as stiff as it gets, end this part of the flow here. Nothing has moved: the
-         * next round sees the same map. */
-        rep->frac[k] = 0;
-        if (alpha < 1e6) alpha *= 16;
-        else exhausted = 1, k--;
-        memcpy(Pold, P, sizeof(double) * 3 * nv);
-        msg ? (void)(msg->text[0] = '\0') : (void)0;
-        st = AU_OK;
-        continue;
-      }
-    } else if (face_phase) {
-      /* Per-face refinement: damped Gauss-Newton on the triangle areas. */
-      if (!gnf) {
-        st = au__gn_create(m, t, 1, &gnf, msg);
-        if (st != AU_OK) goto done;
-      }
-      for (int f = 0; f < nf; f++) dA_f[f] = As[f] * fw[f] * scale - af[f];
-      for (int i = 0; i < nv; i++) g[i] = AO[i] > 0 ? 1.0 / AO[i] : 0;
-      st = au__gn_step(gnf, dom, P, g, dA_f, o.face_damping, D, msg);
-      face_steps++;
-      rep->face_steps = face_steps;
-    } else {
-      /* Geometric schedule: the area ratio of each cell moves by rho^s; renormalize so the wanted
-       * changes sum to zero (the Poisson problem is then consistent). */
-      double s = k < o.schedule_steps ? 1.0 / (double)(o.schedule_steps - k) : 1.0;
-      double sum_new = 0;
-      for (int i = 0; i < nv; i++) {
-        if (!t->vused[i]) {
-          b[i] = 0;
-          continue;
-        }
-        /* The ratio moves by rho^s, but never by more than a factor e^max_log_step in one step. */
-        double lr = s * log(b[i] / AO[i]);
-        if (lr > o.max_log_step) lr = o.max_log_step;
-        if (lr < -o.max_log_step) lr = -o.max_log_step;
-        b[i] = AO[i] * exp(lr);
-        sum_new += b[i];
-      }
-      double renorm = SO / sum_new;
-      for (int i = 0; i < nv; i++) b[i] = t->vused[i] ? (b[i] * renorm - AO[i]) : 0; /* b = dA */
-      if (err < o.newton_below) {
-        /* Polish: the exact Gauss-Newton step (au_gn.c), weights 1/(domain vertex area). */
-        if (!gn) {
-          st = au__gn_create(m, t, 0, &gn, msg);
-          if (st != AU_OK) goto done;
-        }
-        for (int i = 0; i < nv; i++) g[i] = AO[i] > 0 ? 1.0 / AO[i] : 0;
-        st = au__gn_step(gn, dom, P, g, b, 0, D, msg);
-      } else {
-        /* The paper's step: C g = -dA, move along the angle-weighted vertex gradient. */
-        for (int i = 0; i < nv; i++) b[i] = -b[i];
-        au_dec_cotan(t, F, P, w);
-        if (!solver) st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FILL, &solver, msg); /* analyzed once */
-        if (st == AU_OK) st = au_solver_factor(solver, w, NULL, msg);
-        if (st == AU_OK) {
-          memset(g, 0, sizeof(double) * nv);
-          st = au_solver_solve(solver, 1, b, g, msg);
-        }
-        if (st == AU_OK) {
-          au_dec_face_grad(nf, F, P, g, Gf);
-          st = au_dec_vertex_grad(nv, nf, F, P, Gf, D);
-        }
-        if (st == AU_OK)
-          for (int i = 0; i < nv; i++) dom->constrain(dom->ctx, i, P + 3 * i, D + 3 * i);
-      }
-    }
-    rep->t_solve += now_s() - t0;
-    if (st != AU_OK) goto done;
+/* ---- the phase table ---- */
 
-    /* Local step control (see the banner): per-face safe fractions, then a Lipschitz envelope. */
-    for (int f = 0; f < nf; f++) {
-      const int *c = F + 3 * f;
-      double per = 0;
-      for (int e = 0; e < 3; e++) {
-        const double *p = P + 3 * c[e], *q = P + 3 * c[(e + 1) % 3];
-        per += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
-      }
-      inr[f] = per > 0 ? 2.0 * af[f] / per : 0;
+typedef struct flow_phase_rule {
+  const char *name;
+  const char *entry; /* when the flow enters the phase */
+  const char *exit;  /* when it leaves, and for where (decide) */
+  flow_verdict (*decide)(flow_state *s);               /* the exit rules, applied after measuring */
+  au_status (*solve)(flow_state *s, flow_solved *out); /* the phase's step */
+} flow_phase_rule;
+
+/* Indexed by flow_phase. The least-shear phases measure the map in the spherical triangles' terms
+ * (spherical) or in the chord triangles' (the others); the Poisson ones in the chord triangles'. */
+static const flow_phase_rule flow_phases[] = {
+    [FLOW_CELLS] = {"cells", "Poisson method: at the start",
+                    "vertex error <= tol: to faces if face_steps > 0 and the faces miss face_tol, else the end",
+                    decide_cells, solve_cells},
+    [FLOW_FACES] = {"faces", "Poisson method: from cells",
+                    "the per-face error rose (that step undone), met face_tol, or face_steps were taken: the end",
+                    decide_faces, solve_faces},
+    [FLOW_SPHERICAL] = {"spherical", "least shear on the sphere with sphere_areas: at the start",
+                        "vertex error <= tol, stalled, or 2/3 of the budget used: to polish where the chord "
+                        "triangles lag, else to angles (angle_steps) or the end; the angle switch: to angles",
+                        decide_least_shear, solve_least_shear},
+    [FLOW_CHORD] = {"chord", "least shear otherwise (planar domains, sphere_areas 0): at the start",
+                    "both errors within tol and face_tol, or stalled: to angles (angle_steps) or the end; "
+                    "the angle switch: to angles",
+                    decide_least_shear, solve_least_shear},
+    [FLOW_POLISH] = {"polish", "from spherical, at a step > 0 (at step 0 the polish is the chord phase)",
+                     "as chord, with the polish's own stall tests", decide_least_shear, solve_least_shear},
+    [FLOW_ANGLES] = {"angles", "angle_steps > 0: from a least-shear phase at the angle switch, at its end, "
+                     "or when the budget is spent",
+                     "angle_steps taken, or a step raised the vertex error above tol and above where it was "
+                     "(that step undone): the end",
+                     decide_angles, solve_angles},
+};
+
+/* ---- the move ---- */
+
+/* The step control's fractions lim for D (see the banner): per-face safe fractions, then a Lipschitz
+ * envelope; the report gets their mean. */
+static void step_fractions(flow_state *s) {
+  const int nv = s->nv, nf = s->nf, *F = s->F;
+  const double *P = s->P, *af = s->af;
+  double *inr = s->inr, *lim = s->lim;
+  for (int f = 0; f < nf; f++) {
+    const int *c = F + 3 * f;
+    double per = 0;
+    for (int e = 0; e < 3; e++) {
+      const double *p = P + 3 * c[e], *q = P + 3 * c[(e + 1) % 3];
+      per += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
     }
-    step_control(t, &adj, F, nf, nv, P, inr, D, o.max_move, dom, lim, heap, hpos, dn);
-    double frac_sum = 0;
-    int nused = 0;
-    for (int i = 0; i < nv; i++) {
-      if (!t->vused[i]) {
-        lim[i] = 0;
-        continue;
-      }
-      frac_sum += lim[i];
-      nused++;
+    inr[f] = per > 0 ? 2.0 * af[f] / per : 0;
+  }
+  step_control(s->t, &s->adj, F, nf, nv, P, inr, s->D, s->o->max_move, s->dom, lim, s->heap, s->hpos, s->dn);
+  double frac_sum = 0;
+  int nused = 0;
+  for (int i = 0; i < nv; i++) {
+    if (!s->t->vused[i]) {
+      lim[i] = 0;
+      continue;
     }
-    rep->frac[k] = nused ? frac_sum / nused : 0;
-    memcpy(Pold, P, sizeof(double) * 3 * nv);
-    for (int f = 0; f < nf; f++) orient_old[f] = face_orient(P, F, f, sph);
-    for (int tries = 0;; tries++) {
-      /* A vertex that does not move keeps its exact position: retracting it again could nudge a
-       * nearly flat triangle across zero. */
-      for (int i = 0; i < nv; i++) {
-        double *p = P + 3 * i, *q = Pold + 3 * i, *d = D + 3 * i;
-        if (lim[i] == 0) {
-          p[0] = q[0], p[1] = q[1], p[2] = q[2];
-          continue;
-        }
-        move_vertex(dom, q, d, lim[i], p);
-        dom->retract(dom->ctx, i, p);
-      }
-      int nbad = 0;
-      memset(bad, 0, (size_t)nv);
-      for (int f = 0; f < nf; f++) {
-        /* Orientation with a margin: a triangle must stay above AU_ORIENT_MARGIN, so that its sign
-         * survives a re-normalization of the output by a reader (param-eval normalizes again) and the
-         * rounding of other formulas for the same sign. One already below it (the tiny triangles of a
-         * squeezed start) may shrink by at most half per step: comparing it with its old value
-         * exactly would only compare rounding noise. */
-        double o_new = face_orient(P, F, f, sph);
-        if (o_new > AU_ORIENT_MARGIN || (o_new > 0 && o_new >= 0.5 * orient_old[f])) continue;
-        nbad++;
-        for (int e = 0; e < 3; e++) bad[F[3 * f + e]] = 1;
-      }
-      if (!nbad) break;
-      /* Backtrack locally and smoothly: halve the fraction of the vertices of flipped triangles and
-       * restore the Lipschitz envelope, so that the neighbours slow down with them (halving alone
-       * would shear the triangles around them). After enough halvings they stay where they were;
-       * a triangle whose corners all stay is unchanged, so every further round freezes at least one
-       * more vertex and the loop ends. */
-      for (int i = 0; i < nv; i++)
-        if (bad[i]) lim[i] = tries < 30 ? 0.5 * lim[i] : 0;
-      envelope(t, &adj, nv, inr, D, o.max_move, lim, heap, hpos, dn);
+    frac_sum += lim[i];
+    nused++;
+  }
+  s->rep->frac[s->k] = nused ? frac_sum / nused : 0;
+}
+
+/* Move every vertex by its fraction of D and mark the corners of triangles that turned (or fell below
+ * the margin); returns how many triangles did. A vertex that does not move keeps its exact position:
+ * retracting it again could nudge a nearly flat triangle across zero. */
+static int move_and_check(flow_state *s) {
+  const int nv = s->nv, nf = s->nf, *F = s->F;
+  double *P = s->P;
+  for (int i = 0; i < nv; i++) {
+    double *p = P + 3 * i, *q = s->Pold + 3 * i, *d = s->D + 3 * i;
+    if (s->lim[i] == 0) {
+      p[0] = q[0], p[1] = q[1], p[2] = q[2];
+      continue;
+    }
+    move_vertex(s->dom, q, d, s->lim[i], p);
+    s->dom->retract(s->dom->ctx, i, p);
+  }
+  int nbad = 0;
+  memset(s->bad, 0, (size_t)nv);
+  for (int f = 0; f < nf; f++) {
+    /* Orientation with a margin: a triangle must stay above AU_ORIENT_MARGIN, so that its sign survives
+     * a re-normalization of the output by a reader and the rounding of other formulas for the same
+     * sign. One already below it (the tiny triangles of a squeezed start) may shrink by at most
+     * AU_ORIENT_SHRINK per step: comparing it with its old value exactly would only compare rounding. */
+    double o_new = face_orient(P, F, f, s->sph);
+    if (o_new > AU_ORIENT_MARGIN || (o_new > 0 && o_new >= AU_ORIENT_SHRINK * s->orient_old[f])) continue;
+    nbad++;
+    for (int e = 0; e < 3; e++) s->bad[F[3 * f + e]] = 1;
+  }
+  return nbad;
+}
+
+/* Take the step D under the step control, backtracking locally and smoothly where a triangle still
+ * turned: the fractions of its corners are halved and the Lipschitz envelope restored, so that the
+ * neighbours slow down with them (halving alone would shear the triangles around them). */
+static void take_step(flow_state *s) {
+  const int nv = s->nv;
+  step_fractions(s);
+  memcpy(s->Pold, s->P, sizeof(double) * 3 * nv);
+  for (int f = 0; f < s->nf; f++) s->orient_old[f] = face_orient(s->P, s->F, f, s->sph);
+  for (int tries = 0; move_and_check(s); tries++) {
+    for (int i = 0; i < nv; i++)
+      if (s->bad[i]) s->lim[i] = tries < AU_BACKTRACK_HALVINGS ? 0.5 * s->lim[i] : 0;
+    envelope(s->t, &s->adj, nv, s->inr, s->D, s->o->max_move, s->lim, s->heap, s->hpos, s->dn);
+  }
+}
+
+/* ---- the run ---- */
+
+/* Set the run up: scratch, targets, the fold check of the entry map, the pinned vertex, the first phase. */
+static au_status flow_begin(flow_state *s) {
+  if (!flow_state_alloc(s)) return au_msg_set(s->msg, AU_E_NOMEM, "advect: out of memory");
+  au_status st = flow_targets(s);
+  if (st != AU_OK) return st;
+  int folds = count_folds(s->P, s->F, s->nf, s->sph);
+  if (folds) return au_msg_set(s->msg, AU_E_FOLD, "advect: the initial map has %d folded triangles", folds);
+  /* The Poisson problem is a pure Neumann problem (closed sphere, or a boundary that only slides): pin
+   * the first referenced vertex; unreferenced vertices have empty rows and are fixed too. */
+  int pinned = -1;
+  for (int i = 0; i < s->nv; i++) {
+    if (!s->t->vused[i]) s->fixed[i] = 1;
+    else if (pinned < 0) pinned = i, s->fixed[i] = 1;
+  }
+  s->phase = !s->ls ? FLOW_CELLS : s->sph && s->o->sphere_areas ? FLOW_SPHERICAL : FLOW_CHORD;
+  s->alpha = s->o->shear;
+  s->prev_err = s->prev_ferr = s->prev_flog = INFINITY;
+  s->ang_prev = INFINITY;
+  return AU_OK;
+}
+
+/* One round at step k: measure, decide, solve, move. Sets *verdict to what the loop does next. */
+static au_status flow_round(flow_state *s, flow_verdict *verdict) {
+  au_status st = measure_map(s);
+  if (st != AU_OK) return st;
+  *verdict = flow_phases[s->phase].decide(s);
+  if (*verdict != FLOW_STEP) return AU_OK;
+  s->prev_err = s->err, s->prev_ferr = s->ferr;
+  *verdict = check_budget(s);
+  if (*verdict != FLOW_STEP) return AU_OK;
+  double t0 = now_s();
+  flow_solved solved = SOLVED_MOVE;
+  st = flow_phases[s->phase].solve(s, &solved);
+  /* A system that came out indefinite moved nothing: a stiffer retry at the next step number, or, as
+   * stiff as it gets, this part of the flow measured again at this one (solve_least_shear). */
+  if (solved == SOLVED_NEXT) return AU_OK;
+  if (solved == SOLVED_REMEASURE) {
+    *verdict = FLOW_REMEASURE;
+    return AU_OK;
+  }
+  s->rep->t_solve += now_s() - t0;
+  if (st != AU_OK) return st;
+  take_step(s);
+  return AU_OK;
+}
+
+/* The flow itself, on arguments and options au_advect_run has checked. */
+static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect_domain *dom, const au_advect_opts *opts,
+                             au_lm **lmp, double *P, au_advect_report *rep, au_msg *msg) {
+  memset(rep, 0, sizeof *rep);
+  flow_state s;
+  memset(&s, 0, sizeof s);
+  s.m = m, s.t = t, s.dom = dom, s.o = opts, s.rep = rep, s.msg = msg, s.P = P, s.lmp = lmp;
+  s.nv = m->nv, s.nf = m->nf, s.F = m->F, s.sph = dom->spherical, s.ls = opts->method == AU_ADVECT_LEAST_SHEAR;
+  au_status st = flow_begin(&s);
+  for (s.k = 0; st == AU_OK;) {
+    flow_verdict v = FLOW_STEP;
+    st = flow_round(&s, &v);
+    if (st != AU_OK || v == FLOW_STOP) break;
+    if (v == FLOW_REDO) s.k--;
+    else if (v == FLOW_STEP) s.k++;
+  }
+  if (st == AU_OK) {
+    const int k = s.k;
+    rep->steps = k;
+    /* Converged means the vertex error met the tolerance, however the loop ended (the step budget can
+     * run out while the per-face refinement is still going). */
+    rep->converged = rep->err[k] <= opts->tol;
+    if (!rep->converged) {
+      st = AU_W_NOT_CONVERGED;
+      au_msg_set(msg, st, "area error %.3g after %d steps (tolerance %.3g)", rep->err[k], k, opts->tol);
     }
   }
-  rep->steps = k;
-  /* Converged means the vertex error met the tolerance, however the loop ended (the step budget can
-   * run out while the per-face refinement is still going). */
-  rep->converged = rep->err[k] <= o.tol;
-  if (!rep->converged) st = AU_W_NOT_CONVERGED;
-  if (st == AU_W_NOT_CONVERGED)
-    au_msg_set(msg, st, "area error %.3g after %d steps (tolerance %.3g)", rep->err[k], k, o.tol);
-
-done:
-  au_solver_free(&solver);
-  au__gn_free(&gn);
-  free(AM), free(AO), free(b), free(g), free(dn), free(lim), free(af), free(Gf), free(D), free(Pold), free(w), free(fixed), free(bad);
-  free(heap), free(hpos), free(inr), free(As), free(fw), free(dA_f), free(orient_old);
-  au__gn_free(&gnf);
-  au__ang_free(&ang);
-  adjacency_free(&adj);
+  flow_state_free(&s);
   return st;
 }
 
@@ -921,7 +1200,7 @@ static au_status plan_fill(au_advect_plan *p, int least_shear, au_msg *msg) {
   if (nv >= AU_REORDER_MIN) {
     /* Large meshes are worked on in a cache-friendly copy: the step's assembly and the area and step
      * control loops read each face's corners, and in a mesh stored in scan order those reads miss the
-     * cache (measured: lion_statue's flow 5.1-5.5 s in its own order, 4.0-4.3 s along a Morton curve). */
+     * cache (a quarter of the flow's time on lion_statue, docs/tuning-history.md). */
     p->orig = malloc(sizeof(int) * (size_t)nv), p->forig = malloc(sizeof(int) * (size_t)nf);
     p->inv = malloc(sizeof(int) * (size_t)nv);
     if (!p->orig || !p->forig || !p->inv || au_mesh_alloc(nv, nf, &p->m2) != AU_OK || !locality_order(m, p->orig, p->inv, p->forig))

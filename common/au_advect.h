@@ -38,31 +38,92 @@ typedef enum au_advect_method {
                                 exact Gauss-Newton polish and per-face refinement */
 } au_advect_method;
 
+/* The flow's options. Defaults (au_advect_opts_default) are in parentheses; the measurements behind
+ * them are in docs/tuning-history.md. Fields are grouped by the part of the flow that reads them. */
 typedef struct au_advect_opts {
-  au_advect_method method; /* default AU_ADVECT_LEAST_SHEAR */
-  double shear;         /* weight of the shear energy against the area residual in the least-shear
-                           step while the schedule runs, >= 0 (default 1) */
-  double shear_tail;    /* the same weight after the schedule, when the last per-face error is taken
-                           out, >= 0 (default 0.01: lower converges faster but turns angles more) */
-  int max_steps;        /* most advection steps, 1..AU_ADVECT_MAX_STEPS (default 60) */
-  int schedule_steps;   /* K of eq. 19: the remaining excess is spread over K-k+1 steps (default 4; 12 was
-                           measured worse on the hard meshes: spot_lowres vertex 0.0062 vs 0.0046, cow 0.063
-                           vs 0.050, cheburashka 0.036 vs 0.030) */
-  double max_log_step;  /* a cell's area changes by at most this factor's log in one step (default 1.2;
-                           the squeezed ends of bunny's ears, e^-15.7, took 22 steps at 0.7) */
-  double tol;           /* stop when the vertex-level mean |ln(area ratio)| is below this (default 2e-3;
-                           with 1e-3 lion_statue takes 31 steps instead of 10) */
-  double newton_below;  /* switch from the paper's Poisson step to the exact Gauss-Newton step on the
-                           vertex areas once the error is below this (default 0.7; 0: never, inf: always). Measured on
-                           maxplanck: Poisson steps alone stall at 0.16, Gauss-Newton from 0.7 reaches 1.4e-3 */
-  int face_steps;       /* after the vertex cells are equal, at most this many per-face refinement steps
-                           (damped Gauss-Newton on the triangle areas); 0 turns it off (default 30) */
-  double face_tol;      /* stop refining when the per-face mean |r - 1| is below this (default 1e-3) */
-  double face_damping;  /* Levenberg-Marquardt damping of the face steps, relative (default 0.1) */
-  double max_move;      /* a vertex moves at most this fraction of the inradius of its triangles per
-                           step, which keeps every triangle positively oriented (0 < x < 0.5, default 0.3) */
+  /* ---- all methods and domains ---- */
+  au_advect_method method; /* (AU_ADVECT_LEAST_SHEAR) */
+  int max_steps;        /* most advection steps, 1..AU_ADVECT_MAX_STEPS, undone ones included (60) */
+  double tol;           /* stop when the vertex-level mean |ln(area ratio)| is below this (2e-3): the vertex
+                           cells are what the paper equalizes, and a lower bound costs many more steps */
+  double face_tol;      /* ... and the per-face mean |r - 1| is below this (1e-3) */
+  int schedule_steps;   /* K of eq. 19: the remaining excess is spread over K-k+1 steps (4): fewer steps
+                           fold, more leave the hard meshes worse at the end */
+  double max_log_step;  /* a cell's area changes by at most this factor's log in one step (1.2): bounds the
+                           growth a squeezed cell is asked for, which a linear step overshoots */
+  double max_move;      /* a vertex moves at most this fraction of the inradius of its triangles per step,
+                           which keeps every triangle positively oriented (0 < x < 0.5, 0.3) */
   const double *weight; /* per-vertex target density [0..nv-1] (> 0): domain area proportional to
-                           weight x surface area; NULL for equal area (default) */
+                           weight x surface area; NULL for equal area (NULL) */
+  const double *face_weight; /* per-face target density [0..nf-1] (> 0) instead of the per-vertex one:
+                                face f gets domain area proportional to face_weight[f] x its surface
+                                area (NULL). At most one of weight and face_weight. */
+
+  /* ---- the least-shear method (the default) ---- */
+  double shear;         /* weight of the shear energy against the area residual in the least-shear step
+                           while the schedule runs, >= 0 (1) */
+  double shear_tail;    /* the weight's floor once the schedule has run, when the last per-face error is
+                           taken out, >= 0 (0.01): lower converges faster but turns angles more */
+  double face_shear_tail; /* once the vertex cells meet tol, the floor instead of shear_tail; 0: shear_tail
+                             throughout (0). The planar --refine-faces uses 3e-4: fewer steps to a lower
+                             per-face error where the boundary slides */
+  double face_gain;     /* once the vertex cells meet tol, the refinement goes on while it lowers the per-face
+                           error by at least this fraction in four steps (in the sphere's chord polish: a
+                           quarter of it in one step) (0.1; 0 <= x < 1): the refinement must be worth its
+                           steps; 0.02 refines as long as anything happens */
+
+  /* ---- sphere only (least shear) ---- */
+  int sphere_areas;     /* 1: the flow drives the areas of the spherical triangles, then polishes those of
+                           the chord triangles (the ones param-eval measures); 0: chord areas throughout
+                           (1). A chord triangle keeps a sizeable area when its corners come onto one great
+                           circle, so a chord-area flow cannot see that sliver forming and jams on it */
+  double polish_gap;    /* the chord polish runs only if the chord triangles' per-face error exceeds the
+                           spherical ones' by more than this fraction (0.1; 0: whenever it is larger):
+                           elsewhere it costs steps for nothing */
+  double restore;       /* in the spherical part, each step's shear aims this fraction of the way back to
+                           triangles similar to the surface's, fading out as the vertex error falls below
+                           0.1 (0..1; 0.1; 0: off): fewer long, thin triangles. Not in the polish nor on
+                           planar domains, where it kept the areas from converging */
+  double lantern;       /* in the spherical part, once the vertex error is below 1: a face's shape restoring
+                           is raised to min(1, restore (1 + lantern rho)), rho = l^3 / (16 share), l its
+                           longest chord edge and share its target area. l^3 / 16 is the least chord area a
+                           spherical triangle with that edge can have (docs/hard-meshes.md): a face near it
+                           cannot shrink to its share without a shorter edge (0: off; au_sphere_map's retry
+                           uses 2, au_sphere_opts.lantern_retry) */
+
+  /* ---- the Poisson method only (AU_ADVECT_POISSON) ---- */
+  double newton_below;  /* switch from the paper's Poisson step to the exact Gauss-Newton step on the vertex
+                           areas once the error is below this (0.7; 0: never, inf: always): Poisson steps
+                           alone stall well above tol */
+  int face_steps;       /* after the vertex cells meet tol, at most this many per-face refinement steps
+                           (damped Gauss-Newton on the triangle areas); 0 turns it off (30) */
+  double face_damping;  /* Levenberg-Marquardt damping of the face steps, relative (0.1) */
+
+  /* ---- the resolved schedule (least shear, equal area) ---- */
+  double resolved_jump; /* a start counts as well resolved when the mean jump of log r (domain share over
+                           surface share) across the mesh's interior edges is at most this (0.1; 0: never).
+                           The area correction is then smooth at the mesh's scale, and the flow runs the
+                           schedule below. Not with a density (weight, face_weight): it undid many steps */
+  double resolved_shear;    /* the shear weight of the first step, instead of shear (0.1) */
+  double resolved_decay;    /* each accepted step multiplies the shear weight by this, until the first undone
+                               step (then by 0.5 as usual) (0 < x <= 1, 0.25) */
+  double resolved_log_step; /* a face's area changes by at most this factor's log in one step, instead of
+                               max_log_step (2) */
+
+  /* ---- the angle steps (least shear, au_ang.c) ---- */
+  int angle_steps;      /* after the flow, at most this many angle steps: each a Gauss-Newton step towards
+                           the map of least Dirichlet energy whose vertex cells have their areas, with the
+                           chord triangles' areas held by the weight angle_faces (0: none) */
+  double angle_faces;   /* the weight of the per-face areas against the Dirichlet energy (300) */
+  double angle_cells;   /* the weight of the vertex cells' areas (1e6: held) */
+  double angle_trust;   /* the Levenberg-Marquardt term, relative to each vertex's cotan weights (1) */
+  double angle_switch;  /* the flow hands over to them as soon as its vertex error is at most this and its
+                           per-face mean |r - 1| at most twice this (0.01; 0: after the flow, its chord
+                           polish and per-face refinement included; au_disk_opts_default and
+                           --refine-faces set 0). Early hand-over gives better angles on most meshes, but
+                           worse areas on those whose long chord edges hold the faces back (cow) */
+
+  /* ---- progress and cancellation ---- */
   /* Progress: called once per step with the step number, max_steps and the current error. May be NULL. */
   void (*progress)(void *user, int step, int max_steps, double err);
   void *user;
@@ -70,74 +131,6 @@ typedef struct au_advect_opts {
      or the progress callback may set it), the run stops, frees what it holds and returns
      AU_E_CANCELLED; P is then left at the last accepted step. NULL (default): never. */
   const int *cancel;
-  const double *face_weight; /* per-face target density [0..nf-1] (> 0) instead of the per-vertex one:
-                                face f gets domain area proportional to face_weight[f] x its surface
-                                area; NULL (default). At most one of weight and face_weight. */
-  int sphere_areas; /* spherical domains, least-shear method: 1 (default) the flow drives the areas of
-                       the spherical triangles, then polishes those of the chord triangles (the ones
-                       param-eval measures); 0: chord areas throughout. A chord triangle keeps a
-                       sizeable area when its corners come onto one great circle, so the chord-area flow
-                       cannot see that sliver forming and jams on it (measured: cheburashka stalled at
-                       per-face mean |r-1| 0.43; with spherical areas first, 0.035) */
-  double face_gain; /* least-shear method: once the vertex cells meet tol, the per-face refinement goes
-                       on while it lowers the per-face error by at least this fraction in four steps
-                       (in the sphere's chord polish: a quarter of it in one step) (default 0.1; 0.02 refines as long as anything happens: measured on lion_statue,
-                       per-face 0.0044 in 34 steps against 0.0031 in 60) */
-  double polish_gap;   /* sphere, sphere_areas: the chord-area polish runs only if the chord triangles'
-                          per-face error exceeds the spherical ones' by more than this fraction
-                          (default 0.1; 0: whenever it is larger) */
-  double restore;   /* sphere, spherical-area part of the flow: each step's shear aims this fraction of
-                       the way back to triangles similar to the surface's, fading out as the vertex
-                       error falls below 0.1 (0..1; default 0.1; 0: off). Measured against 0 on the 14
-                       shared genus-0 meshes (param-eval per-face / vertex error): hand_closed 0.051 /
-                       0.034 -> 0.018 / 0.010, cheburashka 0.030 / 0.015 -> 0.026 / 0.011, cow 0.050 /
-                       0.025 -> 0.046 / 0.024, bunny 0.0058 / 0.0014 -> 0.0051 / 0.00064 (25 steps
-                       instead of 23), ellipsoid 0.024 -> 0.010; blub 0.0098 -> 0.0113 the one loss.
-                       Off the spherical part (the polish, planar domains) it kept the areas from
-                       converging (brain_disk 0.17), so it is not applied there. */
-  double face_shear_tail; /* once the vertex cells meet tol (the per-face refinement), the shear weight's
-                             floor instead of shear_tail; 0 (default): shear_tail throughout. The
-                             planar --refine-faces uses 3e-4 (measured with param-eval, --steps 200:
-                             brain_disk 96 -> 23 steps, cowhead 128 -> 52, sophie r_cv 0.0025 -> 0.0019;
-                             mountain 52 -> 86 steps, for per-face 0.0024 -> 0.0010) */
-  double resolved_jump; /* a start counts as well resolved when the mean jump of log r (domain share over
-                           surface share) across the mesh's interior edges is at most this (default 0.1;
-                           0: never). The area correction is then smooth at the mesh's scale, and the flow
-                           runs the resolved schedule below. Measured on the shared meshes' starts: bunny
-                           0.034, lion_statue 0.054, armadillo 0.080, brain_disk 0.052; the meshes whose
-                           protrusions are few triangles wide: spot 0.133, hand_closed 0.132, spot_lowres
-                           0.225, cow 0.434. Equal-area maps only: with a density (weight, face_weight)
-                           the ordinary schedule runs (bunny with weight 4 on one half: 14 steps undone
-                           and the tolerance missed on the resolved one, 3 undone on the ordinary) */
-  double resolved_shear;    /* resolved schedule: the shear weight of the first step, instead of shear
-                               (default 0.1) */
-  double resolved_decay;    /* resolved schedule: each accepted step multiplies the shear weight by this,
-                               until the first undone step (then by 0.5 as usual) (default 0.25) */
-  double resolved_log_step; /* resolved schedule: a face's area changes by at most this factor's log in one
-                               step, instead of max_log_step (default 2) */
-  double lantern; /* sphere, spherical-area part, while the vertex error is below 1: a face's shape
-                     restoring is raised to min(1, restore (1 + lantern rho)), rho = l^3 / (16 share),
-                     l its longest chord edge and share its target area. l^3 / 16 is the least chord
-                     area a spherical triangle with that edge can have (docs/hard-meshes.md): a face
-                     near it cannot shrink to its share without a shorter edge. 0 (default): off;
-                     au_sphere_map's retry uses 2 (au_sphere_opts.lantern_retry) */
-  int angle_steps;     /* least-shear method: after the flow, at most this many angle steps (au_ang.c): each a
-                          Gauss-Newton step towards the map of least Dirichlet energy whose vertex cells
-                          have their areas, with the chord triangles' areas held by the weight angle_faces
-                          (0, default: none) */
-  double angle_faces;  /* the angle steps' weight of the per-face areas against the Dirichlet energy (default 300) */
-  double angle_cells;  /* the angle steps' weight of the vertex cells' areas (default 1e6: held) */
-  double angle_trust;  /* the angle steps' Levenberg-Marquardt term, relative to each vertex's cotan weights (default 1) */
-  double angle_switch; /* with angle_steps: the flow hands over to them as soon as its vertex error is at most
-                          this and its per-face mean |r - 1| at most twice this (default 0.01; 0: after the
-                          flow, its chord polish and per-face refinement included; au_disk_opts_default
-                          and --refine-faces set 0). Measured with --angles 5, param-eval (vertex /
-                          per-face / angle): spot 0.00007 / 0.0167 / 25.35 deg at 0.01, 0.00012 / 0.0146 /
-                          26.59 at 0 (default map 0.0019 / 0.0085 / 28.71); bunny 20.93 and 21.00 deg;
-                          hand_closed 0.0034 / 0.0182 / 36.52 against 0.0047 / 0.0129 / 37.43; armadillo
-                          0.0018 / 0.0176 / 38.27 in 16 steps against 0.0024 / 0.0159 / 39.10 in 36; but
-                          cow 0.021 / 0.048 against 0.017 / 0.035, cheburashka 0.013 / 0.034 against
-                          0.0089 / 0.026 (their floor faces) */
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);
@@ -172,8 +165,7 @@ au_status au_advect_run(const au_mesh *m, const au_topo *t, const au_advect_doma
 
 /* ---- the same in two parts, so that the part that needs only the mesh can run beside the start ----
  * A plan holds what depends on the mesh alone: a cache-friendly copy of a large mesh and the analysis
- * (fill-reducing order, symbolic factorization) of the least-shear step's system, about 0.4 s of
- * lion_statue's run. m and t must outlive the plan. opts (may be NULL) tells the method. */
+ * (fill-reducing order, symbolic factorization) of the least-shear step's system. m and t must outlive the plan. opts (may be NULL) tells the method. */
 typedef struct au_advect_plan au_advect_plan;
 
 /* Prepare a plan here. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */

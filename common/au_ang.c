@@ -134,8 +134,8 @@ au_status au__ang_create(const au_mesh *m, au_ang **out, au_msg *msg) {
     }
   a->colstart[n] = p;
   /* The elimination order: nested dissection of the 2-ring graph (the separators of the mesh's own
-   * graph are one ring wide and do not separate this one: bunny's factorization took 5 s instead of
-   * 0.5 s with them), each vertex's two unknowns side by side. */
+   * graph are one ring wide and do not separate this one, and the factorization took ten times as long
+   * with them), each vertex's two unknowns side by side. */
   perm = malloc(sizeof(int) * (size_t)n), vperm = malloc(sizeof(int) * (size_t)nv);
   int *E2 = malloc(sizeof(int) * 2 * (total - (size_t)nv + 1));
   if (!perm || !vperm || !E2) {

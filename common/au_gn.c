@@ -14,6 +14,10 @@
 #include "au_advect_internal.h"
 #include "au_solver.h"
 
+/* The relative Tikhonov term of the Gauss-Newton system (see au__gn_step): far above the rounding of
+ * the largest diagonal entry, far below any entry that carries the step. */
+#define AU_GN_REG 1e-10
+
 struct au_gn {
   int nv, nf;
   int faces;    /* 0: cells are the barycentric vertex cells; 1: cells are the triangles */
@@ -183,7 +187,7 @@ au_status au__gn_step(au_gn *g, const au_advect_domain *dom, const double *P, co
   /* Levenberg-Marquardt damping (relative to each diagonal) tames the near-null checkerboard modes of
    * the face areas. */
   for (int k = 0; k < nc; k++) val[g->colstart[k + 1] - 1] *= 1 + damping;
-  for (int k = 0; k < nc; k++) val[g->colstart[k + 1] - 1] += 1e-10 * dmax + (dmax > 0 ? 0 : 1);
+  for (int k = 0; k < nc; k++) val[g->colstart[k + 1] - 1] += AU_GN_REG * dmax + (dmax > 0 ? 0 : 1);
   au_status st = au_spd_factor(g->spd, msg);
   double *gv = malloc(sizeof(double) * (size_t)nc);
   if (!gv) return au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");

@@ -918,8 +918,8 @@ static void *format_part(void *arg) {
   return NULL;
 }
 
-/* From this many vertices the lines are formatted in two halves on the two cores (printf's
- * conversion of doubles at 17 digits is most of a write: brain_disk's 7.8 MB OBJ took 0.23 s). */
+/* From this many vertices the lines are formatted in two halves on the two cores: printf's conversion
+ * of doubles at 17 digits is most of a write (docs/tuning-history.md). */
 #define AU_WRITE_SPLIT_MIN 20000
 
 static int emit_mesh(FILE *fp, const void *ctx) {

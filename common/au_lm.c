@@ -33,6 +33,21 @@
 /* From this many faces the assembly runs on two threads (with the factorization's split). */
 #define AU_LM_THREAD_MIN 8000
 
+/* Planar domains: a relative diagonal term that bounds the condition number where the shear weight is
+ * small and a global mode (a rotation of a sliding boundary) is nearly free; without it the last pivot
+ * can come out non-positive in double precision. Not on the sphere: it pulls every vertex towards
+ * standing still in proportion to its stiffness, and a cluster of tiny squeezed triangles that must
+ * travel far is torn by that pull (docs/tuning-history.md). */
+#define AU_LM_PLANAR_DIAG 1e-8
+
+/* An axis whose constrained, orthogonalized remainder is shorter than this is not an allowed direction:
+ * the axes have unit length, so anything shorter is the constraint's rounding, not a direction. */
+#define AU_BASIS_MIN 1e-6
+
+/* Added to every diagonal entry so that a slot whose terms all vanish (a vertex with zero area) still
+ * has a positive pivot; far below any real entry, it changes nothing else. */
+#define AU_LM_DIAG_TINY 1e-300
+
 struct au_lm {
   int nv, nf;
   const int *F;
@@ -166,7 +181,7 @@ void au__allowed_basis(const au_advect_domain *dom, int i, const double *p, doub
       d[0] -= dot * e[0], d[1] -= dot * e[1], d[2] -= dot * e[2];
     }
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    if (len < 1e-6) continue;
+    if (len < AU_BASIS_MIN) continue;
     B[3 * nb] = d[0] / len, B[3 * nb + 1] = d[1] / len, B[3 * nb + 2] = d[2] / len;
     nb++;
   }
@@ -334,20 +349,14 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
   }
   /* The rigid rotations (and any slot without an allowed direction) are fixed by the mass term; an
    * empty slot gets a unit diagonal so that its zero solution is exact.
-   * Planar domains also get a relative 1e-8 on the diagonal: it bounds the condition number where the
-   * shear weight is small and a global mode (a rotation of a sliding boundary) is nearly free; without
-   * it the last pivot of brain_disk's factorization came out non-positive in double precision, and
-   * sophie's annulus ended at per-face 0.57 instead of 0.011. On the sphere it does harm: it pulls
-   * every vertex towards standing still in proportion to its stiffness, and a cluster of 1e-10-sized
-   * triangles that must travel 0.2 is torn by that pull (cow's squeezed legs: 15 faces left too small
-   * for a sign with it, none without). */
-  const double diag_rel = dom->spherical ? 0 : 1e-8;
+   * Planar domains also get AU_LM_PLANAR_DIAG on the diagonal (see there). */
+  const double diag_rel = dom->spherical ? 0 : AU_LM_PLANAR_DIAG;
   for (int i = 0; i < nv; i++) {
     for (int b = 0; b < 2; b++) {
       int c = 2 * i + b, dg = l->colstart[c + 1] - 1;
       const double *Bi = l->B + 6 * i + 3 * b;
       if (dot3(Bi, Bi) == 0) val[dg] = 1, l->rhs[c] = 0;
-      else val[dg] = val[dg] * (1 + diag_rel) + eps * mass[2 * i] + 1e-300;
+      else val[dg] = val[dg] * (1 + diag_rel) + eps * mass[2 * i] + AU_LM_DIAG_TINY;
     }
   }
   au_status st = au_spd_factor(l->spd, msg);

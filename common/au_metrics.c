@@ -169,6 +169,29 @@ static void vertex_stats(size_t nv, size_t nf, const int *F, const double *Ad, c
   if (lr_max) *lr_max = mx;
 }
 
+/* The sphere's own statistics (au_metrics' sph_* fields, the chord floor, the radius): the ratios with
+ * exact spherical areas Ao [0..nf-1] (total sAo); As, sAd, sAs as in au_metrics_compute. ok [0..nf-1],
+ * W [0..nf-1], vd, vs [0..nv-1]: scratch; used [0..nv-1]: the referenced vertices. */
+static void sphere_stats(size_t n, size_t nvs, const int *F, const double *P, const double *As, const double *Ao,
+                         double sAd, double sAs, double sAo, const unsigned char *used,
+                         unsigned char *ok, double *W, double *vd, double *vs, au_metrics *out) {
+  /* The same ratios with exact spherical areas; a face is kept when neither its surface area nor
+   * its spherical area is degenerate (param-eval's `oks`). */
+  for (size_t f = 0; f < n; f++) ok[f] = As[f] > AU_DEGEN_REL * sAs && Ao[f] > AU_DEGEN_REL * sAo;
+  ratio_stats(n, Ao, As, ok, W, NULL, NULL, &out->sph_r_mean_abs_dev, &out->sph_r_cv, NULL);
+  vertex_stats(nvs, n, F, Ao, As, vd, vs, &out->sph_vertex_logr_mean_abs, NULL);
+  for (size_t f = 0; f < n; f++) {
+    const double *a = P + 3 * (size_t)F[3 * f], *b = P + 3 * (size_t)F[3 * f + 1], *c = P + 3 * (size_t)F[3 * f + 2];
+    double over = au_dec_sphere_chord_floor(a, b, c) - As[f] / sAs * sAd;
+    if (over > 0) out->chord_floor_faces++, out->chord_floor_excess += over / sAd;
+  }
+  for (size_t v = 0; v < nvs; v++) {
+    if (!used[v]) continue;
+    double dev = fabs(norm3(P + 3 * v) - 1);
+    if (dev > out->sphere_radius_max_dev) out->sphere_radius_max_dev = dev;
+  }
+}
+
 au_status au_metrics_compute(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
                              au_metrics *out, double *ups, double *lam) {
   if (!X || !P || !F || !out || nv <= 0 || nf <= 0) return AU_E_ARG;
@@ -274,23 +297,7 @@ au_status au_metrics_compute(int nv, int nf, const double *X, const double *P, c
               &out->authalic_energy);
   vertex_stats(nvs, n, F, Ad, As, vd, vs, &out->vertex_logr_mean_abs, &out->vertex_logr_max_abs);
 
-  if (sphere) {
-    /* The same ratios with exact spherical areas; a face is kept when neither its surface area nor
-     * its spherical area is degenerate (param-eval's `oks`). */
-    for (size_t f = 0; f < n; f++) ok[f] = As[f] > AU_DEGEN_REL * sAs && Ao[f] > AU_DEGEN_REL * sAo;
-    ratio_stats(n, Ao, As, ok, W, NULL, NULL, &out->sph_r_mean_abs_dev, &out->sph_r_cv, NULL);
-    vertex_stats(nvs, n, F, Ao, As, vd, vs, &out->sph_vertex_logr_mean_abs, NULL);
-    for (size_t f = 0; f < n; f++) {
-      const double *a = P + 3 * (size_t)F[3 * f], *b = P + 3 * (size_t)F[3 * f + 1], *c = P + 3 * (size_t)F[3 * f + 2];
-      double over = au_dec_sphere_chord_floor(a, b, c) - As[f] / sAs * sAd;
-      if (over > 0) out->chord_floor_faces++, out->chord_floor_excess += over / sAd;
-    }
-    for (size_t v = 0; v < nvs; v++) {
-      if (!used[v]) continue;
-      double dev = fabs(norm3(P + 3 * v) - 1);
-      if (dev > out->sphere_radius_max_dev) out->sphere_radius_max_dev = dev;
-    }
-  }
+  if (sphere) sphere_stats(n, nvs, F, P, As, Ao, sAd, sAs, sAo, used, ok, W, vd, vs, out);
 
 done:
   free(Ad), free(As), free(Ao), free(U), free(L), free(W), free(vd), free(vs), free(ok), free(used);

@@ -23,8 +23,8 @@ struct au_solver {
   double *w;          /* w [0..ne-1]: the weights of the last factorization, for Dirichlet right-hand sides */
 };
 
-/* Mesh Laplacians are planar-graph matrices: nested dissection (METIS) gives about half the fill and
- * flops of AMD on them (bunny: 1.1M vs 1.4M nonzeros, 118 vs 253 Mflop), and the analysis is paid once. */
+/* Mesh Laplacians are planar-graph matrices: nested dissection (METIS) gives less fill and about half
+ * the flops of AMD on them (docs/tuning-history.md), and the analysis is paid once. */
 static void configure(cholmod_common *c) {
   c->print = 0;
   c->nmethods = 1;
@@ -48,8 +48,8 @@ static au_status factorize(cholmod_sparse *A, cholmod_factor *L, cholmod_common 
 }
 
 /* METIS (through GKlib) catches SIGTERM while it runs and turns it into an error return: a run told
- * to stop then failed with "ordering failed" instead of dying of the signal (measured: 1 in 12 runs
- * of the cli.interrupted test). And on its way out it puts the previous handler back with signal(),
+ * to stop then failed with "ordering failed" instead of dying of the signal (docs/tuning-history.md
+ * has how often). And on its way out it puts the previous handler back with signal(),
  * i.e. one-shot (SA_RESETHAND). So SIGTERM is held back for the length of an ordering, the handler is
  * put back exactly as it was, and a signal that came meanwhile reaches it afterwards. */
 typedef struct held_term {
@@ -258,8 +258,8 @@ void au_solver_free(au_solver **sp) {
 /* The matrix is filled by the caller in its own order (upper triangle of A, au_spd_values) and copied,
  * through map, into B = tril(P A P'), P the elimination order found once: the lower triangle in
  * factor order is the one form cholmod_factorize takes as it is. Given A itself it would transpose and
- * permute a copy at every factorization (measured on lion_statue: cholmod_transpose_sym 6.7% of a
- * whole run, and the allocations of the copy). */
+ * permute a copy at every factorization (a measurable share of a whole run, and the allocations of
+ * the copy). */
 /* A factorization split in two halves that run on two cores (au_spd_factor): B's columns are S (the
  * top separator of the elimination tree, eliminated last) and two sets of whole subtrees below it,
  * H0 and H1, which share no entry of B or of its factor. M_h = B restricted to H_h then S, factored as
@@ -303,8 +303,8 @@ struct au_spd {
   int factored;
 };
 
-/* Below this many unknowns a system is factored whole. From 8000 the split pays (hand_closed, 16k
- * unknowns: init + flow 2.52 -> 2.10 s; cheburashka 1.62 -> 1.20 s; same maps). The test sets it. */
+/* Below this many unknowns a system is factored whole: smaller, the second thread's start and the dense
+ * separator block cost more than the halves save (docs/tuning-history.md). The test sets it. */
 int au__spd_split_min = 8000;
 
 au_status au_graph_order(int n, int ne, const int *E, int *perm, au_msg *msg) {
@@ -402,21 +402,24 @@ static void sort_units(int *units, int nu, const double *w) {
   free(tmp);
 }
 
-/* Build the split of s (see spd_split) from L, a symbolic supernodal factor of B (the analysis that
- * chose B's order, whose columns are B's). Returns 1 when built,
- * 0 when B does not split well (no separator at the root, unbalanced halves, a separator too large
- * for a dense block), -1 when out of memory. */
-static int split_build(au_spd *s, const cholmod_factor *L) {
-  if (!L->is_super || L->nsuper < 3) return 0;
-  const int n = s->n, ns_ = (int)L->nsuper;
+/* The split pays only with a separator small enough for a dense block (its Schur complement is ns^2
+ * doubles and an ns^3 dense factorization) and halves of comparable work (the slower half sets the time). */
+#define AU_SPLIT_MAX_SEPARATOR 4000
+#define AU_SPLIT_MIN_SHARE 0.3
+
+/* The two halves of B's unknowns from L's supernodal elimination tree: bin [0..n-1] gets 0 or 1 for the
+ * halves, -1 for the separator S (*ns unknowns). Returns 1 when B splits well, 0 when it does not (no
+ * separator at the root, unbalanced halves, a separator too large for a dense block), -1 when out of
+ * memory. */
+static int split_bins(const cholmod_factor *L, int n, int *bin, int *ns_out) {
+  const int ns_ = (int)L->nsuper;
   const int *super = L->super, *pi = L->pi, *Ls = L->s;
   int *snode = malloc(sizeof(int) * (size_t)n), *parent = malloc(sizeof(int) * (size_t)ns_);
   int *head = malloc(sizeof(int) * (size_t)ns_), *next = malloc(sizeof(int) * (size_t)ns_), *nchild = calloc((size_t)ns_, sizeof(int));
-  int *unit = malloc(sizeof(int) * (size_t)ns_), *bin = malloc(sizeof(int) * (size_t)n), *loc = malloc(sizeof(int) * (size_t)n);
+  int *unit = malloc(sizeof(int) * (size_t)ns_);
   double *sw = calloc((size_t)ns_, sizeof(double));
-  spd_split *q = calloc(1, sizeof *q);
   int ret = -1;
-  if (!snode || !parent || !head || !next || !nchild || !unit || !bin || !loc || !sw || !q) goto done;
+  if (!snode || !parent || !head || !next || !nchild || !unit || !sw) goto done;
   for (int k = 0; k < ns_; k++)
     for (int j = super[k]; j < super[k + 1]; j++) snode[j] = k;
   for (int k = 0; k < ns_; k++) head[k] = -1;
@@ -448,7 +451,7 @@ static int split_build(au_spd *s, const cholmod_factor *L) {
     bottom = head[bottom];
   }
   ret = 0;
-  if (nchild[bottom] < 2 || ns > 4000) goto done;
+  if (nchild[bottom] < 2 || ns > AU_SPLIT_MAX_SEPARATOR) goto done;
   /* Units: the subtrees under the chain and the other trees (isolated unknowns, say); each goes
    * whole to the lighter half, heaviest first (greedy). nchild[] is free from here: it holds them. */
   int nu = 0;
@@ -463,17 +466,26 @@ static int split_build(au_spd *s, const cholmod_factor *L) {
     unit[units[a]] = hb;
     w[hb] += sw[units[a]];
   }
-  if (w[0] < 0.3 * total || w[1] < 0.3 * total) goto done;
+  if (w[0] < AU_SPLIT_MIN_SHARE * total || w[1] < AU_SPLIT_MIN_SHARE * total) goto done;
   for (int k = ns_ - 1; k >= 0; k--)
     if (unit[k] == -2) unit[k] = unit[parent[k]]; /* parents first: they come later in the order */
   for (int j = 0; j < n; j++) bin[j] = unit[snode[j]];
-  ret = -1;
-  /* S and C (B's S block, lower). */
+  *ns_out = ns;
+  ret = 1;
+done:
+  free(snode), free(parent), free(head), free(next), free(nchild), free(unit), free(sw);
+  return ret;
+}
+
+/* The separator's columns (q->scol) and where B's S block goes in the dense Schur block (C: cpos, cdst);
+ * loc [0..n-1] scratch. Returns 0 when out of memory. */
+static int split_separator(const au_spd *s, spd_split *q, const int *bin, int *loc, int ns) {
+  const int n = s->n;
   q->ns = ns;
   q->scol = malloc(sizeof(int) * (size_t)ns);
   q->Sch = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
   q->y = malloc(sizeof(double) * (size_t)ns);
-  if (!q->scol || !q->Sch || !q->y) goto done;
+  if (!q->scol || !q->Sch || !q->y) return 0;
   const int *Bp = s->B->p, *Bi = s->B->i;
   int m = 0;
   for (int j = 0; j < n; j++)
@@ -482,7 +494,7 @@ static int split_build(au_spd *s, const cholmod_factor *L) {
     for (int p = Bp[q->scol[t]]; p < Bp[q->scol[t] + 1]; p++) q->nc += bin[Bi[p]] < 0;
   q->cpos = malloc(sizeof(int) * (size_t)(q->nc + 1));
   q->cdst = malloc(sizeof(int) * (size_t)(q->nc + 1));
-  if (!q->cpos || !q->cdst) goto done;
+  if (!q->cpos || !q->cdst) return 0;
   int c = 0;
   for (int t = 0; t < ns; t++)
     for (int p = Bp[q->scol[t]]; p < Bp[q->scol[t] + 1]; p++)
@@ -490,66 +502,87 @@ static int split_build(au_spd *s, const cholmod_factor *L) {
         int r = loc[Bi[p]], a = r > t ? r : t, b = r > t ? t : r;
         q->cpos[c] = p, q->cdst[c++] = a + ns * b;
       }
-  /* The halves: M_h = B on H_h then S, lower triangle, rows sorted. */
-  for (int h = 0; h < 2; h++) {
-    spd_half *a = q->h + h;
-    int nm = ns;
-    for (int j = 0; j < n; j++) nm += bin[j] == h;
-    a->nm = nm, a->ns = ns, a->bx = s->B->x;
-    a->cols = malloc(sizeof(int) * (size_t)nm);
-    if (!a->cols) goto done;
-    int k = 0;
-    for (int j = 0; j < n; j++)
-      if (bin[j] == h) a->cols[k++] = j;
-    for (int t = 0; t < ns; t++) a->cols[k++] = q->scol[t];
-    for (int j = 0; j < n; j++) loc[j] = -1;
-    for (int t = 0; t < nm; t++) loc[a->cols[t]] = t;
-    size_t nnz = 0;
-    for (int t = 0; t < nm; t++)
-      for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) nnz += loc[Bi[p]] >= 0;
-    cholmod_start(&a->c);
-    configure(&a->c);
-    a->c.nmethods = 1;
-    a->c.method[0].ordering = CHOLMOD_NATURAL;
-    a->c.postorder = 0;
-    a->M = cholmod_allocate_sparse((size_t)nm, (size_t)nm, nnz, 1, 1, -1, CHOLMOD_REAL, &a->c);
-    a->vmap = malloc(sizeof(int) * (nnz > 0 ? nnz : 1));
-    a->G = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
-    a->GG = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
-    if (!a->M || !a->vmap || !a->G || !a->GG) goto done;
-    int *Mp = a->M->p, *Mi = a->M->i;
-    memset(Mp, 0, sizeof(int) * ((size_t)nm + 1));
-    for (int t = 0; t < nm; t++)
-      for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) {
-        int r = loc[Bi[p]];
-        if (r >= 0) Mp[(r < t ? r : t) + 1]++;
+  return 1;
+}
+
+/* Half h of the split: M_h = B on H_h then S, lower triangle, rows sorted, analyzed in its own CHOLMOD
+ * common with the natural order (B's order already is a fill-reducing one). loc [0..n-1] scratch.
+ * Returns 0 on failure. */
+static int split_half(const au_spd *s, spd_split *q, const int *bin, int *loc, int h) {
+  const int n = s->n, ns = q->ns;
+  const int *Bp = s->B->p, *Bi = s->B->i;
+  spd_half *a = q->h + h;
+  int nm = ns;
+  for (int j = 0; j < n; j++) nm += bin[j] == h;
+  a->nm = nm, a->ns = ns, a->bx = s->B->x;
+  a->cols = malloc(sizeof(int) * (size_t)nm);
+  if (!a->cols) return 0;
+  int k = 0;
+  for (int j = 0; j < n; j++)
+    if (bin[j] == h) a->cols[k++] = j;
+  for (int t = 0; t < ns; t++) a->cols[k++] = q->scol[t];
+  for (int j = 0; j < n; j++) loc[j] = -1;
+  for (int t = 0; t < nm; t++) loc[a->cols[t]] = t;
+  size_t nnz = 0;
+  for (int t = 0; t < nm; t++)
+    for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) nnz += loc[Bi[p]] >= 0;
+  cholmod_start(&a->c);
+  configure(&a->c);
+  a->c.nmethods = 1;
+  a->c.method[0].ordering = CHOLMOD_NATURAL;
+  a->c.postorder = 0;
+  a->M = cholmod_allocate_sparse((size_t)nm, (size_t)nm, nnz, 1, 1, -1, CHOLMOD_REAL, &a->c);
+  a->vmap = malloc(sizeof(int) * (nnz > 0 ? nnz : 1));
+  a->G = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
+  a->GG = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
+  if (!a->M || !a->vmap || !a->G || !a->GG) return 0;
+  int *Mp = a->M->p, *Mi = a->M->i;
+  memset(Mp, 0, sizeof(int) * ((size_t)nm + 1));
+  for (int t = 0; t < nm; t++)
+    for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) {
+      int r = loc[Bi[p]];
+      if (r >= 0) Mp[(r < t ? r : t) + 1]++;
+    }
+  for (int t = 0; t < nm; t++) Mp[t + 1] += Mp[t];
+  int *fill = malloc(sizeof(int) * (size_t)nm);
+  if (!fill) return 0;
+  memcpy(fill, Mp, sizeof(int) * (size_t)nm);
+  for (int t = 0; t < nm; t++)
+    for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) {
+      int r = loc[Bi[p]];
+      if (r < 0) continue;
+      int col = r < t ? r : t, qq = fill[col]++;
+      Mi[qq] = r < t ? t : r, a->vmap[qq] = p;
+    }
+  free(fill);
+  for (int t = 0; t < nm; t++)
+    for (int qq = Mp[t] + 1; qq < Mp[t + 1]; qq++)
+      for (int r = qq; r > Mp[t] && Mi[r - 1] > Mi[r]; r--) {
+        int ti = Mi[r], tv = a->vmap[r];
+        Mi[r] = Mi[r - 1], a->vmap[r] = a->vmap[r - 1];
+        Mi[r - 1] = ti, a->vmap[r - 1] = tv;
       }
-    for (int t = 0; t < nm; t++) Mp[t + 1] += Mp[t];
-    int *fill = malloc(sizeof(int) * (size_t)nm);
-    if (!fill) goto done;
-    memcpy(fill, Mp, sizeof(int) * (size_t)nm);
-    for (int t = 0; t < nm; t++)
-      for (int p = Bp[a->cols[t]]; p < Bp[a->cols[t] + 1]; p++) {
-        int r = loc[Bi[p]];
-        if (r < 0) continue;
-        int col = r < t ? r : t, qq = fill[col]++;
-        Mi[qq] = r < t ? t : r, a->vmap[qq] = p;
-      }
-    free(fill);
-    for (int t = 0; t < nm; t++)
-      for (int qq = Mp[t] + 1; qq < Mp[t + 1]; qq++)
-        for (int r = qq; r > Mp[t] && Mi[r - 1] > Mi[r]; r--) {
-          int ti = Mi[r], tv = a->vmap[r];
-          Mi[r] = Mi[r - 1], a->vmap[r] = a->vmap[r - 1];
-          Mi[r - 1] = ti, a->vmap[r - 1] = tv;
-        }
-    memset(a->M->x, 0, sizeof(double) * nnz);
-    a->L = cholmod_analyze(a->M, &a->c);
-    if (!a->L || a->c.status < CHOLMOD_OK || !a->L->is_super) goto done;
+  memset(a->M->x, 0, sizeof(double) * nnz);
+  a->L = cholmod_analyze(a->M, &a->c);
+  if (!a->L || a->c.status < CHOLMOD_OK || !a->L->is_super) return 0;
+  return 1;
+}
+
+/* Build the split of s (see spd_split) from L, a symbolic supernodal factor of B (the analysis that
+ * chose B's order, whose columns are B's). Returns 1 when built,
+ * 0 when B does not split well (see split_bins), -1 when out of memory. */
+static int split_build(au_spd *s, const cholmod_factor *L) {
+  if (!L->is_super || L->nsuper < 3) return 0;
+  const int n = s->n;
+  int *bin = malloc(sizeof(int) * (size_t)n), *loc = malloc(sizeof(int) * (size_t)n);
+  spd_split *q = calloc(1, sizeof *q);
+  int ns = 0, ret = -1;
+  if (bin && loc && q) ret = split_bins(L, n, bin, &ns);
+  if (ret == 1) {
+    ret = -1;
+    if (split_separator(s, q, bin, loc, ns) && split_half(s, q, bin, loc, 0) && split_half(s, q, bin, loc, 1)) ret = 1;
   }
-  ret = 1;
-done:
-  free(snode), free(parent), free(head), free(next), free(nchild), free(unit), free(bin), free(loc), free(sw);
+  free(bin), free(loc);
   if (ret == 1) s->split = q;
   else split_free(&q);
   return ret;

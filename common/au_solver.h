@@ -18,8 +18,7 @@ typedef struct au_solver au_solver;
 
 /* How the unknowns are ordered for elimination: AU_ORDER_FILL (METIS nested dissection: least fill,
  * for a matrix refactored many times) or AU_ORDER_FAST (AMD: found in a fraction of the time, for one
- * or two factorizations: the conformal starts; measured on lion_statue, init 0.61-0.78 s with METIS,
- * 0.44-0.49 s with AMD, the same map). */
+ * or two factorizations: the conformal starts, where finding the order costs more than the fill saves). */
 typedef enum au_order { AU_ORDER_FILL = 0, AU_ORDER_FAST = 1 } au_order;
 
 /* Create a solver for n vertices and ne edges E [0..2*ne-1] (0 <= E < n, no self loops), ordered by order.
@@ -42,7 +41,7 @@ au_status au_solver_solve(au_solver *s, int nrhs, const double *b, double *x, au
 /* A nested-dissection (METIS) elimination order perm [0..n-1] of the graph with n vertices and ne edges
  * E [0..2*ne-1]. A system with k unknowns per vertex (k x k blocks on the graph's pattern) is ordered
  * as well by expanding it, block by block, as by ordering its own larger graph, and at a fraction of
- * the cost (lion_statue, 2 x 2 blocks: ... s instead of ... s).
+ * the cost (the graph has k^2 times fewer edges).
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
 au_status au_graph_order(int n, int ne, const int *E, int *perm, au_msg *msg);
 

@@ -74,10 +74,9 @@ static void bc_retract(void *ctx, int i, double *p) {
 au_advect_domain au_disk_bc_domain(const au_disk_bc *bc) {
   au_advect_domain d = {bc_constrain, bc_retract, 0, (void *)bc, 0};
   /* Vertices sliding on circles about the origin (disk, annulus): the flow moves along arcs, bent fully
-   * from the smallest circle outward (au_advect_domain.arc_radius). Measured with param-eval, 2026-12-02:
-   * brain_disk 16 -> 9 steps, sophie 35 -> 6, hand_lowres 27 -> 21, demosthenes 22 -> 20, the per-face
-   * error within 0.001 of the straight moves' on every disk and annulus mesh. A fixed boundary does
-   * not slide and keeps straight moves (face: per-face 0.0081 straight, 0.0095 with arcs). */
+   * from the smallest circle outward (au_advect_domain.arc_radius), so that the thin triangles at a
+   * short boundary turn with their sliding corner. A fixed boundary does not slide and keeps straight
+   * moves, which suit it better (docs/tuning-history.md). */
   for (int i = 0; i < bc->nv; i++)
     if (bc->kind[i] == AU_BC_CIRCLE && (d.arc_radius == 0 || bc->value[i] < d.arc_radius)) d.arc_radius = bc->value[i];
   return d;
@@ -87,30 +86,25 @@ au_disk_opts au_disk_opts_default(void) {
   au_disk_opts o;
   memset(&o, 0, sizeof o);
   o.flow = au_advect_opts_default();
-  /* Planar maps stop earlier than the loop's own defaults: measured on the seven disk meshes of
-   * ../shared/meshes, vertex error 3e-3 with face error 1e-2 is reached in 13-59 steps instead of
-   * running all 60, and every map ends below mean |r-1| = 0.01. */
+  /* The measurements behind these planar defaults are in docs/tuning-history.md. */
+  /* Planar maps stop earlier than the loop's own defaults: the planar maps reach these bounds in a
+   * fraction of the budget, and every map then ends below per-face 0.01 anyway. */
   o.flow.tol = 3e-3;
   o.flow.face_tol = 1e-2;
   /* The angle steps (--angles) come after the flow here, not at a vertex error of 0.01 as on the
-   * sphere: handed over early, demosthenes ended at 40.1-41.3 degrees and per-face 0.022-0.029
-   * (default map 39.2, 0.0097), against 38.9 and 0.016 after the flow (5 steps, param-eval). */
+   * sphere: handed over early, the planar maps ended with worse angles and worse faces. */
   o.flow.angle_switch = 0;
-  /* In the plane a vertex may move up to 0.45 of its triangles' inradius per step (the loop's bound
-   * is 1/2; the sphere keeps 0.3, with which lion_statue took 12 steps instead of 29): brain_disk
-   * 22 -> 19 steps, sophie 60 -> 57, the same quality (param-eval). */
+  /* In the plane a vertex may move up to 0.45 of its triangles' inradius per step (the loop's bound is
+   * 1/2): fewer steps for the same quality. The sphere keeps 0.3, where the retraction's curvature
+   * needs the margin. */
   o.flow.max_move = 0.45;
   /* The shear weight's floor: the flow's default 0.01 held the planar maps' last steps back (per-face
-   * error creeping down by 1-2% a step once the vertex cells met the tolerance). With 0.003, measured
-   * with param-eval on the shared disk, annulus and square meshes: hand_lowres 44 -> 27 steps
-   * (per-face 0.0113 -> 0.0100), demosthenes 41 -> 28 (0.0117 -> 0.0099), camelhead 21 -> 13, face
-   * 13 -> 11, sophie 55 -> 36 (0.0116 -> 0.0099), brain_disk 18 -> 19 (0.0080 -> 0.0053); mean angle
-   * error within 1 degree (brain_disk 30.1 -> 31.0, sophie 45.7 -> 44.1). 0.005 kept brain_disk at
-   * 18 steps but left the square's sliding sides (face: 0.0099) worse than its fixed ones (0.0098).
-   * On the sphere the same floor costs cow its quality (per-face 0.035 -> 0.052), so it stays there. */
+   * error creeping down by 1-2% a step once the vertex cells met the tolerance); 0.003 takes a third
+   * fewer steps for a lower per-face error and angles within a degree. On the sphere the same floor
+   * costs the protrusion meshes their quality, so it stays there. */
   o.flow.shear_tail = 0.003;
-  /* On the resolved schedule the planar flow starts at the ordinary shear weight: with the sphere's 0.1,
-   * brain_disk took 20 steps instead of 16 and sophie 37 instead of 35 (camelhead 10 -> 8). */
+  /* On the resolved schedule the planar flow starts at the ordinary shear weight: the sphere's 0.1 took
+   * more steps on the planar meshes. */
   o.flow.resolved_shear = o.flow.shear;
   o.boundary = AU_DISK_SLIDE;
   o.inner_radius = 0;

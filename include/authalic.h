@@ -289,9 +289,10 @@ typedef struct au_options {
                              (default): the most corner-like vertices near the arc-length quarters */
   au_progress_fn progress; /* called once per step from the calling thread; NULL (default) */
   void *user;             /* passed to progress */
-  const int *cancel;      /* when *cancel becomes nonzero (set from any thread; read atomically at
-                             each step), the map stops and au_map returns AU_E_CANCELLED; NULL
-                             (default) */
+  const int *cancel;      /* when *cancel becomes nonzero (set from any thread; read atomically
+                             before the flow and at each of its steps, so a cancel during the initial
+                             map takes effect when that ends), the map stops, frees what it holds and
+                             au_map returns AU_E_CANCELLED; NULL (default) */
   const au_expert *expert; /* the flow's tuning (au_expert_default); NULL (default): the target's
                               defaults with refine_faces applied. When given, it replaces them all. */
   au_lattice lattice;     /* torus: AU_LATTICE_CONFORMAL (default) or AU_LATTICE_SQUARE */

@@ -22,9 +22,8 @@ typedef struct au_sphere_opts {
                            it runs again from the same start with flow.lantern = lantern_retry (shape
                            restoring raised on the faces a long chord edge keeps from shrinking), and
                            the map with the smaller vertex error of the chord triangles is kept (default
-                           2; 0: off). Measured with param-eval: hand_closed vertex 0.0110 -> 0.0047
-                           (kept), cheburashka 0.0104 -> 0.0089 (kept); cow and spot_lowres did worse
-                           with it (0.0279, 0.0065): their first map stays */
+                           2; 0: off). It helps the meshes whose long chord edges keep faces from
+                           shrinking; where it does worse, the first map stays (docs/tuning-history.md) */
   double retry_above;   /* see lantern_retry (default 2) */
 } au_sphere_opts;
 

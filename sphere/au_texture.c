@@ -24,6 +24,14 @@
 #define DEG (180.0 / M_PI)
 #define SQRT2 1.4142135623730951
 
+/* The Lambert charts reach this much past the farthest corner of their faces, so that no corner lies on
+ * the chart's edge (where a texel's bilinear lookup would read the next chart). */
+#define AU_LAEA_MARGIN 1.02
+
+/* Rounds of splitting flipped faces in the cylindrical layout: each halves the offending arcs, and
+ * the shared meshes need at most a few. */
+#define AU_FLIP_ROUNDS 8
+
 au_tex_layout au_tex_layout_default(au_tex_proj proj) {
   au_tex_layout l;
   l.proj = proj;
@@ -343,6 +351,111 @@ done:
   return st;
 }
 
+/* Cylindrical equal-area texture coordinates of t's faces from the projected x, y [0..nv-1]: each face's
+ * longitudes unwrapped around its first non-pole corner, one copy of a corner per side of the seam (key
+ * [0..3nv-1], -1 on entry), a copy of its own per face at a pole. Returns AU_OK or AU_E_NUMERIC. */
+static au_status cea_faces(au_tex_mesh *t, const unsigned char *is_pole, const double *x, const double *y, int *key,
+                           au_msg *msg) {
+  for (int f = 0; f < t->nf; f++) {
+    const int *c = t->F + 3 * (size_t)f;
+    double u[3], v[3], uraw[3];
+    int ref = -1;
+    for (int k = 0; k < 3; k++) {
+      double uv[2];
+      chart_uv(&t->layout, AU_GEO_CEA, x[c[k]], y[c[k]], uv);
+      uraw[k] = u[k] = uv[0], v[k] = uv[1];
+      if (!is_pole[c[k]] && ref < 0) ref = k;
+    }
+    /* Unwrap the longitudes of the corners around the first non-pole corner, so the face's
+     * corners are within half a turn of each other; pole corners take the middle of the others. */
+    double usum = 0;
+    int nreg = 0;
+    for (int k = 0; k < 3; k++) {
+      if (is_pole[c[k]]) continue;
+      double d = u[k] - u[ref];
+      u[k] = u[ref] + (d - nearbyint(d));
+      usum += u[k], nreg++;
+    }
+    double umid = nreg ? usum / nreg : 0.5;
+    for (int k = 0; k < 3; k++)
+      if (is_pole[c[k]]) u[k] = umid, v[k] = t->P[3 * c[k] + 2] > 0 ? 1.0 : 0.0;
+    double shift = floor((u[0] + u[1] + u[2]) / 3);
+    int seam = 0;
+    for (int k = 0; k < 3; k++) {
+      u[k] -= shift;
+      int vt;
+      if (is_pole[c[k]]) {
+        vt = t->nvt++;
+      } else {
+        int s = (int)nearbyint(u[k] - uraw[k]);
+        if (s != 0) seam = 1;
+        if (s < -1 || s > 1) return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: face %d spans more than a turn", f);
+        int *slot = &key[3 * (size_t)c[k] + (s + 1)];
+        if (*slot < 0) *slot = t->nvt++;
+        vt = *slot;
+      }
+      t->vt[2 * vt] = u[k], t->vt[2 * vt + 1] = v[k];
+      t->Ft[3 * f + k] = vt;
+    }
+    t->seam_faces += seam;
+  }
+  return AU_OK;
+}
+
+/* Lambert azimuthal equal-area texture coordinates: each face in the chart of the hemisphere holding
+ * the sum of its corners, one copy of a corner per chart (key [0..3nv-1], -1 on entry); lat, lon
+ * [0..nv-1], x, y scratch [0..nv-1]. Returns AU_OK, AU_E_NOMEM or a projection's error. */
+static au_status laea_faces(au_tex_mesh *t, const double *lat, const double *lon, double *x, double *y, int *key,
+                            au_msg *msg) {
+  const int NV = t->nv;
+  au_status st = AU_OK;
+  unsigned char *hemi = malloc((size_t)t->nf);
+  double *xs = malloc(2 * (size_t)NV * sizeof *xs);
+  if (!hemi || !xs) {
+    free(hemi), free(xs);
+    return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  }
+  double *ys = xs + NV;
+  st = au_geo_aea_forward(AU_GEO_LAEA_NORTH, NV, lat, lon, x, y, msg);
+  if (st == AU_OK) st = au_geo_aea_forward(AU_GEO_LAEA_SOUTH, NV, lat, lon, xs, ys, msg);
+  double need = SQRT2;
+  for (int f = 0; f < t->nf && st == AU_OK; f++) {
+    const int *c = t->F + 3 * (size_t)f;
+    double zs = t->P[3 * c[0] + 2] + t->P[3 * c[1] + 2] + t->P[3 * c[2] + 2];
+    hemi[f] = zs < 0;
+    for (int k = 0; k < 3; k++) {
+      double xx = hemi[f] ? xs[c[k]] : x[c[k]], yy = hemi[f] ? ys[c[k]] : y[c[k]];
+      need = fmax(need, fmax(fabs(xx), fabs(yy)));
+    }
+  }
+  t->layout.half = fmin(2.0, need * AU_LAEA_MARGIN);
+  for (int f = 0; f < t->nf && st == AU_OK; f++) {
+    const int *c = t->F + 3 * (size_t)f;
+    for (int k = 0; k < 3; k++) {
+      int *slot = &key[3 * (size_t)c[k] + hemi[f]];
+      if (*slot < 0) {
+        *slot = t->nvt++;
+        au_geo_aea kind = hemi[f] ? AU_GEO_LAEA_SOUTH : AU_GEO_LAEA_NORTH;
+        chart_uv(&t->layout, kind, hemi[f] ? xs[c[k]] : x[c[k]], hemi[f] ? ys[c[k]] : y[c[k]], t->vt + 2 * (size_t)*slot);
+      }
+      t->Ft[3 * f + k] = *slot;
+    }
+    if (hemi[f]) t->seam_faces++;
+  }
+  /* For laea seam_faces counts the faces in the southern chart; report the ones whose corners
+   * straddle the equator instead, which is what the name promises. */
+  int straddle = 0;
+  for (int f = 0; f < t->nf; f++) {
+    const int *c = t->F + 3 * (size_t)f;
+    int np = 0;
+    for (int k = 0; k < 3; k++) np += t->P[3 * c[k] + 2] >= 0;
+    straddle += np > 0 && np < 3;
+  }
+  t->seam_faces = straddle;
+  free(hemi), free(xs);
+  return st;
+}
+
 au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_tex_mesh **out, au_msg *msg) {
   if (!out) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: out is NULL");
   *out = NULL;
@@ -395,7 +508,7 @@ au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_
     if (st != AU_OK) goto done;
     t->pole_vertices = 0;
     for (int i = 0; i < t->nv_in; i++) t->pole_vertices += is_pole[i];
-    st = split_flipped(t, &is_pole, &nvmax, &nfmax, 8, msg);
+    st = split_flipped(t, &is_pole, &nvmax, &nfmax, AU_FLIP_ROUNDS, msg);
     if (st != AU_OK) goto done;
   }
   int NV = t->nv;
@@ -421,100 +534,12 @@ au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_
   if (proj == AU_TEX_CEA) {
     st = au_geo_aea_forward(AU_GEO_CEA, NV, lat, lon, x, y, msg);
     if (st != AU_OK) goto done;
-    for (int f = 0; f < t->nf; f++) {
-      const int *c = t->F + 3 * (size_t)f;
-      double u[3], v[3], uraw[3];
-      int ref = -1;
-      for (int k = 0; k < 3; k++) {
-        double uv[2];
-        chart_uv(&t->layout, AU_GEO_CEA, x[c[k]], y[c[k]], uv);
-        uraw[k] = u[k] = uv[0], v[k] = uv[1];
-        if (!is_pole[c[k]] && ref < 0) ref = k;
-      }
-      /* Unwrap the longitudes of the corners around the first non-pole corner, so the face's
-       * corners are within half a turn of each other; pole corners take the middle of the others. */
-      double usum = 0;
-      int nreg = 0;
-      for (int k = 0; k < 3; k++) {
-        if (is_pole[c[k]]) continue;
-        double d = u[k] - u[ref];
-        u[k] = u[ref] + (d - nearbyint(d));
-        usum += u[k], nreg++;
-      }
-      double umid = nreg ? usum / nreg : 0.5;
-      for (int k = 0; k < 3; k++)
-        if (is_pole[c[k]]) u[k] = umid, v[k] = t->P[3 * c[k] + 2] > 0 ? 1.0 : 0.0;
-      double shift = floor((u[0] + u[1] + u[2]) / 3);
-      int seam = 0;
-      for (int k = 0; k < 3; k++) {
-        u[k] -= shift;
-        int vt;
-        if (is_pole[c[k]]) {
-          vt = t->nvt++;
-        } else {
-          int s = (int)nearbyint(u[k] - uraw[k]);
-          if (s != 0) seam = 1;
-          if (s < -1 || s > 1) {
-            st = au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: face %d spans more than a turn", f);
-            goto done;
-          }
-          int *slot = &key[3 * (size_t)c[k] + (s + 1)];
-          if (*slot < 0) *slot = t->nvt++;
-          vt = *slot;
-        }
-        t->vt[2 * vt] = u[k], t->vt[2 * vt + 1] = v[k];
-        t->Ft[3 * f + k] = vt;
-      }
-      t->seam_faces += seam;
-    }
+    st = cea_faces(t, is_pole, x, y, key, msg);
+    if (st != AU_OK) goto done;
   } else {
     /* Each face goes to the chart of the hemisphere holding the sum of its corners; the charts
      * reach past the equator far enough for every face. */
-    unsigned char *hemi = malloc((size_t)t->nf);
-    double *xs = malloc(2 * (size_t)NV * sizeof *xs);
-    if (!hemi || !xs) {
-      free(hemi), free(xs);
-      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-      goto done;
-    }
-    double *ys = xs + NV;
-    st = au_geo_aea_forward(AU_GEO_LAEA_NORTH, NV, lat, lon, x, y, msg);
-    if (st == AU_OK) st = au_geo_aea_forward(AU_GEO_LAEA_SOUTH, NV, lat, lon, xs, ys, msg);
-    double need = SQRT2;
-    for (int f = 0; f < t->nf && st == AU_OK; f++) {
-      const int *c = t->F + 3 * (size_t)f;
-      double zs = t->P[3 * c[0] + 2] + t->P[3 * c[1] + 2] + t->P[3 * c[2] + 2];
-      hemi[f] = zs < 0;
-      for (int k = 0; k < 3; k++) {
-        double xx = hemi[f] ? xs[c[k]] : x[c[k]], yy = hemi[f] ? ys[c[k]] : y[c[k]];
-        need = fmax(need, fmax(fabs(xx), fabs(yy)));
-      }
-    }
-    t->layout.half = fmin(2.0, need * 1.02);
-    for (int f = 0; f < t->nf && st == AU_OK; f++) {
-      const int *c = t->F + 3 * (size_t)f;
-      for (int k = 0; k < 3; k++) {
-        int *slot = &key[3 * (size_t)c[k] + hemi[f]];
-        if (*slot < 0) {
-          *slot = t->nvt++;
-          au_geo_aea kind = hemi[f] ? AU_GEO_LAEA_SOUTH : AU_GEO_LAEA_NORTH;
-          chart_uv(&t->layout, kind, hemi[f] ? xs[c[k]] : x[c[k]], hemi[f] ? ys[c[k]] : y[c[k]], t->vt + 2 * (size_t)*slot);
-        }
-        t->Ft[3 * f + k] = *slot;
-      }
-      if (hemi[f]) t->seam_faces++;
-    }
-    /* For laea seam_faces counts the faces in the southern chart; report the ones whose corners
-     * straddle the equator instead, which is what the name promises. */
-    int straddle = 0;
-    for (int f = 0; f < t->nf; f++) {
-      const int *c = t->F + 3 * (size_t)f;
-      int np = 0;
-      for (int k = 0; k < 3; k++) np += t->P[3 * c[k] + 2] >= 0;
-      straddle += np > 0 && np < 3;
-    }
-    t->seam_faces = straddle;
-    free(hemi), free(xs);
+    st = laea_faces(t, lat, lon, x, y, key, msg);
     if (st != AU_OK) goto done;
   }
   *out = t;

@@ -454,6 +454,63 @@ static int polish_when_needed(void) {
   return 0;
 }
 
+/* The flow's phases hand over by their rules (the table flow_phases in au_advect.c), seen in the report:
+ * - the Poisson method's cells phase ends where the vertex cells meet tol, and the per-face refinement
+ *   takes over at that very step;
+ * - with the budget spent, the angle steps come on top of it: angle_from = max_steps - undone, and the
+ *   steps after it are the angle steps;
+ * - on spiky_ico the spherical part hands over to the chord polish, and the angle steps (handed over
+ *   at the end) come after the polish.
+ * Measured on the ellipsoid: Poisson 6 cell steps then 30 face steps; the budget of 8 runs out in the
+ * polish (from step 5), then 2 angle steps. */
+static int phase_transitions(void) {
+  loaded L;
+  if (load("ellipsoid.obj", 1, &L)) return 1;
+  au_msg msg = {{0}};
+  au_sphere_opts o = au_sphere_opts_default();
+  o.lantern_retry = 0;
+  o.flow.method = AU_ADVECT_POISSON;
+  au_sphere_report rep;
+  au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &rep, &msg);
+  AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+  const au_advect_report *r = &rep.flow;
+  fprintf(stderr, "poisson: %d steps, %d face steps\n", r->steps, r->face_steps);
+  AU_CHECK_INT(r->face_steps, >, 0);
+  AU_CHECK_INT(r->face_steps, <=, o.flow.face_steps);
+  AU_CHECK_INT(r->polish_from + r->angle_from + r->undone, ==, 0);
+  int first_face = r->steps - r->face_steps;
+  AU_CHECK_DBL(r->err[first_face], <=, o.flow.tol);
+  AU_CHECK_DBL(r->err[first_face - 1], >, o.flow.tol);
+
+  o = au_sphere_opts_default();
+  o.lantern_retry = 0;
+  o.flow.max_steps = 8, o.flow.angle_steps = 2;
+  st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &rep, &msg);
+  AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+  fprintf(stderr, "budget: %d steps, polish from %d, angles from %d, %d undone\n", r->steps, r->polish_from,
+          r->angle_from, r->undone);
+  AU_CHECK_INT(r->polish_from, >, 0);
+  AU_CHECK_INT(r->angle_from, >, r->polish_from);
+  AU_CHECK_INT(r->angle_from + r->undone, ==, o.flow.max_steps);
+  AU_CHECK_INT(r->steps, <=, r->angle_from + o.flow.angle_steps);
+  unload(&L);
+
+  if (load("spiky_ico.obj", 1, &L)) return 1;
+  o = au_sphere_opts_default();
+  o.lantern_retry = 0;
+  o.flow.angle_steps = 3, o.flow.angle_switch = 0;
+  st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &rep, &msg);
+  AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+  fprintf(stderr, "spiky: %d steps, polish from %d, angles from %d, %d undone\n", r->steps, r->polish_from,
+          r->angle_from, r->undone);
+  AU_CHECK_INT(r->polish_from, >, 0);
+  AU_CHECK_INT(r->angle_from, >, r->polish_from);
+  AU_CHECK_INT(r->steps, <=, r->angle_from + 3);
+  AU_CHECK_INT(r->undone, >, 0);
+  unload(&L);
+  return 0;
+}
+
 /* Prescribed density (issue 6): weight 4 on the faces of one half of the ellipsoid (centroid x > 0)
  * gives that half 4x the domain area per unit surface area. Per vertex: weight 4 on the vertices with
  * x > 0, measured on the faces whose corners all lie in one half. Measured 2026-12-01: per face 3.99868, per vertex 3.99934, i.e. within 3.3e-4 and 1.6e-4 relative;
@@ -570,7 +627,7 @@ int main(int argc, char **argv) {
       {"conformal_ellipsoid", conformal_ellipsoid}, {"balance_centroid", balance_centroid},
       {"map_ellipsoid", map_ellipsoid},             {"resolved_schedule", resolved_schedule},
       {"map_spiky", map_spiky},
-      {"map_bumpy", map_bumpy}, {"map_dumbbell", map_dumbbell}, {"polish_when_needed", polish_when_needed}, {"order_independent", order_independent}, {"plan_in_thread", plan_in_thread}, {"undone_steps_leave_no_trace", undone_steps_leave_no_trace},                     {"restore_shapes", restore_shapes}, {"lantern_retry", lantern_retry}, {"angle_steps", angle_steps},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
+      {"map_bumpy", map_bumpy}, {"map_dumbbell", map_dumbbell}, {"polish_when_needed", polish_when_needed}, {"order_independent", order_independent}, {"plan_in_thread", plan_in_thread}, {"undone_steps_leave_no_trace", undone_steps_leave_no_trace}, {"phase_transitions", phase_transitions},                     {"restore_shapes", restore_shapes}, {"lantern_retry", lantern_retry}, {"angle_steps", angle_steps},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
       {"folded_start_refused", folded_start_refused},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
