@@ -426,12 +426,42 @@ static int square_lattice(void) {
   return 0;
 }
 
+/* The corner shifts place every corner where the texture coordinates do (the vt of a corner is its
+ * vertex's position plus its face's lattice translation), and the torus domain keeps z = 0. */
+static int corner_shifts(void) {
+  au_mesh *m = make_torus(2, 12);
+  au_topo *t = NULL;
+  au_torus_start *s = NULL;
+  AU_CHECK(m != NULL);
+  AU_CHECK_STATUS(topo_of(m, 1, &t, NULL), AU_OK, NULL);
+  AU_CHECK_STATUS(au_torus_init(m, t, &s, NULL), AU_OK, NULL);
+  double *P = malloc(3 * sizeof(double) * (size_t)m->nv), *shift = malloc(9 * sizeof(double) * (size_t)m->nf), *vt = NULL;
+  int nvt = 0, *Ft = NULL;
+  AU_CHECK(P && shift);
+  au_torus_positions(s, (const double(*)[2])s->conformal, P);
+  au_torus_corner_shifts(s, (const double(*)[2])s->conformal, shift);
+  AU_CHECK_STATUS(au_torus_texcoords(s, m->F, (const double(*)[2])s->conformal, &nvt, &vt, &Ft, NULL), AU_OK, NULL);
+  for (int c = 0; c < 3 * m->nf; c++)
+    for (int q = 0; q < 2; q++) AU_CHECK_NEAR(P[3 * m->F[c] + q] + shift[3 * c + q], vt[2 * Ft[c] + q], 1e-14);
+  au_advect_domain d = au_torus_domain();
+  double p[3] = {0.25, 0.5, 1}, dd[3] = {1, 2, 3};
+  d.constrain(d.ctx, 0, p, dd);
+  d.retract(d.ctx, 0, p);
+  AU_CHECK(dd[0] == 1 && dd[1] == 2 && dd[2] == 0 && p[0] == 0.25 && p[1] == 0.5 && p[2] == 0 && !d.spherical);
+  free(P), free(shift), free(vt), free(Ft);
+  au_torus_start_free(&s);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"homology_forms", homology_forms},   {"conformal_modulus", conformal_modulus},
       {"data_tori", data_tori},             {"scale_invariance", scale_invariance},
       {"shared_meshes", shared_meshes},     {"bad_topology", bad_topology},
       {"api_result", api_result},           {"square_lattice", square_lattice},
+      {"corner_shifts", corner_shifts},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof *cases));
 }

@@ -3,7 +3,8 @@
 # and generated ones), the shared genus-1 meshes (bob, rocker_arm), the statuses of wrong topologies,
 # and the public API's torus result (au_map with AU_TARGET_TORUS).
 au_test_module(test_torus test_torus.c
-  homology_forms conformal_modulus data_tori scale_invariance shared_meshes bad_topology api_result square_lattice)
+  homology_forms conformal_modulus data_tori scale_invariance shared_meshes bad_topology api_result square_lattice
+  corner_shifts)
 
 # `authalic torus` end to end (tests/cli/torus_runs.sh).
 foreach(c data shared no_flow_yet genus0 open not_obj bad_lattice)

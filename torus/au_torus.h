@@ -27,6 +27,7 @@
 #ifndef AU_TORUS_H
 #define AU_TORUS_H
 
+#include "au_advect.h"
 #include "au_mesh.h"
 
 #ifdef __cplusplus
@@ -90,6 +91,16 @@ double au_torus_face_area(const au_torus_start *s, const int *F, int f);
 
 /* Folded faces (lifted signed area <= 0) of s with faces F. */
 int au_torus_count_folds(const au_torus_start *s, const int *F);
+
+/* The plane translation of every corner in lattice L, for a flow that keeps the faces' lattice
+ * translations fixed while the vertices move (DESIGN.md "Genus 1", step 7): corner k of face f lies
+ * at P[F[3f+k]] + shift[9f+3k..9f+3k+2] (z = 0), P from au_torus_positions. shift: out [0..9*nf-1]. */
+void au_torus_corner_shifts(const au_torus_start *s, const double L[2][2], double *shift);
+
+/* The torus as an advection domain (common/au_advect.h): planar, no boundary; constrain zeroes the
+ * displacement's z, retract sets z = 0. The flow must also read the corner shifts, which
+ * au_advect_domain cannot carry yet (docs/torus.md, step 7). */
+au_advect_domain au_torus_domain(void);
 
 /* Seamless per-corner texture coordinates in lattice L: vertex i's own copy is vt row i (its
  * position in the fundamental domain); each distinct nonzero corner offset of a vertex adds one row,

@@ -348,3 +348,27 @@ nomem:
   free(key), free(ft);
   return au_msg_set(msg, AU_E_NOMEM, "torus: out of memory for the texture coordinates");
 }
+
+void au_torus_corner_shifts(const au_torus_start *s, const double L[2][2], double *shift) {
+  for (size_t c = 0; c < 3 * (size_t)s->nf; c++) {
+    const int *o = s->off + 2 * c;
+    shift[3 * c] = o[0] * L[0][0] + o[1] * L[1][0], shift[3 * c + 1] = o[0] * L[0][1] + o[1] * L[1][1], shift[3 * c + 2] = 0;
+  }
+}
+
+static void torus_constrain(void *ctx, int i, const double *p, double *d) {
+  (void)ctx, (void)i, (void)p;
+  d[2] = 0;
+}
+
+static void torus_retract(void *ctx, int i, double *p) {
+  (void)ctx, (void)i;
+  p[2] = 0;
+}
+
+au_advect_domain au_torus_domain(void) {
+  au_advect_domain d;
+  memset(&d, 0, sizeof d);
+  d.constrain = torus_constrain, d.retract = torus_retract, d.spherical = 0;
+  return d;
+}
