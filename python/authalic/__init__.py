@@ -129,7 +129,8 @@ def _bad(text):
 
 
 def version():
-    """The library's version, "MAJOR.MINOR.PATCH" (au_version)."""
+    """The version of the loaded libauthalic, "MAJOR.MINOR.PATCH" (au_version); also
+    authalic.__version__. The JSON report of a map names the same version under "version"."""
     return __version__
 
 
@@ -584,7 +585,7 @@ def _wait(thread, call):
 
 
 def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_faces=False, progress=False,
-             init_only=False, _report_extra=None, **kwargs):
+             init_only=False, _report_extra=None, _stacklevel=2, **kwargs):
     """Map the mesh (V, F) onto target and return everything the library computed (a MapResult).
 
     target: "sphere", "disk", "annulus" or "square". The other arguments are those of sphere(),
@@ -624,7 +625,7 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
     if st < 0:
         _raise(st, msg)
     for w in out.warnings:
-        _warnings.warn(w, AuthalicWarning, stacklevel=3)
+        _warnings.warn(w, AuthalicWarning, stacklevel=_stacklevel)
     return out
 
 
@@ -666,7 +667,7 @@ _RETURNS_DOC = """
 
 def sphere(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=False, progress=False, *,
            restore_shapes=None, balance=True, init_only=False):
-    r = map_mesh(V, F, "sphere", steps, tol, density, angles, refine_faces, progress, init_only,
+    r = map_mesh(V, F, "sphere", steps, tol, density, angles, refine_faces, progress, init_only, _stacklevel=3,
                  restore_shapes=restore_shapes, balance=None if balance else False)
     return r.P, r.info
 
@@ -688,7 +689,7 @@ sphere.__doc__ = """Map a closed genus-0 triangle mesh onto the unit sphere with
 
 
 def _planar(target, V, F, steps, tol, density, angles, refine_faces, progress, init_only, **kw):
-    r = map_mesh(V, F, target, steps, tol, density, angles, refine_faces, progress, init_only, **kw)
+    r = map_mesh(V, F, target, steps, tol, density, angles, refine_faces, progress, init_only, _stacklevel=4, **kw)
     return r.P[:, :2].copy(), r.info
 
 
