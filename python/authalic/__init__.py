@@ -37,7 +37,10 @@ Threads and interrupts. The GIL is released while a map runs, so two threads may
 once. A map started from the main thread runs in a helper thread while the main thread waits:
 Ctrl-C (KeyboardInterrupt, or any exception a signal handler raises) sets the map's cancel flag, the
 map stops at its next step, everything it allocated is freed, and the exception is raised in the
-caller. A map started from another thread runs in that thread (signals are not delivered there).
+caller. A map started from another thread runs in that thread (Python handles signals in the main
+thread only): to make Ctrl-C stop it, let the main thread wait on a threading.Event the worker sets
+when done (not on Thread.join, which Python 3.11 may get wrong when interrupted) and, on
+KeyboardInterrupt, have the map's progress callable return True.
 
 Thread settings and bit-identity with the program. CHOLMOD's OpenMP regions and OpenBLAS's threads
 read OMP_THREAD_LIMIT and OPENBLAS_NUM_THREADS when those libraries are loaded. The `authalic`
@@ -555,32 +558,47 @@ class _Call:
             return 1
 
 
-def _run_map(Va, Fa, tcode, o, call, target, extra):
-    res = _ct.POINTER(_lib.Result)()
-    msg = _lib.Msg()
-    st = _L.au_map(_pd(Va), Va.shape[0], _pi(Fa), Fa.shape[0], tcode, _ct.byref(o), _ct.byref(res), _ct.byref(msg))
+def _run_map(Va, Fa, tcode, o, call, target, extra, keep, done=None):
+    """au_map and the copy of its result; the outcome goes to call. keep holds arrays o points
+    into (the density), alive until au_map has returned. done (an Event) is set at the very end."""
     try:
-        out = _collect(res, target, extra) if st >= 0 else None
-        call.outcome = (st, msg, out)
-    except BaseException as e:  # noqa: B902 - e.g. MemoryError while copying, re-raised by the caller
-        call.outcome = (st, msg, None)
-        call.exc = call.exc or e
-    finally:
-        _L.au_result_free(_ct.byref(res))
-
-
-def _wait(thread, call):
-    """Join the map's thread from the main thread. The join is timed, so a signal handled on any
-    thread is seen within 0.1 s; an exception it raises (KeyboardInterrupt) cancels the map, which
-    is then waited for; the first such exception is returned."""
-    pending = None
-    while thread.is_alive():
+        res = _ct.POINTER(_lib.Result)()
+        msg = _lib.Msg()
+        st = _L.au_map(_pd(Va), Va.shape[0], _pi(Fa), Fa.shape[0], tcode, _ct.byref(o), _ct.byref(res),
+                       _ct.byref(msg))
         try:
-            thread.join(0.1)
+            out = _collect(res, target, extra) if st >= 0 else None
+            call.outcome = (st, msg, out)
+        except BaseException as e:  # noqa: B902 - e.g. MemoryError while copying, re-raised by the caller
+            call.outcome = (st, msg, None)
+            call.exc = call.exc or e
+        finally:
+            _L.au_result_free(_ct.byref(res))
+    finally:
+        del keep
+        if done is not None:
+            done.set()
+
+
+def _wait(thread, done, call):
+    """Wait, in the main thread, for the map's thread to set done. The wait is timed, so a signal
+    handled on any thread is seen within 0.1 s; an exception its handler raises (KeyboardInterrupt)
+    sets the cancel flag and the wait goes on until the map has stopped; the first such exception
+    is returned. (Not Thread.join: in Python 3.11 a join interrupted by KeyboardInterrupt can mark a
+    running thread as stopped.)"""
+    pending = None
+    while not done.is_set():
+        try:
+            done.wait(0.1)
         except BaseException as e:  # noqa: B902 - re-raised by the caller once the map has stopped
             call.cancel.value = 1
             if pending is None:
                 pending = e
+    try:
+        thread.join()  # it has nothing left to do but end
+    except BaseException as e:  # noqa: B902
+        if pending is None:
+            pending = e
     return pending
 
 
@@ -607,16 +625,16 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
     pending = None
     try:
         if _threading.current_thread() is _threading.main_thread():
-            t = _threading.Thread(target=_run_map, args=(Va, Fa, tcode, o, call, target, _report_extra),
+            done = _threading.Event()
+            t = _threading.Thread(target=_run_map, args=(Va, Fa, tcode, o, call, target, _report_extra, dens, done),
                                   name="authalic-map")
             t.start()
-            pending = _wait(t, call)
+            pending = _wait(t, done, call)
         else:
-            _run_map(Va, Fa, tcode, o, call, target, _report_extra)
+            _run_map(Va, Fa, tcode, o, call, target, _report_extra, dens)
     finally:
         if call.bar is not None:
             call.bar.close()
-    del dens  # kept alive until au_map returned
     if pending is not None:
         raise pending
     st, msg, out = call.outcome

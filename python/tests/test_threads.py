@@ -1,0 +1,65 @@
+"""test_threads.py - the GIL is released while a map runs: two threads map two meshes at once, each
+getting the map it gets alone, and Python code runs beside a map."""
+import os
+import threading
+import time
+
+import numpy as np
+
+import authalic
+from conftest import DATA
+
+
+def test_two_threads_map_two_meshes_at_once(star):
+    Vd, Fd = authalic.read_mesh(os.path.join(DATA, "disk_bump.obj"))
+    alone = [authalic.sphere(*star)[0], authalic.disk(Vd, Fd)[0]]
+    spans = [[None, None], [None, None]]
+    out = [None, None]
+    errors = []
+    barrier = threading.Barrier(2)
+
+    def job(k):
+        def progress(step, n, err):  # first and last step seen, per job
+            t = time.monotonic()
+            spans[k][0] = spans[k][0] or t
+            spans[k][1] = t
+        try:
+            barrier.wait()
+            out[k] = (authalic.sphere(*star, progress=progress) if k == 0 else
+                      authalic.disk(Vd, Fd, progress=progress))[0]
+        except BaseException as e:  # noqa: B902 - reported below
+            errors.append(e)
+
+    threads = [threading.Thread(target=job, args=(k,)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
+    assert np.array_equal(out[0], alone[0]) and np.array_equal(out[1], alone[1])
+    # The two flows overlapped in time: each one's steps began before the other's ended.
+    (a0, a1), (b0, b1) = spans
+    assert a0 < b1 and b0 < a1, spans
+
+
+def test_python_runs_while_a_map_runs(star):
+    done = threading.Event()
+    result = []
+
+    def job():
+        result.append(authalic.sphere(*star, steps=30, tol=0)[1])
+        done.set()
+    t = threading.Thread(target=job)
+    t.start()
+    spins = 0
+    while not done.is_set():
+        spins += 1  # would barely move if the map held the GIL
+    t.join()
+    assert result and result[0]["folds"] == 0
+    assert spins > 10000, spins
+
+
+def test_the_main_thread_map_leaves_no_thread_behind(star):
+    before = threading.active_count()
+    authalic.sphere(*star, steps=2)
+    assert threading.active_count() == before
