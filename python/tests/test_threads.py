@@ -63,3 +63,23 @@ def test_the_main_thread_map_leaves_no_thread_behind(star):
     before = threading.active_count()
     authalic.sphere(*star, steps=2)
     assert threading.active_count() == before
+
+
+def test_numpy_imported_first_warns_and_blas_threads_repairs():
+    import subprocess
+    import sys
+    from conftest import ROOT
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_THREAD_LIMIT")}
+    env["PYTHONPATH"] = os.path.join(ROOT, "python")
+    code = ("import warnings; warnings.simplefilter('always')\n"
+            "import numpy, authalic\n"
+            "n = authalic.blas_threads(); print('before', n); print('after', authalic.blas_threads(1))")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert r.returncode == 0, r.stderr
+    if "before 1\n" in r.stdout:  # a one-core machine: OpenBLAS starts with one thread anyway
+        return
+    assert "AuthalicWarning" in r.stderr and "blas_threads(1)" in r.stderr and "after 1\n" in r.stdout
+    # Imported first, authalic sets one thread and says nothing.
+    r = subprocess.run([sys.executable, "-W", "always", "-c", "import authalic, numpy; print(authalic.blas_threads())"],
+                       capture_output=True, text=True, env=env)
+    assert r.returncode == 0 and r.stdout == "1\n" and not r.stderr, (r.stdout, r.stderr)
