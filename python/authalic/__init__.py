@@ -39,8 +39,9 @@ Ctrl-C (KeyboardInterrupt, or any exception a signal handler raises) sets the ma
 map stops at its next step, everything it allocated is freed, and the exception is raised in the
 caller. A map started from another thread runs in that thread (Python handles signals in the main
 thread only): to make Ctrl-C stop it, let the main thread wait on a threading.Event the worker sets
-when done (not on Thread.join, which Python 3.11 may get wrong when interrupted) and, on
-KeyboardInterrupt, have the map's progress callable return True.
+when done, in a loop with a timeout (`while not done.wait(0.1): pass`: the kernel may hand SIGINT
+to another thread, and an untimed wait would not see it; and not Thread.join, which Python 3.11
+may get wrong when interrupted) and, on KeyboardInterrupt, have the progress callable return True.
 
 Thread settings and bit-identity with the program. CHOLMOD's OpenMP regions and OpenBLAS's threads
 read OMP_THREAD_LIMIT and OPENBLAS_NUM_THREADS when those libraries are loaded. The `authalic`
