@@ -12,7 +12,8 @@ from conftest import DATA
 
 def test_two_threads_map_two_meshes_at_once(star):
     Vd, Fd = authalic.read_mesh(os.path.join(DATA, "disk_bump.obj"))
-    alone = [authalic.sphere(*star)[0], authalic.disk(Vd, Fd)[0]]
+    opts = dict(tol=0, steps=25)  # both run all their steps, so the two flows surely overlap
+    alone = [authalic.sphere(*star, **opts)[0], authalic.disk(Vd, Fd, **opts)[0]]
     spans = [[None, None], [None, None]]
     out = [None, None]
     errors = []
@@ -25,8 +26,8 @@ def test_two_threads_map_two_meshes_at_once(star):
             spans[k][1] = t
         try:
             barrier.wait()
-            out[k] = (authalic.sphere(*star, progress=progress) if k == 0 else
-                      authalic.disk(Vd, Fd, progress=progress))[0]
+            out[k] = (authalic.sphere(*star, progress=progress, **opts) if k == 0 else
+                      authalic.disk(Vd, Fd, progress=progress, **opts))[0]
         except BaseException as e:  # noqa: B902 - reported below
             errors.append(e)
 
