@@ -7,6 +7,8 @@
 #   make fuzz   the libFuzzer targets of tests/fuzz built with clang ($(FUZZ_DIR)), each run for
 #               FUZZ_SECONDS; any finding fails (tests/fuzz/run.sh says where it was saved)
 #   make scale  bench/scale.sh: generated meshes of 10k..1M faces mapped under /usr/bin/time -v
+#   make python the Python package (python/) installed for $(PYTHON) with its copy of the library;
+#               its pytest suite runs in `make test` (ctest case python.pytest, both builds)
 
 BUILD_DIR ?= build
 ASAN_DIR ?= build-asan
@@ -15,13 +17,14 @@ BUILD_TYPE ?= Release
 JOBS ?= 2
 FUZZ_SECONDS ?= 60
 DEFAULT_MESH ?= data/bumpy_star.obj
+PYTHON ?= /usr/bin/python3
 
 # Sanitizer findings exit with 86, a status no test expects (the CLI's own are 0, 1 and 2), so a
 # leak in a run that was meant to fail still fails its test.
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:exitcode=86:check_initialization_order=1:strict_string_checks=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:exitcode=86 LSAN_OPTIONS=exitcode=86
 
-.PHONY: all setup build build-asan build-fuzz run test test-asan fuzz bench scale clean
+.PHONY: all setup build build-asan build-fuzz run test test-asan fuzz bench scale python clean
 
 all: build
 
@@ -67,6 +70,10 @@ bench: build
 
 scale: build
 	bash bench/scale.sh --build $(BUILD_DIR)
+
+# Debian's interpreter (python3-numpy), not a python3 found first on PATH.
+python: build
+	sh python/install.sh $(PYTHON) $(BUILD_DIR)
 
 clean:
 	rm -rf $(BUILD_DIR) $(ASAN_DIR) $(FUZZ_DIR)

@@ -10,7 +10,8 @@ PACKAGES=(
   build-essential cmake pkg-config  # compilers, make, the build system
   libsuitesparse-dev libopenblas-dev  # CHOLMOD with a fast BLAS
   libopenmesh-dev libgeographiclib-dev libcjson-dev libpng-dev
-  python3-numpy  # the shared evaluator (param-eval) and the data and bench scripts
+  python3-numpy  # the shared evaluator (param-eval), the data and bench scripts, the Python package
+  python3-pytest python3-tqdm  # the Python package's tests; its progress bar
   time  # /usr/bin/time, used by the benchmarks
   strace  # holds a run at its write in the interrupted-write test
   clang libclang-rt-14-dev llvm  # libFuzzer and its runtime (make fuzz); llvm-symbolizer for sanitizer stacks

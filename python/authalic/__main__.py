@@ -1,0 +1,399 @@
+"""python3 -m authalic - the `authalic` program's map commands, through the Python binding.
+
+    python3 -m authalic sphere|disk|annulus|square IN OUT [options]
+    python3 -m authalic COMMAND --help | --version
+
+The same options, messages and exit statuses as the program (0 ok, also with warnings; 2 bad usage
+or bad input, with one error line; 1 internal or numerical failure). OUT and the report are
+written only when the whole run succeeded; an interrupted run (Ctrl-C) removes its temporary file
+and dies by the signal, as the program does.
+"""
+import json
+import math
+import os
+import signal
+import stat
+import sys
+import time
+
+import authalic
+from authalic import _lib
+
+EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
+COMMANDS = ("sphere", "disk", "annulus", "square")
+
+# name -> (metavar or None for a flag, commands, help); the program's option table, in its order.
+OPTIONS = [
+    ("report", "R.json", COMMANDS, "write a JSON report: metrics of the result and of the initial map, per-step "
+                                   "errors, stage times, warnings"),
+    ("steps", "K", COMMANDS, "most advection steps, 1..512 (default 60)"),
+    ("tol", "T", COMMANDS, "stop when the vertex mean |log area ratio| is below T, T >= 0 (default: 0.002 on the "
+                           "sphere, 0.003 on planar targets)"),
+    ("density", "FILE", COMMANDS, "prescribed density: one positive number per vertex (or per face) of IN, in "
+                                  "order, whitespace-separated; domain area is proportional to density x surface area"),
+    ("boundary", "MODE", COMMANDS[1:], "slide (default): boundary vertices slide along the domain's boundary "
+                                       "(square: corners fixed); fixed: the initial map's boundary is kept"),
+    ("inner-radius", "R", ("annulus",), "radius of the inner circle, 0 < R < 1 (default: the conformal modulus's)"),
+    ("outer-loop", "WHICH", ("annulus",), "the loop mapped to the unit circle: longer (default), shorter, or the "
+                                          "index of a vertex on it"),
+    ("corners", "I,J,K,L", ("square",), "boundary vertices (0-based) for the corners: I goes to (0,0), the others "
+                                        "to (1,0), (1,1), (0,1) in the order they follow I along the boundary"),
+    ("restore-shapes", "F", ("sphere",), "while the spherical areas are driven, aim each step's shear a fraction F "
+                                         "(0..1, default 0.1; 0: off) back at the surface's triangle shapes"),
+    ("refine-faces", None, COMMANDS, "once the vertex cells meet the tolerance, go on refining the triangles' areas "
+                                     "as long as it helps at all"),
+    ("angles", "N", COMMANDS, "N steps (1..50) towards the map of least Dirichlet energy with the vertex cells held "
+                              "at their areas"),
+    ("no-balance", None, ("sphere",), "skip the Moebius balancing of the conformal start"),
+    ("init-only", None, COMMANDS, "stop after the initial (conformal or harmonic) map, for comparison"),
+    ("quiet", None, COMMANDS, "no progress and no summary on stderr (errors and warnings remain)"),
+    ("help", None, COMMANDS, "this text"),
+]
+FLOW_ONLY = ("steps", "tol", "density", "refine-faces", "restore-shapes", "angles", "boundary")
+
+
+class Usage(Exception):
+    """A usage error: printed as one line with a pointer to --help; exit status 2."""
+
+
+class BadFile(Exception):
+    """A bad auxiliary input file (the density): printed as one line; exit status 2."""
+
+
+def usage_text(cmd):
+    lines = ["usage: python3 -m authalic %s IN OUT [options]" % cmd, "",
+             "Maps the triangle mesh IN onto the %s with equal area and writes the map to OUT (.obj .off or .ply),"
+             % {"sphere": "unit sphere", "disk": "unit disk", "annulus": "annulus of outer radius 1",
+                "square": "unit square"}[cmd],
+             "as `authalic %s` does (see help(authalic.%s) for the method)." % (cmd, cmd), "",
+             "options of %s:" % cmd]
+    for name, meta, cmds, text in OPTIONS:
+        if cmd in cmds:
+            head = "  --%s%s" % (name, " " + meta if meta else "")
+            lines.append("%-22s%s" % (head, text) if len(head) < 22 else head + "\n" + " " * 22 + text)
+    return "\n".join(lines) + "\n"
+
+
+def parse(argv):
+    """(command, IN, OUT, {option: value}) from argv (without the program name)."""
+    if not argv:
+        raise Usage("no command given")
+    cmd = argv[0]
+    if cmd not in COMMANDS:
+        raise Usage(("unknown option '%s'" if cmd.startswith("-") else "unknown command '%s'") % cmd)
+    known = {name: meta for name, meta, cmds, _ in OPTIONS if cmd in cmds}
+    pos, vals, dashdash, i = [], {}, False, 1
+    while i < len(argv):
+        s = argv[i]
+        i += 1
+        if dashdash or not s.startswith("-") or s == "-":
+            if len(pos) >= 2:
+                raise Usage("unexpected extra argument '%s'" % s)
+            pos.append(s)
+            continue
+        if s == "--":
+            dashdash = True
+            continue
+        name = s[2:] if s.startswith("--") else ("help" if s == "-h" else None)
+        if name not in known:
+            raise Usage("unknown option '%s'" % s)
+        if name == "help":
+            sys.stdout.write(usage_text(cmd))
+            raise SystemExit(EXIT_OK)
+        v = ""
+        if known[name] is not None:
+            if i >= len(argv):
+                raise Usage("option '%s' needs a value" % s)
+            v = argv[i]
+            i += 1
+            if name in ("report", "density") and not v:
+                raise Usage("option '%s' needs a file name" % s)
+        if name in vals:
+            raise Usage("option '%s' given twice" % s)
+        vals[name] = v
+    if len(pos) < 2:
+        raise Usage("missing input and output files" if not pos else "missing output file")
+    if not pos[0] or not pos[1]:
+        raise Usage("empty file name")
+    if "init-only" in vals and any(k in vals for k in FLOW_ONLY):
+        raise Usage("--init-only runs no advection: --steps, --tol, --density, --boundary, --refine-faces, "
+                    "--restore-shapes and --angles do not apply")
+    return cmd, pos[0], pos[1], vals
+
+
+def whole(name, v, lo, hi):
+    try:
+        x = int(v, 10)
+        if lo <= x <= hi and v.strip() == v:
+            return x
+    except ValueError:
+        pass
+    raise Usage("--%s '%s': expected a whole number from %d to %d" % (name, v, lo, hi))
+
+
+def nonneg(name, v, hi=None, what=None):
+    try:
+        x = float(v)
+        if math.isfinite(x) and x >= 0 and (hi is None or x <= hi) and v.strip() == v:
+            return x
+    except ValueError:
+        pass
+    raise Usage("--%s '%s': %s" % (name, v, what or "expected a finite number >= 0"))
+
+
+def map_kwargs(cmd, vals):
+    """The keyword arguments of authalic.map_mesh from the parsed options."""
+    kw = {}
+    if "steps" in vals:
+        kw["steps"] = whole("steps", vals["steps"], 1, _lib.AU_MAX_STEPS)
+    if "tol" in vals:
+        kw["tol"] = nonneg("tol", vals["tol"])
+    if "angles" in vals:
+        kw["angles"] = whole("angles", vals["angles"], 1, _lib.AU_MAX_ANGLE_STEPS)
+    if "restore-shapes" in vals:
+        kw["restore_shapes"] = nonneg("restore-shapes", vals["restore-shapes"], 1, "expected a number from 0 to 1")
+    kw["refine_faces"] = "refine-faces" in vals
+    kw["init_only"] = "init-only" in vals
+    if "no-balance" in vals:
+        kw["balance"] = False
+    if "boundary" in vals:
+        if vals["boundary"] not in ("slide", "fixed"):
+            raise Usage("--boundary '%s': expected slide or fixed" % vals["boundary"])
+        kw["boundary"] = vals["boundary"]
+    if "inner-radius" in vals:
+        r = nonneg("inner-radius", vals["inner-radius"], 1, "expected a number between 0 and 1 (exclusive)")
+        if not 0 < r < 1:
+            raise Usage("--inner-radius '%s': expected a number between 0 and 1 (exclusive)" % vals["inner-radius"])
+        kw["inner_radius"] = r
+    if "outer-loop" in vals:
+        v = vals["outer-loop"]
+        if v in ("longer", "shorter"):
+            kw["outer_loop"] = v
+        else:
+            try:
+                kw["outer_loop"] = whole("outer-loop", v, 0, 2 ** 31 - 1)
+            except Usage:
+                raise Usage("--outer-loop '%s': expected longer, shorter or a vertex index" % v) from None
+    if "corners" in vals:
+        parts = vals["corners"].split(",")
+        try:
+            if len(parts) != 4:
+                raise Usage("")
+            kw["corners"] = [whole("corners", p, 0, 2 ** 31 - 1) for p in parts]
+        except Usage:
+            raise Usage("--corners '%s': expected four vertex indices I,J,K,L" % vals["corners"]) from None
+    return kw
+
+
+def same_file(a, b):
+    if a == b:
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_outputs(src, out, report):
+    if same_file(src, out):
+        raise Usage("output '%s' is the input file; refusing to overwrite it" % out)
+    if report and same_file(report, src):
+        raise Usage("report '%s' is the input file" % report)
+    if report and same_file(report, out):
+        raise Usage("report '%s' is the output file" % report)
+    if not authalic._L.au_mesh_can_write(os.fsencode(out)):
+        base = os.path.basename(out)
+        if "." not in base:
+            raise Usage("output '%s' has no extension (use .obj, .off or .ply)" % out)
+        raise Usage("cannot write '%s' files (output '%s'; use .obj, .off or .ply)" % (base[base.rindex("."):], out))
+    for path, what in ((out, "output"), (report, "report")):
+        if not path:
+            continue
+        if os.path.isdir(path):
+            raise Usage("%s '%s' is a directory" % (what, path))
+        d = os.path.dirname(path)
+        if d and not os.path.isdir(d):
+            raise Usage("%s '%s': directory '%s' does not exist" % (what, path, d))
+
+
+def fail(path, text, bad):
+    """The one error line; returns the exit status."""
+    if text.startswith(path + ":"):
+        sys.stderr.write("authalic: error: %s\n" % text)
+    else:
+        sys.stderr.write("authalic: error: %s: %s\n" % (path, text))
+    return EXIT_USAGE if bad else EXIT_INTERNAL
+
+
+def read_density(path, nv, nf):
+    try:
+        with open(path) as f:
+            toks = f.read().split()
+    except OSError as e:
+        raise BadFile("%s: cannot open the density file: %s" % (path, e.strerror)) from None
+    vals = []
+    for k, t in enumerate(toks):
+        try:
+            x = float(t)
+        except ValueError:
+            x = math.nan
+        if not (math.isfinite(x) and x > 0):
+            raise BadFile("%s: value %d ('%s') is not a positive finite number" % (path, k + 1, t))
+        vals.append(x)
+    if len(vals) not in (nv, nf):
+        raise BadFile("%s: %d values; the mesh has %d vertices and %d faces" % (path, len(vals), nv, nf))
+    return vals
+
+
+class Progress:
+    """The program's progress display: one line redrawn on a terminal, else a line a second after
+    the first second."""
+
+    def __init__(self):
+        self.t0 = self.t_last = time.monotonic()
+        self.tty = sys.stderr.isatty()
+        self.drawn = False
+
+    def __call__(self, step, max_steps, err):
+        t = time.monotonic()
+        if t - self.t0 <= 1.0 and not self.tty:
+            return
+        if self.tty:
+            sys.stderr.write("\rauthalic: step %d/%d  err %.3e " % (step, max_steps, err))
+            self.drawn = True
+        elif t - self.t_last >= 1.0:
+            sys.stderr.write("authalic: step %d/%d  err %.3e\n" % (step, max_steps, err))
+            self.t_last = t
+        sys.stderr.flush()
+
+    def end(self):
+        if self.drawn:
+            sys.stderr.write("\n")
+        self.drawn = False
+
+
+def summary(cmd, r, seconds):
+    m = r.info["metrics"]
+    head = "authalic: %s: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g" % (
+        cmd, r.P.shape[0], r.F.shape[0], r.info["steps"], m["folds"], m["r_mean_abs_dev"] or math.nan,
+        m["vertex_logr_mean_abs"] or math.nan)
+    if cmd == "sphere":
+        lr = r.info["convergence"].get("lantern_retry")
+        tail = "" if not lr else " (lantern retry kept)" if lr["kept"] else " (lantern retry discarded)"
+        sys.stderr.write("%s time=%.2fs%s\n" % (head, seconds, tail))
+        return
+    extra = ""
+    if cmd == "annulus":
+        extra = " inner_radius=%.6g modulus_radius=%.6g" % (r.inner_radius, r.modulus_radius)
+    elif cmd == "square":
+        extra = " corners=%d,%d,%d,%d split=%d" % (tuple(r.corners) + (r.nsplit,))
+    sys.stderr.write("%s boundary_dev=%.2g%s start=%s time=%.2fs\n" % (head, r.boundary_dev, extra,
+                                                                        r.init_method or "?", seconds))
+
+
+def run(cmd, src, out, vals):
+    t_start = time.monotonic()
+    quiet = "quiet" in vals
+    report = vals.get("report")
+    kw = map_kwargs(cmd, vals)
+    check_outputs(src, out, report)
+    t0 = time.monotonic()
+    try:
+        V, F = authalic.read_mesh(src)
+    except authalic.Error as e:
+        return fail(src, str(e), isinstance(e, authalic.BadInputError))
+    t_read = time.monotonic() - t0
+    if "density" in vals:
+        try:
+            kw["density"] = read_density(vals["density"], V.shape[0], F.shape[0])
+        except BadFile as e:
+            sys.stderr.write("authalic: error: %s\n" % e)
+            return EXIT_USAGE
+    extra = _lib.ReportExtra(os.fsencode(src), os.fsencode(out), ("authalic " + authalic.__version__).encode(),
+                             t_read, -1.0, -1.0, None, 0)
+    prog = None if quiet else Progress()
+    import warnings
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", authalic.AuthalicWarning)
+            r = authalic.map_mesh(V, F, cmd, progress=prog or False, _report_extra=extra, **kw)
+    except authalic.Error as e:
+        if prog:
+            prog.end()
+        if e.status == _lib.AU_E_ARG:  # a bad corner or outer-loop vertex: name the option as a flag
+            text = str(e)
+            head, sep, rest = text.partition(":")
+            return fail(src, "--" + head.replace("_", "-") + sep + rest if sep else text, True)
+        return fail(src, str(e), isinstance(e, authalic.BadInputError))
+    finally:
+        if prog:
+            prog.end()
+    for w in r.warnings:
+        sys.stderr.write("authalic: warning: %s: %s\n" % (src, w))
+    # Written under a temporary name, renamed into place only when the report is written too.
+    d, base = os.path.split(out)
+    tmp = os.path.join(d, ".authalic-%d-%s" % (os.getpid(), base))
+    try:
+        t0 = time.monotonic()
+        try:
+            authalic.write_mesh(tmp, r.P, r.F, uv=r.uv)
+        except authalic.Error as e:
+            return fail(out, str(e), isinstance(e, authalic.BadInputError))
+        try:
+            old = os.stat(out)
+            if stat.S_ISREG(old.st_mode):
+                os.chmod(tmp, stat.S_IMODE(old.st_mode))
+        except OSError:
+            pass
+        t_write = time.monotonic() - t0
+        if report:
+            info = r.info
+            times = info["time"]
+            total = times.pop("total") + t_write
+            times["write"], times["total"] = t_write, total
+            text = json.dumps(info, indent="\t", allow_nan=False) + "\n"
+            msg = _lib.Msg()
+            data = text.encode()
+            st = authalic._L.au_write_text(os.fsencode(report), data, len(data), msg)
+            if st < 0:
+                return fail(report, msg.text.decode() or "cannot write the report", authalic._L.au_status_is_input_error(st))
+        os.replace(tmp, out)
+        tmp = None
+    finally:
+        if tmp and os.path.exists(tmp):
+            os.unlink(tmp)
+    if not quiet:
+        summary(cmd, r, time.monotonic() - t_start)
+    return EXIT_OK
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    cmd = argv[0] if argv and argv[0] in COMMANDS else None
+    help_ref = "python3 -m authalic %s--help" % (cmd + " " if cmd else "")
+    if argv and argv[0] in ("--help", "-h", "--version"):
+        if len(argv) > 1:
+            sys.stderr.write("authalic: error: unexpected argument '%s' after '%s' (see `%s`)\n" % (argv[1], argv[0],
+                                                                                                  help_ref))
+            return EXIT_USAGE
+        if argv[0] == "--version":
+            print("authalic %s (python %s)" % (authalic.__version__, ".".join(map(str, sys.version_info[:3]))))
+        else:
+            print(__doc__.strip())
+        return EXIT_OK
+    try:
+        cmd, src, out, vals = parse(argv)
+        return run(cmd, src, out, vals)
+    except Usage as e:
+        sys.stderr.write("authalic: error: %s (see `%s`)\n" % (e, help_ref))
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        # Die by the signal, as the program does (the temporary was removed on the way out).
+        sys.stderr.flush()
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGINT)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

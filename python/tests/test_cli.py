@@ -1,0 +1,105 @@
+"""test_cli.py - `python -m authalic`: the program's map commands through the binding: the same OUT
+byte for byte and the same report keys and metrics as the program, exit statuses 0/1/2 with one
+error line, nothing written on failure."""
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+import authalic
+import authalic.__main__ as cli_main
+from conftest import DATA, ROOT, cli
+
+PY = sys.executable
+STAR = os.path.join(DATA, "bumpy_star.obj")
+DISK = os.path.join(DATA, "disk_bump.obj")
+
+
+def run_py(*args):
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "python"))
+    return subprocess.run([PY, "-m", "authalic"] + [str(a) for a in args], capture_output=True, text=True, env=env)
+
+
+def keys(d, prefix=""):
+    out = set()
+    for k, v in d.items():
+        out.add(prefix + k)
+        if isinstance(v, dict):
+            out |= keys(v, prefix + k + ".")
+    return out
+
+
+@pytest.mark.parametrize("cmd, src, opts", [("sphere", STAR, []), ("disk", DISK, ["--steps", "6"]),
+                                            ("square", DISK, ["--boundary", "fixed"])])
+def test_same_output_and_report_as_the_program(tmp_path, cmd, src, opts):
+    prog = cli()
+    a = subprocess.run([prog, cmd, src, tmp_path / "c.obj", "--report", tmp_path / "c.json"] + opts,
+                       capture_output=True, text=True)
+    b = run_py(cmd, src, tmp_path / "p.obj", "--report", tmp_path / "p.json", *opts)
+    assert a.returncode == 0 and b.returncode == 0, (a.stderr, b.stderr)
+    assert (tmp_path / "c.obj").read_bytes() == (tmp_path / "p.obj").read_bytes()
+    ra, rb = json.loads((tmp_path / "c.json").read_text()), json.loads((tmp_path / "p.json").read_text())
+    assert keys(ra) == keys(rb)
+    for k in ("metrics", "initial_metrics", "convergence", "steps", "V", "F", "folds", "warnings", "command"):
+        assert ra.get(k) == rb.get(k), k
+    assert rb["input"] == src and rb["output"] == str(tmp_path / "p.obj")
+    # The summary lines agree but for the time.
+    cut = lambda s: s.strip().splitlines()[-1].rsplit(" time=", 1)[0]  # noqa: E731
+    assert cut(a.stderr) == cut(b.stderr)
+
+
+@pytest.mark.parametrize("args, words", [
+    ([], "no command"),
+    (["cube", STAR, "o.obj"], "unknown command"),
+    (["sphere"], "missing input"),
+    (["sphere", STAR], "missing output"),
+    (["sphere", STAR, "o.obj", "--steps", "0"], "--steps"),
+    (["sphere", STAR, "o.obj", "--tol", "x"], "--tol"),
+    (["sphere", STAR, "o.obj", "--corners", "1,2,3,4"], "unknown option"),
+    (["sphere", STAR, "o.obj", "--steps", "3", "--steps", "4"], "twice"),
+    (["sphere", STAR, "o.obj", "--init-only", "--steps", "3"], "--init-only"),
+    (["sphere", STAR, "o.xyz"], "cannot write"),
+    (["sphere", STAR, STAR], "input file"),
+    (["sphere", "missing.obj", "o.obj"], "missing.obj"),
+    (["sphere", DISK, "o.obj"], "boundary"),
+    (["disk", STAR, "o.obj"], "closed mesh"),
+    (["square", DISK, "o.obj", "--corners", "0,1,2,3"], "--corners"),
+    (["annulus", DISK, "o.obj", "--inner-radius", "1"], "--inner-radius"),
+    (["sphere", STAR, "o.obj", "--density", "missing.txt"], "density"),
+])
+def test_bad_usage_and_input_exit_2_with_one_line(tmp_path, args, words):
+    args = [str(tmp_path / a) if a in ("o.obj", "o.xyz", "missing.obj", "missing.txt") else a for a in args]
+    r = run_py(*args)
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("authalic: error: ") and words in lines[0], r.stderr
+    assert not [p for p in os.listdir(tmp_path) if not p.startswith("missing")]
+
+
+def test_density_file_and_bad_values(tmp_path):
+    V, F = authalic.read_mesh(STAR)
+    good, bad = tmp_path / "d.txt", tmp_path / "bad.txt"
+    good.write_text("\n".join(["1.5"] * V.shape[0]))
+    bad.write_text("1 2 -3")
+    assert run_py("sphere", STAR, tmp_path / "o.obj", "--density", good, "--quiet").returncode == 0
+    r = run_py("sphere", STAR, tmp_path / "o2.obj", "--density", bad, "--quiet")
+    assert r.returncode == 2 and "positive finite" in r.stderr and not (tmp_path / "o2.obj").exists()
+
+
+def test_internal_failure_exits_1(tmp_path, monkeypatch, capsys):
+    def fail(*a, **k):
+        raise authalic.Error("numerical failure in the solve", -4, "AU_E_NUMERIC")
+    monkeypatch.setattr(authalic, "map_mesh", fail)
+    rc = cli_main.main(["sphere", STAR, str(tmp_path / "o.obj")])
+    err = capsys.readouterr().err
+    assert rc == 1 and err.count("\n") == 1 and "numerical failure" in err
+    assert not (tmp_path / "o.obj").exists()
+
+
+def test_help_and_version():
+    r = run_py("sphere", "--help")
+    assert r.returncode == 0 and "--steps" in r.stdout and "--corners" not in r.stdout
+    r = run_py("--version")
+    assert r.returncode == 0 and authalic.version() in r.stdout
