@@ -40,6 +40,7 @@ void au_result_free(au_result **rp) {
   if (!rp || !*rp) return;
   au_result *r = *rp;
   free(r->P), free(r->P0), free(r->X), free(r->F), free(r->uv), free(r->vt), free(r->Ft);
+  free(r->parent), free(r->parent_t);
   free(r->conv.err), free(r->conv.face_err), free(r->conv.frac);
   free(r);
   *rp = NULL;
@@ -188,6 +189,42 @@ static au_status keep_log(au_result *r, const au_advect_report *f, au_msg *msg) 
   return AU_OK;
 }
 
+/* The refined mesh replaces the input's in the result (au_options.refine_mesh). P0 of a new vertex is
+ * its parents' start midpoint on the sphere, so that the initial metrics cover the same mesh. */
+static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_report *rep, au_msg *msg) {
+  au_result *r = x->r;
+  au_mesh *mr = NULL;
+  double *Pr = NULL, *prm = NULL;
+  int *par = NULL, nnew = 0;
+  double t0 = now_s();
+  au_status st = au_sphere_refine(x->m, r->P, so, 2, &mr, &Pr, &par, &prm, &nnew, rep, msg);
+  r->t_flow += now_s() - t0;
+  if (st < 0) return st;
+  double *P0 = realloc(r->P0, sizeof(double) * 3 * (size_t)mr->nv);
+  double *X = malloc(sizeof(double) * 3 * (size_t)mr->nv);
+  int *F = malloc(sizeof(int) * 3 * (size_t)mr->nf);
+  if (P0) r->P0 = P0;
+  if (!P0 || !X || !F) {
+    au_mesh_free(&mr), free(Pr), free(par), free(prm), free(X), free(F);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory for the refined mesh");
+  }
+  for (int k = 0; k < nnew; k++) {
+    const double *a = P0 + 3 * (size_t)par[2 * k], *b = P0 + 3 * (size_t)par[2 * k + 1];
+    double *p = P0 + 3 * (size_t)(x->m->nv + k), n = 0;
+    for (int d = 0; d < 3; d++) p[d] = a[d] + b[d], n += p[d] * p[d];
+    for (int d = 0; d < 3; d++) p[d] /= sqrt(n);
+  }
+  memcpy(X, mr->X, sizeof(double) * 3 * (size_t)mr->nv);
+  memcpy(F, mr->F, sizeof(int) * 3 * (size_t)mr->nf);
+  free(r->P), free(r->X), free(r->F);
+  r->P = Pr, r->X = X, r->F = F, r->nv = mr->nv, r->nf = mr->nf;
+  r->nrefined = nnew, r->parent = par, r->parent_t = prm;
+  au_mesh_free(&mr);
+  if (nnew) warn(r, "refined: %d edges split, %d faces (the input has %d); vertices %d..%d are new", nnew, r->nf, x->m->nf,
+                 x->m->nv, r->nv - 1);
+  return st;
+}
+
 static au_status run_sphere(map_run *x, au_msg *msg) {
   au_result *r = x->r;
   au_status st;
@@ -206,6 +243,7 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
   if (!rep) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
   st = au_sphere_map(x->m, x->t, &so, r->P, r->P0, rep, msg);
   r->t_init = rep->t_init, r->t_flow = rep->t_flow;
+  if (st >= 0 && x->o->refine_mesh) st = refine_sphere(x, &so, rep, msg);
   if (st >= 0) {
     au_status s2 = keep_log(r, &rep->flow, msg);
     r->conv.lantern_retry = rep->retry, r->conv.retry_err[0] = rep->retry_err[0], r->conv.retry_err[1] = rep->retry_err[1];

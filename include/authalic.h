@@ -296,6 +296,12 @@ typedef struct au_options {
   const au_expert *expert; /* the flow's tuning (au_expert_default); NULL (default): the target's
                               defaults with refine_faces applied. When given, it replaces them all. */
   au_lattice lattice;     /* torus: AU_LATTICE_CONFORMAL (default) or AU_LATTICE_SQUARE */
+  int refine_mesh;        /* sphere: 1: after the flow, split the map's long edges where a chord
+                             triangle cannot shrink to its share (the chord floor), with new vertices on
+                             the input surface, and flow again; up to three rounds, at most twice the
+                             input's faces. The result's mesh is then the refined one (nv > nv_in) and
+                             au_result.parent tells where each new vertex lies. 0 (default): the
+                             input's mesh */
 } au_options;
 
 AU_API au_options au_options_default(void);
@@ -440,6 +446,12 @@ typedef struct au_result {
   int *Ft;                /* Ft [0..3*nf-1]: the vt row of each corner. Seamless: the two faces of an edge
                              place its two ends at positions that differ by one lattice vector; the faces'
                              vt triangles tile the plane periodically and cover area 1 per period */
+  int nrefined;            /* sphere with refine_mesh: vertices added, nv - nv_in; else 0 */
+  int *parent;             /* parent [0..2*nrefined-1]: new vertex nv_in + k lies on the segment from
+                              vertex parent[2k] to vertex parent[2k+1] (a parent may be a new vertex with
+                              a smaller number), at parent_t[k]; NULL without refinement */
+  double *parent_t;        /* parent_t [0..nrefined-1]: X[nv_in + k] = (1 - t) X[parent[2k]] +
+                              t X[parent[2k+1]] (0.5: the midpoint); NULL without refinement */
 } au_result;
 
 /* Map the mesh (V, F) onto target t.

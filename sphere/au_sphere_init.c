@@ -46,6 +46,10 @@ static int pick_face(const au_mesh *m, const double *area) {
  * out "folded" by rounding alone. */
 typedef long double xreal;
 
+/* The compressed start (attempt 2): the largest jump of the flat log scale across a triangle left where
+ * protrusions are compressed (docs/hard-meshes.md). */
+#define AU_SQUEEZE_JUMP 0.3
+
 /* Inverse stereographic projection of the plane points (x[i], y[i]) scaled by s onto the unit sphere. */
 static void inverse_stereo(int nv, const unsigned char *used, const xreal *x, const xreal *y, xreal s, double *P) {
   for (int i = 0; i < nv; i++) {
@@ -157,17 +161,78 @@ static int to_sphere(const au_mesh *m, const au_topo *t, xreal *x, xreal *y, dou
   return neg;
 }
 
+
+/* The log length scale u of the flat metric conformal to the surface with all its curvature at the
+ * puncture: (L u)_i = -K_i (K the angle defect) at every vertex but the puncture's corners, which take
+ * the 4 pi of Gauss-Bonnet. One solve with the factored cotan Laplacian; u is a plain scalar, so it
+ * holds squeezes of e^-80 that no map's coordinates can. */
+static au_status flat_log_scale(const au_mesh *m, const au_topo *t, au_solver *solver, const int *c, double *u,
+                                double *b, au_msg *msg) {
+  const int nv = m->nv;
+  for (int i = 0; i < nv; i++) b[i] = t->vused[i] ? -2 * M_PI : 0;
+  for (int f = 0; f < m->nf; f++) {
+    const int *v = m->F + 3 * f;
+    for (int k = 0; k < 3; k++) {
+      const double *p = m->X + 3 * v[k], *q = m->X + 3 * v[(k + 1) % 3], *r = m->X + 3 * v[(k + 2) % 3];
+      double e1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+      double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      b[v[k]] += atan2(sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]), e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]);
+    }
+  }
+  for (int k = 0; k < 3; k++) b[c[k]] += 4 * M_PI / 3;
+  memset(u, 0, sizeof(double) * nv);
+  return au_solver_solve(solver, 1, b, u, msg);
+}
+
+/* Cotan weights of the surface compressed, face by face, along the gradient of the flat log scale u
+ * where u jumps by more than jmax across a triangle: by the factor jmax / jump there. A protrusion of
+ * length L and girth C is squeezed by the conformal map like e^(-2 pi L / C) in length; compressed along
+ * its length by beta it is squeezed like e^(-2 pi beta L / C), so its triangles stay representable and
+ * the flow has a share near the limb's area to start from. The map stays a harmonic map with positive
+ * (after clamping) weights, only not conformal. w [0..ne-1] out. */
+static void compressed_weights(const au_mesh *m, const au_topo *t, const double *u, double umid, double jmax, double *G, double *w) {
+  const int nf = m->nf;
+  au_dec_face_grad(nf, m->F, m->X, u, G);
+  memset(w, 0, sizeof(double) * (size_t)t->ne);
+  for (int f = 0; f < nf; f++) {
+    const int *v = m->F + 3 * f;
+    double x[3][3], g[3] = {G[3 * f], G[3 * f + 1], G[3 * f + 2]};
+    for (int k = 0; k < 3; k++) memcpy(x[k], m->X + 3 * v[k], sizeof x[k]);
+    double e1[3], e2[3], cr[3];
+    for (int d = 0; d < 3; d++) e1[d] = x[1][d] - x[0][d], e2[d] = x[2][d] - x[0][d];
+    cr[0] = e1[1] * e2[2] - e1[2] * e2[1], cr[1] = e1[2] * e2[0] - e1[0] * e2[2], cr[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double area = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), h = sqrt(4 * area / sqrt(3.0));
+    /* Only in the squeezed half (below the median of u): near the puncture u also jumps, but there the
+     * map expands. */
+    double jump = gn * h, beta = jump > jmax && u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid ? jmax / jump : 1;
+    if (beta < 1)
+      for (int k = 0; k < 3; k++) {
+        double s = (x[k][0] * g[0] + x[k][1] * g[1] + x[k][2] * g[2]) / (gn * gn);
+        for (int d = 0; d < 3; d++) x[k][d] -= (1 - beta) * s * g[d];
+      }
+    for (int k = 0; k < 3; k++) {
+      const double *p = x[k], *q = x[(k + 1) % 3], *r = x[(k + 2) % 3];
+      double a1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, a2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+      double c2[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2], a1[0] * a2[1] - a1[1] * a2[0]};
+      double sn = sqrt(c2[0] * c2[0] + c2[1] * c2[1] + c2[2] * c2[2]);
+      if (sn > 0) w[t->FE[3 * f + k]] += 0.5 * (a1[0] * a2[0] + a1[1] * a2[1] + a1[2] * a2[2]) / sn;
+    }
+  }
+}
+
 au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_msg *msg) {
   if (!m || !t || !P || m->nv < 4 || m->nf < 4 || t->nv != m->nv) return au_msg_set(msg, AU_E_ARG, "sphere: bad arguments");
   const int nv = m->nv, nf = m->nf;
   au_status st = AU_OK;
   au_solver *solver = NULL;
   double *area = malloc(sizeof(double) * nf), *w = malloc(sizeof(double) * (t->ne ? t->ne : 1));
+  double *w0 = malloc(sizeof(double) * (t->ne ? t->ne : 1));
   double *b = malloc(sizeof(double) * 2 * nv), *z = malloc(sizeof(double) * 2 * nv), *work = malloc(sizeof(double) * nv);
-  double *r = malloc(sizeof(double) * 2 * nv), *dz = malloc(sizeof(double) * 2 * nv);
+  double *r = malloc(sizeof(double) * 3 * (size_t)(nv > nf ? nv : nf)), *dz = malloc(sizeof(double) * 2 * nv);
   xreal *zx = malloc(sizeof(xreal) * 2 * nv);
   unsigned char *fixed = calloc((size_t)nv, 1);
-  if (!area || !w || !b || !z || !work || !fixed || !r || !dz || !zx) {
+  if (!area || !w || !w0 || !b || !z || !work || !fixed || !r || !dz || !zx) {
     st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
     goto done;
   }
@@ -175,6 +240,7 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
   int f0 = pick_face(m, area);
   const int *c = m->F + 3 * f0;
   au_dec_cotan(t, m->F, m->X, w);
+  memcpy(w0, w, sizeof(double) * (size_t)t->ne);
 
   /* Frame of the punctured triangle: u along edge 01, v in-plane perpendicular. */
   const double *A = m->X + 3 * c[0], *B = m->X + 3 * c[1], *C = m->X + 3 * c[2];
@@ -199,8 +265,20 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
   }
   fixed[pin] = 1;
 
-  for (int attempt = 0; attempt < 3; attempt++) {
-    if (attempt == 1) {
+  for (int attempt = 0; attempt < 4; attempt++) {
+    if (attempt == 2) {
+      /* Cotan and clamped weights both folded: the protrusions are squeezed past what coordinates hold.
+       * Compress them along their length (compressed_weights), from the cotan solve's log scale. */
+      st = au_solver_factor(solver, w0, NULL, msg);
+      if (st == AU_OK) st = flat_log_scale(m, t, solver, c, z, b, msg);
+      if (st != AU_OK) goto done;
+      int n = 0;
+      for (int i = 0; i < nv; i++)
+        if (t->vused[i]) work[n++] = z[i];
+      qsort(work, (size_t)n, sizeof(double), cmp_dbl);
+      compressed_weights(m, t, z, work[n / 2], AU_SQUEEZE_JUMP, r, w);
+    }
+    if (attempt == 1 || attempt == 2) {
       /* Obtuse triangles folded the map: clamp the weights positive (a small fraction of the mean). */
       double mean = 0;
       for (int e = 0; e < t->ne; e++) mean += fabs(w[e]);
@@ -211,7 +289,7 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
     au_solver_free(&solver);
     memset(b, 0, sizeof(double) * 2 * nv);
     memset(z, 0, sizeof(double) * 2 * nv);
-    if (attempt < 2) {
+    if (attempt < 3) {
       /* Source: minus the (d/du - i d/dv) derivative of the hat functions at the puncture. The gradient of
        * the hat function of corner k is n x (opposite edge) / (2 area). */
       for (int k = 0; k < 3; k++) {
@@ -238,14 +316,14 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
     if (st != AU_OK) goto done;
     int folds = to_sphere(m, t, zx, zx + nv, P, work);
     if (folds == 0) goto done;
-    if (attempt == 2) {
+    if (attempt == 3) {
       st = au_msg_set(msg, AU_E_FOLD, "sphere: the conformal map has %d folded triangles", folds);
       goto done;
     }
   }
 done:
   au_solver_free(&solver);
-  free(area), free(w), free(b), free(z), free(work), free(fixed), free(r), free(dz), free(zx);
+  free(area), free(w), free(w0), free(b), free(z), free(work), free(fixed), free(r), free(dz), free(zx);
   return st;
 }
 

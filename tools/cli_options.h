@@ -62,6 +62,11 @@ enum {
     "N steps (1..%M) towards the map of least Dirichlet energy with the vertex cells held at their areas: less "     \
     "angle distortion, vertex cells within about 1e-4, the triangles' areas held near theirs (on the sphere from "  \
     "a vertex error of 0.01 on, elsewhere after the flow)")                                                          \
+  X(OPT_REFINE_MESH, "refine-mesh", "SURF", CLI_FILE, CLI_SPHERE,                                                    \
+    "split the map's long edges where a chord triangle cannot shrink to its share, with new vertices on the "     \
+    "input's edges, and flow again (at most twice the faces); OUT gets the refined mesh's map, SURF its surface, "  \
+    "SURF.parents.txt one line per new vertex: its number, its parents' numbers (0-based) and t, the vertex being " \
+    "(1 - t) parent1 + t parent2")                                                                                   \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
   X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_MAPS | CLI_TORUS,                                                \
     "stop after the initial (conformal or harmonic) map, for comparison")                                            \
@@ -98,7 +103,8 @@ enum {
 /* The ids, each once. */
 typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
-  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_NO_BALANCE, OPT_INIT_ONLY, OPT_LATTICE, OPT_PROJECTION, OPT_LONLAT,
+  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_NO_BALANCE, OPT_INIT_ONLY, OPT_LATTICE,
+  OPT_PROJECTION, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
   OPT_COUNT
 } cli_opt_id;

@@ -74,6 +74,7 @@ static int map_options(const cli_args *a, au_options *o) {
   if ((v = a->val[OPT_RESTORE]) && (cli_parse_nonneg(v, &o->restore_shapes) || o->restore_shapes > 1))
     return cli_usage_error(h, "--restore-shapes '%s': expected a number from 0 to 1", v);
   o->refine_faces = a->val[OPT_REFINE_FACES] != NULL;
+  o->refine_mesh = a->val[OPT_REFINE_MESH] != NULL;
   o->init_only = a->val[OPT_INIT_ONLY] != NULL;
   o->balance = a->val[OPT_NO_BALANCE] == NULL;
   if ((v = a->val[OPT_BOUNDARY])) {
@@ -202,6 +203,28 @@ static au_target target_of(int cmd) {
          : cmd == CLI_TORUS ? AU_TARGET_TORUS : AU_TARGET_SPHERE;
 }
 
+/* --refine-mesh SURF: the refined surface, and SURF.parents.txt (written to a temporary, then renamed).
+ * -1 to go on, else the exit code. */
+static int write_refined(const char *surf, const au_result *r) {
+  au_msg msg = {{0}};
+  au_status st = au_mesh_write(surf, r->nv, r->X, r->nf, r->F, NULL, &msg);
+  if (st < 0) return cli_fail(surf, st, &msg);
+  char path[4096], tmp[4200];
+  snprintf(path, sizeof path, "%s.parents.txt", surf);
+  snprintf(tmp, sizeof tmp, "%s.tmp", path);
+  FILE *fp = fopen(tmp, "w");
+  int ok = fp != NULL;
+  for (int k = 0; ok && k < r->nrefined; k++)
+    ok = fprintf(fp, "%d %d %d %.17g\n", r->nv_in + k, r->parent[2 * k], r->parent[2 * k + 1], r->parent_t[k]) > 0;
+  if (fp && fclose(fp) != 0) ok = 0;
+  if (!ok || rename(tmp, path) != 0) {
+    remove(tmp);
+    fprintf(stderr, "authalic: error: %s: cannot write: %s\n", path, strerror(errno));
+    return EXIT_INTERNAL;
+  }
+  return -1;
+}
+
 /* The command after parsing: read, map, write. */
 static int run_map(const cli_args *a, au_options *o) {
   double t_start = cli_now();
@@ -251,6 +274,7 @@ static int run_map(const cli_args *a, au_options *o) {
   w.uv = r->uv;
   /* The torus keeps the surface in `v` and puts the map in the per-corner `vt`. */
   if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
+  if (a->val[OPT_REFINE_MESH] && (rc = write_refined(a->val[OPT_REFINE_MESH], r)) >= 0) goto done;
   rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
   if (rc == EXIT_OK && !quiet) summary(a->cmd, r, cli_now() - t_start);
 done:

@@ -1,0 +1,213 @@
+/* au_sphere_refine.c - refinement of a sphere map where the chord floor binds (issue 21, point 3).
+ *
+ * A long edge of the map keeps the chord triangles beside it from shrinking to their share (the chord
+ * runs l^2/8 under the sphere; docs/hard-meshes.md): no motion of the input's vertices removes that.
+ * So those edges are split: the new vertex lies on the surface at the edge's midpoint (exact: the
+ * average of two points of one surface triangle) and on the sphere at the midpoint of the great arc,
+ * which splits each spherical triangle into spherical sub-triangles, so the refined map is as fold-free
+ * as the map it came from. Then the flow runs again on the refined mesh from there. Rounds repeat
+ * while faces still sit on the floor and the face budget allows. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "au_dec.h"
+#include "au_sphere.h"
+
+/* A face counts as held by the floor when its chord floor exceeds this fraction of its share: from
+ * there the polish's steps shrink towards nothing at it (docs/hard-meshes.md). */
+#define AU_REFINE_FLOOR_SHARE 0.5
+
+/* Rounds of split and re-flow at most. */
+#define AU_REFINE_ROUNDS 3
+
+typedef struct split_cand {
+  double key;
+  int e;
+} split_cand;
+
+static int cmp_cand(const void *a, const void *b) {
+  const split_cand *p = a, *q = b;
+  if (p->key != q->key) return p->key > q->key ? -1 : 1;
+  return (p->e > q->e) - (p->e < q->e);
+}
+
+static double dist3(const double *a, const double *b) {
+  return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* The edges to split: of each face held by the floor, its longest chord edge; the most held first,
+ * while each split's two new faces fit the budget. mark [0..ne-1] out (1: split). Returns their count. */
+static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, int budget, unsigned char *mark,
+                      split_cand *cand) {
+  const int nf = m->nf;
+  double *As = malloc(sizeof(double) * (size_t)nf);
+  if (!As) return -1;
+  au_dec_face_areas(nf, m->F, m->X, As);
+  double sAs = 0;
+  for (int f = 0; f < nf; f++) sAs += As[f];
+  int nc = 0;
+  for (int f = 0; f < nf; f++) {
+    const int *v = m->F + 3 * f;
+    const double *a = P + 3 * v[0], *b = P + 3 * v[1], *c = P + 3 * v[2];
+    double share = 4 * M_PI * As[f] / sAs, floor_area = au_dec_sphere_chord_floor(a, b, c);
+    if (!(floor_area > AU_REFINE_FLOOR_SHARE * share)) continue;
+    int kbest = 0;
+    double lbest = -1;
+    for (int k = 0; k < 3; k++) {
+      double l = dist3(P + 3 * v[(k + 1) % 3], P + 3 * v[(k + 2) % 3]);
+      if (l > lbest) lbest = l, kbest = k;
+    }
+    cand[nc++] = (split_cand){floor_area / share, t->FE[3 * f + kbest]};
+  }
+  free(As);
+  qsort(cand, (size_t)nc, sizeof *cand, cmp_cand);
+  memset(mark, 0, (size_t)t->ne);
+  int n = 0;
+  for (int k = 0; k < nc; k++) {
+    int e = cand[k].e;
+    if (mark[e]) continue;
+    int cost = (t->EF[2 * e] >= 0) + (t->EF[2 * e + 1] >= 0);
+    if (cost > budget) break;
+    mark[e] = 1, budget -= cost, n++;
+  }
+  return n;
+}
+
+/* One round of splitting: m, P (nv x 3) and the parents grow in place. Faces keep their index for
+ * their first piece; the other pieces and the new vertices are appended. */
+static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const unsigned char *mark, int nsplit,
+                             int **parent, double **param, int *nnew, au_msg *msg) {
+  const au_mesh *m = *mp;
+  const int nv = m->nv, nf = m->nf;
+  int *vid = malloc(sizeof(int) * (size_t)(t->ne > 0 ? t->ne : 1));
+  int nf2 = nf;
+  for (int f = 0; f < nf; f++)
+    for (int k = 0; k < 3; k++) nf2 += mark[t->FE[3 * f + k]];
+  au_mesh *m2 = NULL;
+  double *P2 = malloc(sizeof(double) * 3 * (size_t)(nv + nsplit));
+  int *par2 = realloc(*parent, sizeof(int) * 2 * (size_t)(*nnew + nsplit));
+  if (par2) *parent = par2;
+  double *prm2 = realloc(*param, sizeof(double) * (size_t)(*nnew + nsplit));
+  if (prm2) *param = prm2;
+  if (!vid || !P2 || !par2 || !prm2 || au_mesh_alloc(nv + nsplit, nf2, &m2) != AU_OK) {
+    free(vid), free(P2);
+    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  }
+  memcpy(m2->X, m->X, sizeof(double) * 3 * (size_t)nv);
+  memcpy(P2, *Pp, sizeof(double) * 3 * (size_t)nv);
+  int k = nv;
+  for (int e = 0; e < t->ne; e++) {
+    vid[e] = -1;
+    if (!mark[e]) continue;
+    int a = t->E[2 * e], b = t->E[2 * e + 1];
+    double *x = m2->X + 3 * k, *p = P2 + 3 * k, r = 0;
+    for (int d = 0; d < 3; d++) {
+      x[d] = 0.5 * (m->X[3 * a + d] + m->X[3 * b + d]);
+      p[d] = P2[3 * a + d] + P2[3 * b + d];
+      r += p[d] * p[d];
+    }
+    r = sqrt(r);
+    for (int d = 0; d < 3; d++) p[d] /= r;
+    (*parent)[2 * *nnew] = a, (*parent)[2 * *nnew + 1] = b, (*param)[*nnew] = 0.5;
+    (*nnew)++;
+    vid[e] = k++;
+  }
+  int fo = nf;
+#define PUT(f, x, y, z) (m2->F[3 * (f)] = (x), m2->F[3 * (f) + 1] = (y), m2->F[3 * (f) + 2] = (z))
+  for (int f = 0; f < nf; f++) {
+    const int *v = m->F + 3 * f;
+    /* mid[k]: the new vertex on the edge opposite corner k, or -1. */
+    int mid[3], ns = 0;
+    for (int q = 0; q < 3; q++) mid[q] = vid[t->FE[3 * f + q]], ns += mid[q] >= 0;
+    if (ns == 0) {
+      PUT(f, v[0], v[1], v[2]);
+    } else if (ns == 1 || ns == 2) {
+      /* Turn the face so that corner 0 is opposite the split edge (one split) or the unsplit one (two). */
+      int r0 = 0;
+      for (int q = 0; q < 3; q++)
+        if ((ns == 1) == (mid[q] >= 0)) r0 = q;
+      int a = v[r0], b = v[(r0 + 1) % 3], c = v[(r0 + 2) % 3];
+      int ma = mid[r0], mb = mid[(r0 + 1) % 3], mc = mid[(r0 + 2) % 3];
+      if (ns == 1) {
+        PUT(f, a, b, ma);
+        PUT(fo, a, ma, c), fo++;
+      } else {
+        PUT(f, a, mc, mb);
+        PUT(fo, mc, b, c), fo++;
+        PUT(fo, mc, c, mb), fo++;
+      }
+    } else {
+      int a = v[0], b = v[1], c = v[2], ma = mid[0], mb = mid[1], mc = mid[2];
+      PUT(f, a, mc, mb);
+      PUT(fo, mc, b, ma), fo++;
+      PUT(fo, mb, ma, c), fo++;
+      PUT(fo, ma, mb, mc), fo++;
+    }
+  }
+#undef PUT
+  free(vid);
+  au_mesh_free(mp);
+  *mp = m2;
+  free(*Pp);
+  *Pp = P2;
+  return AU_OK;
+}
+
+au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,
+                           au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
+                           au_sphere_report *rep, au_msg *msg) {
+  if (!m || !P || !out || !Pout || !parent || !param || !nnew || !(max_faces >= 1))
+    return au_msg_set(msg, AU_E_ARG, "refine: bad arguments");
+  *out = NULL, *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0;
+  au_sphere_opts o = opts ? *opts : au_sphere_opts_default();
+  au_mesh *mr = NULL;
+  au_status st = au_mesh_copy(m, &mr);
+  double *Pr = malloc(sizeof(double) * 3 * (size_t)m->nv);
+  if (st != AU_OK || !Pr) {
+    au_mesh_free(&mr), free(Pr);
+    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  }
+  memcpy(Pr, P, sizeof(double) * 3 * (size_t)m->nv);
+  const long cap = (long)(max_faces * m->nf);
+  au_advect_domain dom = au_sphere_domain();
+  for (int round = 0; round < AU_REFINE_ROUNDS && st >= 0; round++) {
+    au_topo *t = NULL;
+    au_status s2 = au_mesh_topology(mr, &t, msg);
+    unsigned char *mark = s2 == AU_OK ? malloc((size_t)t->ne) : NULL;
+    split_cand *cand = mark ? malloc(sizeof *cand * (size_t)mr->nf) : NULL;
+    int n = 0;
+    if (s2 == AU_OK && !cand) s2 = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+    if (s2 == AU_OK) {
+      long budget = cap - mr->nf;
+      n = pick_edges(mr, t, Pr, budget > 0x3fffffff ? 0x3fffffff : (int)budget, mark, cand);
+      if (n < 0) s2 = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+    }
+    if (s2 == AU_OK && n > 0) s2 = split_round(&mr, t, &Pr, mark, n, parent, param, nnew, msg);
+    free(mark), free(cand);
+    au_topo_free(&t);
+    if (s2 != AU_OK) {
+      st = s2;
+      break;
+    }
+    if (n == 0) break;
+    /* The flow again on the refined mesh, from the split map (fold-free: spherical sub-triangles). */
+    if ((s2 = au_mesh_topology(mr, &t, msg)) == AU_OK) {
+      au_advect_report *ar = rep ? &rep->flow : NULL;
+      s2 = au_advect_run(mr, t, &dom, &o.flow, Pr, ar, msg);
+    }
+    au_topo_free(&t);
+    if (s2 < 0) {
+      st = s2;
+      break;
+    }
+    st = s2;
+  }
+  if (st < 0) {
+    au_mesh_free(&mr), free(Pr), free(*parent), free(*param);
+    *parent = NULL, *param = NULL, *nnew = 0;
+    return st;
+  }
+  *out = mr, *Pout = Pr;
+  return st;
+}
