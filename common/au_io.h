@@ -6,7 +6,16 @@
  * reach au_mesh_validate unrepaired. STL (float positions, no shared vertices) is read by OpenMesh,
  * which merges equal positions in order of first appearance; its facet count is checked against the
  * file's (AU_E_FORMAT if OpenMesh dropped any). Writers go to a temporary file beside the target
- * and rename it into place, so a failed run never leaves a partial or clobbered file. */
+ * and rename it into place, so a failed run never leaves a partial or clobbered file.
+ *
+ * Neuroimaging surfaces (issue 19): FreeSurfer binary triangle surfaces (`lh.white`, found by their
+ * magic number 0xFFFFFE whatever the name; au_io_freesurfer.c) and GIfTI surfaces (.gii, .surf.gii,
+ * gzip-compressed .gii.gz, or a file that starts as XML; read and written through Debian's GIfTI
+ * library, au_io_gifti.c). What those formats carry besides the mesh (FreeSurfer's created-by line
+ * and volume-geometry footer, GIfTI's metadata and coordinate systems) is kept in an au_io_meta that
+ * au_io_read_meta returns and au_io_write takes, so an output keeps what its input said. Per-vertex
+ * values (curvature, thickness, sulcal depth, the areal distortion of a map) are read and written by
+ * au_io_read_scalars / au_io_write_scalars: text, FreeSurfer curv, GIfTI .shape.gii / .func.gii. */
 #ifndef AU_IO_H
 #define AU_IO_H
 
@@ -16,7 +25,49 @@
 extern "C" {
 #endif
 
-/* Read a triangle mesh from path; the format follows the extension (.obj .off .ply .stl, any case).
+/* The file formats. AU_IO_FORMAT_AUTO means "not given": the output's extension decides. */
+typedef enum au_io_format {
+  AU_IO_FORMAT_AUTO = 0,
+  AU_IO_FORMAT_OBJ,
+  AU_IO_FORMAT_OFF,
+  AU_IO_FORMAT_PLY,
+  AU_IO_FORMAT_STL,        /* read only */
+  AU_IO_FORMAT_FREESURFER, /* binary triangle surface, big-endian */
+  AU_IO_FORMAT_GIFTI       /* .gii; .gii.gz is written gzip-compressed */
+} au_io_format;
+
+/* The format a path's name asks for: .obj .off .ply .stl (any case), .gii or .gii.gz (also
+ * .surf.gii, .shape.gii, ...); AU_IO_FORMAT_AUTO for any other name (FreeSurfer's names, such as
+ * `lh.white` or `rh.sphere.reg`, say nothing about the format). NULL gives AU_IO_FORMAT_AUTO. */
+au_io_format au_io_format_of_name(const char *path);
+
+/* The format named by a word as `--format` takes it: obj, off, ply, freesurfer, gifti (lower case);
+ * AU_IO_FORMAT_AUTO for anything else (or NULL). */
+au_io_format au_io_format_parse(const char *word);
+
+/* The lower-case name of a format ("obj", ..., "freesurfer", "gifti"; "auto"). Never NULL. */
+const char *au_io_format_name(au_io_format f);
+
+/* What a neuroimaging file carries besides its mesh, kept so that an output can say it again:
+ * the format read; for FreeSurfer the created-by line and the bytes after the faces (the volume
+ * geometry footer and any tags, kept as they are); for GIfTI the file's metadata and the pointset's
+ * metadata and coordinate systems. Opaque; free with au_io_meta_free. */
+typedef struct au_io_meta au_io_meta;
+
+/* The format of the file the metadata was read from (AU_IO_FORMAT_AUTO for NULL). */
+au_io_format au_io_meta_format(const au_io_meta *meta);
+
+/* A value of the metadata: for GIfTI a name of the file's or the pointset's metadata
+ * ("AnatomicalStructurePrimary", "GeometricType", ...), for FreeSurfer "created_by" (the created-by
+ * line); NULL if absent. The string belongs to meta. */
+const char *au_io_meta_get(const au_io_meta *meta, const char *name);
+
+/* Free *meta and set it to NULL; NULL-safe. */
+void au_io_meta_free(au_io_meta **meta);
+
+/* Read a triangle mesh from path. A FreeSurfer surface is recognized by its magic number and a GIfTI
+ * file by its name (.gii, .gii.gz) or its first bytes (XML, or gzip under a .gii.gz name); anything
+ * else by the extension (.obj .off .ply .stl, any case).
  * Polygons with more than three corners are rejected (AU_E_FACE), not silently triangulated.
  * On success *out owns the mesh (free with au_mesh_free).
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO (missing, unreadable, a directory),
@@ -24,18 +75,37 @@ extern "C" {
  * AU_E_EMPTY, AU_E_INDEX, AU_E_FACE. */
 au_status au_io_read(const char *path, au_mesh **out, au_msg *msg);
 
+/* au_io_read, and also what the file carries besides the mesh: on success *meta (if meta is not
+ * NULL) owns the file's metadata (free with au_io_meta_free; for OBJ, OFF, PLY and STL it records
+ * only the format). On failure *meta is NULL. Returns what au_io_read returns. */
+au_status au_io_read_meta(const char *path, au_mesh **out, au_io_meta **meta, au_msg *msg);
+
 /* Options for writing. */
 typedef struct au_io_write_opts {
   const double *uv; /* uv [0..2*nv-1]: per-vertex texture coordinates written as OBJ `vt`; may be NULL (default) */
-  int precision;    /* significant digits for coordinates, 1..17 (default 17: exact round trip) */
+  int precision;    /* significant digits for coordinates, 1..17 (default 17: exact round trip); text formats
+                       only: FreeSurfer and GIfTI store float32 coordinates */
+  au_io_format format;        /* AU_IO_FORMAT_AUTO (default): by the extension of path; otherwise this format
+                                 whatever the name (STL cannot be written) */
+  const au_io_meta *meta;     /* the input's metadata, carried into FreeSurfer and GIfTI outputs: the
+                                 FreeSurfer footer byte for byte, the GIfTI metadata (AnatomicalStructure*,
+                                 coordinate systems); NULL (default): none. A FreeSurfer footer goes only
+                                 into a FreeSurfer output, GIfTI metadata only into a GIfTI one. */
+  const char *geometric_type; /* GIfTI GeometricType of the output's pointset ("Spherical", "Flat", ...);
+                                 NULL (default): the input's, if it had one */
 } au_io_write_opts;
 
 au_io_write_opts au_io_write_opts_default(void);
 
-/* Write vertices P (nv x 3, row-major) with the faces of m to path; the format follows the
- * extension (.obj .off .ply). ASCII, input vertex order and faces. Written to a temporary file in
- * the target's directory and renamed over path only when complete.
- * opts may be NULL for defaults. Returns AU_OK, AU_E_ARG, AU_E_IO, AU_E_FORMAT (unknown extension). */
+/* Write vertices P (nv x 3, row-major) with the faces of m to path; the format is opts->format, or
+ * follows the extension (.obj .off .ply .gii .gii.gz). OBJ, OFF and PLY are ASCII; FreeSurfer is
+ * big-endian binary with a created-by line (and the footer of opts->meta if it came from a
+ * FreeSurfer file); GIfTI has a float32 POINTSET and an int32 TRIANGLE array, base64 of gzip data.
+ * Input vertex order and faces. Written to a temporary file in the target's directory and renamed
+ * over path only when complete.
+ * opts may be NULL for defaults. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO, AU_E_FORMAT (unknown
+ * extension and no format given, or a format that cannot be written, or a coordinate beyond float32
+ * for FreeSurfer and GIfTI). */
 au_status au_io_write(const char *path, const au_mesh *m, const double *P, const au_io_write_opts *opts,
                       au_msg *msg);
 
@@ -66,6 +136,26 @@ void au_io_remove_pending(void);
 
 /* 1 if the extension of path is one au_io_write can produce, else 0. */
 int au_io_can_write(const char *path);
+
+/* Read n per-vertex values from path into *out (malloc'ed, n doubles, owned by the caller; NULL on
+ * failure). The format: a FreeSurfer curv file (found by its magic number 0xFFFFFF, float32 values),
+ * GIfTI (.gii or .gii.gz, e.g. .shape.gii or .func.gii, or XML content: the one data array that is
+ * neither a POINTSET nor a TRIANGLE, one value per vertex), or text: numbers separated by blanks,
+ * commas or line ends, with `#` starting a comment line. n > 0: exactly n values are expected;
+ * n == 0: any positive count is taken. *count (may be NULL) gets the count read. Every value must
+ * be finite. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO (missing, unreadable), AU_E_FORMAT
+ * (malformed, truncated, a non-finite value, another count than n; msg says which). */
+au_status au_io_read_scalars(const char *path, int n, double **out, int *count, au_msg *msg);
+
+/* Write n per-vertex values: GIfTI (a float32 NIFTI_INTENT_SHAPE array; gzip-compressed for .gii.gz)
+ * when path ends in .gii or .gii.gz (.shape.gii, .func.gii), otherwise a FreeSurfer curv file
+ * (magic 0xFFFFFF, n, nfaces, 1 value per vertex, big-endian float32). nfaces: the mesh's face count,
+ * which a curv header records (0 if unknown). meta (may be NULL): the input's metadata; a GIfTI
+ * output carries its AnatomicalStructurePrimary and AnatomicalStructureSecondary. Written
+ * atomically as au_io_write. Returns AU_OK, AU_E_ARG (n <= 0, NULL values), AU_E_NOMEM, AU_E_IO,
+ * AU_E_FORMAT (a value that is not finite or beyond float32). */
+au_status au_io_write_scalars(const char *path, int n, const double *values, int nfaces, const au_io_meta *meta,
+                              au_msg *msg);
 
 #ifdef __cplusplus
 }

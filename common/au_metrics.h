@@ -49,6 +49,19 @@ typedef struct au_metrics {
 au_status au_metrics_compute(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
                              au_metrics *out, double *ups, double *lam);
 
+/* Per-vertex areal distortion of the map X -> P, as HCP's convention (and param-eval's vertex cells):
+ * out[i] = log2((vd_i / sum vd) / (vs_i / sum vs)), where vd_i and vs_i are the barycentric vertex
+ * areas (a third of each incident triangle's area) on the domain and on the surface. On the sphere
+ * the domain triangles are the chord triangles (what param-eval measures), so the values do not
+ * depend on the sphere's radius; planar domains drop z. Positive where the map gives a vertex more
+ * than its share. A vertex whose cell is degenerate on either side (at most 1e-14 of the total, e.g.
+ * a vertex no face uses) gets 0 and is counted in *ndegenerate.
+ * X, P: nv x 3 row-major; F: nf x 3. out: caller-allocated, nv doubles. ndegenerate may be NULL.
+ * Returns AU_OK, AU_E_ARG (NULL arrays, nv or nf <= 0, an index out of range, zero total area),
+ * AU_E_NOMEM. */
+au_status au_metrics_vertex_distortion(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
+                                       double *out, int *ndegenerate);
+
 #ifdef __cplusplus
 }
 #endif
