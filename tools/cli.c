@@ -94,12 +94,9 @@ int cli_check_outputs(const char *help, const char *in, const char *out, const c
   if (cli_same_file(in, out)) return cli_usage_error(help, "output '%s' is the input file; refusing to overwrite it", out);
   if (report && cli_same_file(report, in)) return cli_usage_error(help, "report '%s' is the input file", report);
   if (report && cli_same_file(report, out)) return cli_usage_error(help, "report '%s' is the output file", report);
-  if (!au_io_can_write(out)) {
-    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
-    if (!dot || (slash && dot < slash))
-      return cli_usage_error(help, "output '%s' has no extension (use .obj, .off or .ply)", out);
-    return cli_usage_error(help, "cannot write '%s' files (output '%s'; use .obj, .off or .ply)", dot, out);
-  }
+  if (au_io_format_of_name(out) == AU_IO_FORMAT_STL)
+    return cli_usage_error(help, "cannot write '%s' files (output '%s'; use .obj, .off, .ply, .gii or --format)",
+                           strrchr(out, '.'), out);
   int rc = cli_check_writable_path(help, out, "output");
   if (rc == 0 && report) rc = cli_check_writable_path(help, report, "report");
   return rc;
@@ -144,17 +141,78 @@ void cli_warn(cli_warnings *w, const char *path, const char *fmt, ...) {
   }
 }
 
+int cli_parse_neuro(const char *help, int argc, char **argv, int *i, int allow_radius, cli_neuro_args *n) {
+  const char *s = argv[*i];
+  if (strcmp(s, "--format") && strcmp(s, "--distortion") && (!allow_radius || strcmp(s, "--radius"))) return 0;
+  if (*i + 1 >= argc) return cli_usage_error(help, "option '%s' needs a value", s), -1;
+  const char *v = argv[++*i];
+  if (strcmp(s, "--format") == 0) {
+    if (n->format != AU_IO_FORMAT_AUTO) return cli_usage_error(help, "option '%s' given twice", s), -1;
+    if ((n->format = au_io_format_parse(v)) == AU_IO_FORMAT_AUTO)
+      return cli_usage_error(help, "--format '%s': expected obj, off, ply, freesurfer or gifti", v), -1;
+  } else if (strcmp(s, "--distortion") == 0) {
+    if (n->distortion) return cli_usage_error(help, "option '%s' given twice", s), -1;
+    if (!*v) return cli_usage_error(help, "option '--distortion' needs a file name"), -1;
+    n->distortion = v;
+  } else {
+    if (n->has_radius++) return cli_usage_error(help, "option '%s' given twice", s), -1;
+    if (cli_parse_nonneg(v, &n->radius) || !(n->radius > 0) || n->radius > 1e30)
+      return cli_usage_error(help, "--radius '%s': expected a positive number", v), -1;
+  }
+  return 1;
+}
+
+void cli_print_neuro_options(int radius) {
+  printf("  --format F       write OUT as obj, off, ply, freesurfer (binary triangle surface, big-endian,\n"
+         "                   float32) or gifti (.gii; gzip-compressed for a .gii.gz name); default: by OUT's\n"
+         "                   extension, and an OUT with none (lh.sphere.authalic) gets the input's format\n"
+         "  --distortion FILE  per-vertex areal distortion log2(map area share / surface area share) of\n"
+         "                   the barycentric vertex cells (HCP's convention): a FreeSurfer curv file, or\n"
+         "                   GIfTI when FILE ends in .gii (e.g. .shape.gii)\n");
+  if (radius)
+    printf("  --radius R       write the sphere with radius R > 0 (FreeSurfer and HCP spheres: 100); the\n"
+           "                   metrics and the report are those of the unit sphere (default 1)\n");
+}
+
+int cli_output_format(const char *help, const char *out, au_io_format forced, const au_io_meta *in_meta,
+                      au_io_format *fmt) {
+  au_io_format f = forced != AU_IO_FORMAT_AUTO ? forced : au_io_format_of_name(out);
+  if (f == AU_IO_FORMAT_AUTO) f = au_io_meta_format(in_meta);
+  if (f == AU_IO_FORMAT_AUTO || f == AU_IO_FORMAT_STL)
+    return cli_usage_error(help, "output '%s' has no extension of a format that can be written and the input is %s "
+                           "(use .obj, .off, .ply, .gii or --format)", out, au_io_format_name(f));
+  *fmt = f;
+  return 0;
+}
+
+int cli_write_distortion(const char *path, const au_mesh *m, const double *P, au_domain domain,
+                         const au_io_meta *meta) {
+  au_msg msg = {{0}};
+  double *d = malloc((size_t)m->nv * sizeof *d);
+  if (!d) return cli_fail(path, AU_E_NOMEM, NULL);
+  au_status st = au_metrics_vertex_distortion(m->nv, m->nf, m->X, P, m->F, domain, d, NULL);
+  if (st == AU_OK) st = au_io_write_scalars(path, m->nv, d, m->nf, meta, &msg);
+  free(d);
+  return st == AU_OK ? -1 : cli_fail(path, st, &msg);
+}
+
 int cli_load(const char *in, const au_mesh_expect *ex, au_mesh **m, au_topo **t, cli_warnings *w,
              au_report_stage *stages, int *nst) {
+  return cli_load_meta(in, ex, m, t, NULL, w, stages, nst);
+}
+
+int cli_load_meta(const char *in, const au_mesh_expect *ex, au_mesh **m, au_topo **t, au_io_meta **meta,
+                  cli_warnings *w, au_report_stage *stages, int *nst) {
   au_msg msg = {{0}};
   double t0 = cli_now();
-  au_status st = au_io_read(in, m, &msg);
+  au_status st = au_io_read_meta(in, m, meta, &msg);
   if (st != AU_OK) return cli_fail(in, st, &msg);
   stages[(*nst)++] = (au_report_stage){"read", cli_now() - t0};
   t0 = cli_now();
   st = au_mesh_validate(*m, ex, t, &msg);
   if (st < 0) {
     au_mesh_free(m);
+    if (meta) au_io_meta_free(meta);
     return cli_fail(in, st, &msg);
   }
   if (st > 0) cli_warn(w, in, "%s", msg.text[0] ? msg.text : au_status_str(st));

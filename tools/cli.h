@@ -46,10 +46,43 @@ int cli_parse_int(const char *s, long lo, long hi, int *out);
 int cli_parse_nonneg(const char *s, double *out);
 /* 1 if a and b name the same file: the same string, or the same inode when both exist. */
 int cli_same_file(const char *a, const char *b);
-/* The usual checks of an output mesh path against the input and report paths (same file, known
- * extension, existing directory). report may be NULL. Returns 0 or a usage error (help names the
- * command's help). */
+/* The usual checks of an output mesh path against the input and report paths (same file, a format
+ * that can be written, existing directory). An OUT without a known extension is accepted here: it
+ * takes the input's format or --format's (cli_output_format decides once the input is read); one
+ * that names a format that cannot be written (.stl) is refused. report may be NULL. Returns 0 or a
+ * usage error (help names the command's help). */
 int cli_check_outputs(const char *help, const char *in, const char *out, const char *report);
+/* The options of issue 19 that the map commands share: --format NAME (how OUT is written),
+ * --distortion FILE (per-vertex areal distortion as a curv or .shape.gii file) and, for the sphere,
+ * --radius R (the written sphere's radius). */
+typedef struct cli_neuro_args {
+  au_io_format format; /* --format, AU_IO_FORMAT_AUTO if not given */
+  const char *distortion;
+  double radius;       /* --radius, 1 if not given */
+  int has_radius;
+} cli_neuro_args;
+
+/* If argv[*i] is --format or --distortion (or --radius when allow_radius), take it and its value
+ * (advancing *i) and return 1; return 0 if it is none of them; print a usage error and return -1
+ * when its value is missing or bad or it was given twice. */
+int cli_parse_neuro(const char *help, int argc, char **argv, int *i, int allow_radius, cli_neuro_args *n);
+
+/* The help lines of those options (radius: include --radius). */
+void cli_print_neuro_options(int radius);
+
+/* The format OUT is written in: forced (--format) if given, else OUT's extension, else the input's
+ * format (in_meta; so `authalic sphere lh.white lh.sphere.authalic` writes a FreeSurfer surface).
+ * Returns 0 with *fmt set, or prints a usage error and returns EXIT_USAGE (the input's format cannot
+ * be written: STL). */
+int cli_output_format(const char *help, const char *out, au_io_format forced, const au_io_meta *in_meta,
+                      au_io_format *fmt);
+
+/* Write the per-vertex areal distortion of the map X -> P (au_metrics_vertex_distortion) to path
+ * (au_io_write_scalars: curv, or GIfTI for .gii names, with the input's metadata). Returns -1 on
+ * success, else prints the error and returns the exit code. */
+int cli_write_distortion(const char *path, const au_mesh *m, const double *P, au_domain domain,
+                         const au_io_meta *meta);
+
 /* Check that path can be created: its directory exists and it is not a directory. 0 or usage error. */
 int cli_check_writable_path(const char *help, const char *path, const char *what);
 
@@ -79,6 +112,10 @@ void cli_warn(cli_warnings *w, const char *path, const char *fmt, ...);
  * the exit code. */
 int cli_load(const char *in, const au_mesh_expect *ex, au_mesh **m, au_topo **t, cli_warnings *w,
              au_report_stage *stages, int *nst);
+/* cli_load, keeping what the file carried besides the mesh in *meta (free with au_io_meta_free);
+ * meta may be NULL. */
+int cli_load_meta(const char *in, const au_mesh_expect *ex, au_mesh **m, au_topo **t, au_io_meta **meta,
+                  cli_warnings *w, au_report_stage *stages, int *nst);
 
 /* Write the map (positions P, optional texture coordinates in opts) and the report so that a
  * failure leaves neither a new OUT nor a clobbered old one: OUT goes to a temporary sibling, the

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "au_advect.h"
 #include "au_sphere.h"
@@ -22,7 +23,8 @@ void cli_print_sphere_options(void) {
          "  --steps K        most advection steps, 1..%d (default %d)\n"
          "  --tol T          stop when the vertex mean |log area ratio| is below T, T >= 0 (default %g)\n"
          "  --density FILE   prescribed density: one positive number per vertex (or per face) of IN, in\n"
-         "                   order, whitespace-separated; domain area is proportional to density x surface area\n"
+         "                   order, whitespace-separated, or a FreeSurfer curv or GIfTI .shape.gii/.func.gii\n"
+         "                   file; domain area is proportional to density x surface area\n"
          "  --restore-shapes F  while the spherical areas are driven, aim each step's shear a fraction\n"
          "                   F (0..1, default %g; 0: off) back at the surface's triangle shapes: fewer long,\n"
          "                   thin triangles (hand_closed per-face 0.051 with 0, 0.018 with 0.1)\n"
@@ -36,17 +38,20 @@ void cli_print_sphere_options(void) {
          "                   With --refine-faces they come after the refinement\n"
          "  --no-balance     skip the Moebius balancing of the conformal start\n"
          "  --init-only      stop after the conformal start (and balancing), for comparison\n"
-         "  --quiet          no progress and no summary on stderr (errors and warnings remain)\n"
-         "  --help           this text\n",
+         "  --quiet          no progress and no summary on stderr (errors and warnings remain)\n",
          AU_ADVECT_MAX_STEPS, d.flow.max_steps, d.flow.tol, d.flow.restore, 100 * d.flow.face_gain,
          d.flow.angle_switch, AU_ANGLE_STEPS_MAX, d.flow.angle_faces);
+  cli_print_neuro_options(1);
+  printf("  --help           this text\n");
 }
 
 static void print_sphere_help(void) {
   printf("usage: authalic sphere IN OUT [options]\n\n"
          "Maps the closed genus-0 triangle mesh IN onto the unit sphere so that every vertex cell keeps\n"
-         "its share of the surface area, and writes the map to OUT (.obj .off or .ply). Progress and a\n"
-         "summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n");
+         "its share of the surface area, and writes the map to OUT (.obj .off .ply .gii .gii.gz; another\n"
+         "name gets IN's format, so a FreeSurfer surface gives a FreeSurfer sphere). IN may also be a\n"
+         "FreeSurfer surface (lh.white) or GIfTI (.gii, .gii.gz). Progress and a summary line go to\n"
+         "stderr; OUT and the report are written only when the whole run succeeded.\n\n");
   cli_print_sphere_options();
 }
 
@@ -60,6 +65,7 @@ typedef struct sphere_args {
   double restore;
   int has_restore;
   int angles; /* --angles N, 0 if not given */
+  cli_neuro_args neuro; /* --format, --distortion, --radius */
 } sphere_args;
 
 /* Parse `authalic sphere ...` (argv[0] is "sphere"). Returns -1 to go on, else an exit code. */
@@ -116,7 +122,9 @@ static int parse_sphere(int argc, char **argv, sphere_args *a) {
         if (cli_parse_nonneg(v, &a->tol)) return cli_usage_error(HELP, "--tol '%s': expected a finite number >= 0", v);
       }
     } else {
-      return cli_usage_error(HELP, "unknown option '%s'", s);
+      int k = cli_parse_neuro(HELP, argc, argv, &i, 1, &a->neuro);
+      if (k < 0) return EXIT_USAGE;
+      if (k == 0) return cli_usage_error(HELP, "unknown option '%s'", s);
     }
   }
   if (npos < 2) return cli_usage_error(HELP, npos == 0 ? "missing input and output files" : "missing output file");
@@ -125,48 +133,39 @@ static int parse_sphere(int argc, char **argv, sphere_args *a) {
     return cli_usage_error(HELP, "--init-only runs no advection: --steps, --tol, --density, --refine-faces, "
                                  "--restore-shapes and --angles do not apply");
   int rc = cli_check_outputs(HELP, a->in, a->out, a->report);
+  const char *d = a->neuro.distortion;
+  if (!rc && d && (cli_same_file(d, a->in) || cli_same_file(d, a->out) || (a->report && cli_same_file(d, a->report)) ||
+                   (a->density && cli_same_file(d, a->density))))
+    rc = cli_usage_error(HELP, "--distortion '%s' is also another input or output file", d);
+  if (!rc && d) rc = cli_check_writable_path(HELP, d, "--distortion");
   return rc ? rc : -1;
 }
 
-/* Read a density file: whitespace-separated numbers, nv of them (per vertex) or nf (per face), each
- * positive and finite. On success *out (malloc'ed) and *count are set and -1 is returned; otherwise
- * the error is printed and the exit code returned. */
+/* Read a density file (au_io_read_scalars: text, FreeSurfer curv or GIfTI values): nv values (per
+ * vertex) or nf (per face), each positive and finite. On success *out (malloc'ed) and *count are set
+ * and -1 is returned; otherwise the error is printed and the exit code returned. */
 static int read_density(const char *path, int nv, int nf, double **out, int *count) {
   FILE *fp = fopen(path, "r");
   if (!fp) {
     fprintf(stderr, "authalic: error: %s: cannot open the density file: %s\n", path, strerror(errno));
     return EXIT_USAGE;
   }
-  int cap = (nv > nf ? nv : nf) + 1, n = 0, rc = -1;
-  double *v = malloc(sizeof(double) * (size_t)cap);
-  char tok[128];
-  if (!v) {
-    fclose(fp);
-    return cli_fail(path, AU_E_NOMEM, NULL);
-  }
-  while (fscanf(fp, "%127s", tok) == 1) {
-    char *end = NULL;
-    double x = strtod(tok, &end);
-    if (*end || !isfinite(x) || !(x > 0)) {
-      fprintf(stderr, "authalic: error: %s: value %d ('%s') is not a positive finite number\n", path, n + 1, tok);
-      rc = EXIT_USAGE;
-      break;
-    }
-    if (n == cap - 1) {
-      fprintf(stderr, "authalic: error: %s: more values than the mesh has vertices (%d) or faces (%d)\n", path, nv, nf);
-      rc = EXIT_USAGE;
-      break;
-    }
-    v[n++] = x;
-  }
   fclose(fp);
-  if (rc < 0 && n != nv && n != nf) {
+  au_msg msg = {{0}};
+  double *v = NULL;
+  int n = 0;
+  au_status st = au_io_read_scalars(path, 0, &v, &n, &msg);
+  if (st != AU_OK) return cli_fail(path, st, &msg);
+  for (int i = 0; i < n; i++)
+    if (!(v[i] > 0)) {
+      fprintf(stderr, "authalic: error: %s: value %d ('%g') is not a positive finite number\n", path, i + 1, v[i]);
+      free(v);
+      return EXIT_USAGE;
+    }
+  if (n != nv && n != nf) {
     fprintf(stderr, "authalic: error: %s: %d values; the mesh has %d vertices and %d faces\n", path, n, nv, nf);
-    rc = EXIT_USAGE;
-  }
-  if (rc >= 0) {
     free(v);
-    return rc;
+    return EXIT_USAGE;
   }
   *out = v, *count = n;
   return -1;
@@ -181,7 +180,9 @@ static int run_sphere(const sphere_args *a) {
   warn.n = 0;
   au_mesh *m = NULL;
   au_topo *topo = NULL;
-  double *P = NULL, *Pinit = NULL, *density = NULL;
+  double *P = NULL, *Pinit = NULL, *density = NULL, *Pw = NULL;
+  au_io_meta *meta = NULL;
+  au_io_format ofmt = AU_IO_FORMAT_AUTO;
   au_msg msg = {{0}};
   au_status st;
   au_metrics fin, ini;
@@ -204,8 +205,10 @@ static int run_sphere(const sphere_args *a) {
 
   au_mesh_expect ex = au_mesh_expect_default();
   ex.loops = 0, ex.genus = 0, ex.command = "sphere";
-  rc = cli_load(a->in, &ex, &m, &topo, &warn, stages, &nst);
+  rc = cli_load_meta(a->in, &ex, &m, &topo, &meta, &warn, stages, &nst);
   if (rc >= 0) goto done;
+  rc = cli_output_format(HELP, a->out, a->neuro.format, meta, &ofmt);
+  if (rc) goto done;
   rc = EXIT_INTERNAL;
 
   if (a->density) {
@@ -289,8 +292,25 @@ static int run_sphere(const sphere_args *a) {
                          a->init_only ? 0 : rep.flow.polish_from, a->init_only ? 0 : rep.flow.undone,
                          !a->init_only, rep.flow.start_jump, rep.flow.resolved,
                          rep.retry, {rep.retry_err[0], rep.retry_err[1]}, a->init_only ? 0 : rep.flow.angle_from};
-  rc = cli_publish(a->out, m, P, NULL, a->report, &info, &stages[nst]);
-  if (rc != EXIT_OK) goto done;
+  /* The distortion file first (its own atomic write), removed again if OUT cannot be published. */
+  if (a->neuro.distortion) {
+    rc = cli_write_distortion(a->neuro.distortion, m, P, AU_DOMAIN_SPHERE, meta);
+    if (rc >= 0) goto done;
+  }
+  au_io_write_opts wopts = au_io_write_opts_default();
+  wopts.format = ofmt, wopts.meta = meta, wopts.geometric_type = "Spherical";
+  if (a->neuro.has_radius) {
+    if (!(Pw = malloc(n3 * sizeof *Pw))) {
+      rc = cli_fail(a->out, AU_E_NOMEM, NULL);
+      goto done;
+    }
+    for (size_t i = 0; i < n3; i++) Pw[i] = a->neuro.radius * P[i];
+  }
+  rc = cli_publish(a->out, m, Pw ? Pw : P, &wopts, a->report, &info, &stages[nst]);
+  if (rc != EXIT_OK) {
+    if (a->neuro.distortion) unlink(a->neuro.distortion);
+    goto done;
+  }
 
   if (!a->quiet)
     fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs%s\n",
@@ -304,6 +324,8 @@ done:
   free(P);
   free(Pinit);
   free(density);
+  free(Pw);
+  au_io_meta_free(&meta);
   au_topo_free(&topo);
   au_mesh_free(&m);
   return rc;
@@ -312,6 +334,7 @@ done:
 int cli_cmd_sphere(int argc, char **argv) {
   sphere_args a;
   memset(&a, 0, sizeof a);
+  a.neuro.radius = 1;
   int rc = parse_sphere(argc, argv, &a);
   return rc >= 0 ? rc : run_sphere(&a);
 }
