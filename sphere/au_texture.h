@@ -208,9 +208,10 @@ au_status au_tex_seam_view(const au_tex_mesh *t, double view[3]);
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */
 au_status au_npy_write(const char *path, int ndim, const long *shape, const double *data, au_msg *msg);
 
-/* Read a per-vertex scalar file: whitespace-separated numbers (lines starting with '#' skipped),
- * exactly n of them, all finite. vals: out [0..n-1]. Returns AU_OK, AU_E_ARG, AU_E_IO, AU_E_FORMAT
- * (msg names the line and what is wrong, or how many values were found). */
+/* Read a per-vertex scalar file (au_io_read_scalars): text (whitespace- or comma-separated numbers,
+ * lines starting with '#' skipped), a FreeSurfer curv file (lh.sulc, lh.thickness) or GIfTI values
+ * (.shape.gii, .func.gii); exactly n values, all finite. vals: out [0..n-1]. Returns AU_OK, AU_E_ARG,
+ * AU_E_NOMEM, AU_E_IO, AU_E_FORMAT (msg names the line and what is wrong, or how many values were found). */
 au_status au_read_scalars(const char *path, int n, double *vals, au_msg *msg);
 
 #ifdef __cplusplus

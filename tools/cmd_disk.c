@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "au_advect.h"
 #include "au_disk.h"
@@ -35,7 +36,8 @@ static void print_help(int cmd) {
            "boundary vertices go to the corners and stay there; the others slide along their sides.\n"
            "Triangles whose three vertices would land on one side are split first: the new vertices\n"
            "(edge midpoints) come after the input's vertices in OUT, the new faces after its faces.\n\n");
-  printf("OUT (.obj .off or .ply) has the input's vertices in the input's order and its faces, with\n"
+  printf("IN may also be a FreeSurfer surface or GIfTI (.gii, .gii.gz); OUT (.obj .off .ply .gii .gii.gz,\n"
+         "another name: IN's format) has the input's vertices in the input's order and its faces, with\n"
          "positions (u, v, 0); an .obj also gets `vt` texture coordinates in [0,1]^2%s. Progress and a\n"
          "summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n",
          cmd == CMD_SQUARE ? " (u, v)" : " ((u+1)/2, (v+1)/2)");
@@ -65,8 +67,9 @@ static void print_help(int cmd) {
            "                      to (1,0), (1,1), (0,1) in the order they follow I along the boundary\n"
            "                      (default: the most corner-like vertices near the arc-length quarters)\n");
   printf("  --init-only         stop after the initial (harmonic, near-conformal) map, for comparison\n"
-         "  --quiet             no progress and no summary on stderr (errors and warnings remain)\n"
-         "  --help              this text\n");
+         "  --quiet             no progress and no summary on stderr (errors and warnings remain)\n");
+  cli_print_neuro_options(0);
+  printf("  --help              this text\n");
 }
 
 typedef struct disk_args {
@@ -81,6 +84,7 @@ typedef struct disk_args {
   int outer_mode; /* 0 longer, 1 shorter, 2 vertex */
   int outer_vertex, has_outer;
   int corners[4], has_corners;
+  cli_neuro_args neuro; /* --format, --distortion */
 } disk_args;
 
 /* Four comma-separated whole numbers >= 0; 0 on success. */
@@ -164,7 +168,9 @@ static int parse_disk(int argc, char **argv, disk_args *a) {
           return cli_usage_error(help, "--corners '%s': expected four vertex indices I,J,K,L", v);
       }
     } else {
-      return cli_usage_error(help, "unknown option '%s'", s);
+      int k = cli_parse_neuro(help, argc, argv, &i, 0, &a->neuro);
+      if (k < 0) return EXIT_USAGE;
+      if (k == 0) return cli_usage_error(help, "unknown option '%s'", s);
     }
   }
   if (npos < 2) return cli_usage_error(help, npos == 0 ? "missing input and output files" : "missing output file");
@@ -173,6 +179,10 @@ static int parse_disk(int argc, char **argv, disk_args *a) {
     return cli_usage_error(help, "--init-only runs no advection: --steps, --tol, --boundary, --refine-faces and --angles "
                                  "do not apply");
   int rc = cli_check_outputs(help, a->in, a->out, a->report);
+  const char *d = a->neuro.distortion;
+  if (!rc && d && (cli_same_file(d, a->in) || cli_same_file(d, a->out) || (a->report && cli_same_file(d, a->report))))
+    rc = cli_usage_error(help, "--distortion '%s' is also another input or output file", d);
+  if (!rc && d) rc = cli_check_writable_path(help, d, "--distortion");
   return rc ? rc : -1;
 }
 
@@ -189,6 +199,8 @@ static int pick_outer(const disk_args *a, const au_topo *t) {
   return -1;
 }
 
+static const char *help_of(int cmd) { return cmd_helps[cmd]; }
+
 static int run_disk(const disk_args *a) {
   const char *name = cmd_names[a->cmd];
   double t_start = cli_now(), t0;
@@ -199,6 +211,8 @@ static int run_disk(const disk_args *a) {
   au_mesh *m = NULL, *ms = NULL;
   au_topo *topo = NULL, *ts = NULL;
   double *P = NULL, *P0 = NULL, *uv = NULL;
+  au_io_meta *meta = NULL;
+  au_io_format ofmt = AU_IO_FORMAT_AUTO;
   au_msg msg = {{0}};
   au_status st;
   au_metrics fin, ini;
@@ -221,8 +235,10 @@ static int run_disk(const disk_args *a) {
 
   au_mesh_expect ex = au_mesh_expect_default();
   ex.loops = a->cmd == CMD_ANNULUS ? 2 : 1, ex.genus = 0, ex.command = name;
-  rc = cli_load(a->in, &ex, &m, &topo, &warn, stages, &nst);
+  rc = cli_load_meta(a->in, &ex, &m, &topo, &meta, &warn, stages, &nst);
   if (rc >= 0) goto done;
+  rc = cli_output_format(help_of(a->cmd), a->out, a->neuro.format, meta, &ofmt);
+  if (rc) goto done;
   rc = EXIT_INTERNAL;
 
   /* The mesh that is mapped: the input, or for the square the input with split edges. */
@@ -345,7 +361,12 @@ static int run_disk(const disk_args *a) {
   stages[nst++] = (au_report_stage){"metrics", cli_now() - t0};
   stages[nst] = (au_report_stage){"write", 0};
   au_io_write_opts wopts = au_io_write_opts_default();
-  wopts.uv = uv;
+  wopts.uv = uv, wopts.format = ofmt, wopts.meta = meta, wopts.geometric_type = "Flat";
+  /* The distortion file first (its own atomic write), removed again if OUT cannot be published. */
+  if (a->neuro.distortion) {
+    rc = cli_write_distortion(a->neuro.distortion, mm, P, AU_DOMAIN_PLANE, meta);
+    if (rc >= 0) goto done;
+  }
   au_report_info info;
   memset(&info, 0, sizeof info);
   info.tool_version = AU_VERSION, info.command = name, info.input = a->in, info.output = a->out;
@@ -360,7 +381,10 @@ static int run_disk(const disk_args *a) {
   info.step_face_err = a->init_only ? NULL : rep.flow.face_err;
   info.warnings = warn.list, info.nwarnings = warn.n;
   rc = cli_publish(a->out, mm, P, &wopts, a->report, &info, &stages[nst]);
-  if (rc != EXIT_OK) goto done;
+  if (rc != EXIT_OK) {
+    if (a->neuro.distortion) unlink(a->neuro.distortion);
+    goto done;
+  }
 
   if (!a->quiet) {
     char extra[160] = "";
@@ -380,6 +404,7 @@ static int run_disk(const disk_args *a) {
 done:
   cli_progress_end(&prog);
   free(P), free(P0), free(uv);
+  au_io_meta_free(&meta);
   au_topo_free(&ts);
   au_mesh_free(&ms);
   au_topo_free(&topo);

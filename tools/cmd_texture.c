@@ -31,15 +31,17 @@ static void print_texture_help(void) {
          "computed on the fly. Faces across the projection's seam get their own copies of `vt`; with\n"
          "cea, the faces holding a pole are split there (the pole vertices are appended after IN's).\n\n"
          "options of texture:\n"
-         "  --map SPHERE_MAP    the sphere map of IN (same vertices and faces, positions on the sphere)\n"
+         "  --map SPHERE_MAP    the sphere map of IN (same vertices and faces, positions on a sphere\n"
+         "                      about the origin of any radius)\n"
          "  --projection P      cea: Lambert cylindrical equal-area, u = (lon + pi)/(2 pi),\n"
          "                      v = (sin lat + 1)/2; sample with u wrapped (repeat) (default)\n"
          "                      laea: Lambert azimuthal equal-area, northern hemisphere in the left half,\n"
          "                      southern in the right half (no wrapping needed)\n"
          "  --lonlat FILE       write longitude and latitude in degrees of every vertex of OUT.obj\n"
          "  --bake ATTR         bake a per-vertex attribute into --image: `normal` (unit normals as\n"
-         "                      colours (n + 1)/2), `position` (the bounding box as RGB), or a text file\n"
-         "                      with one number per vertex of IN, drawn with the viridis colour map\n"
+         "                      colours (n + 1)/2), `position` (the bounding box as RGB), or a file with\n"
+         "                      one number per vertex of IN (text, FreeSurfer curv, GIfTI .shape.gii or\n"
+         "                      .func.gii), drawn with the viridis colour map\n"
          "  --image OUT.png     the baked texture; OUT.mtl is written beside OUT.obj and names it\n"
          "  --size WxH          texture size in texels (default 1024x512; laea needs an even W)\n"
          "  --preview P.png     the sphere map from +z and -z coloured by Upsilon = ln(surface/sphere\n"
@@ -48,6 +50,9 @@ static void print_texture_help(void) {
          "  --render R.png      IN drawn with the baked texture through OUT.obj's coordinates, from the\n"
          "                      side of the seam and from the opposite side (needs --bake)\n"
          "  --mark-seam         tint the faces across the cea seam red in --render\n"
+         "  --distortion FILE   per-vertex areal distortion log2(sphere area share / surface area share)\n"
+         "                      of the sphere map (HCP's convention): a FreeSurfer curv file, or GIfTI\n"
+         "                      when FILE ends in .gii (e.g. .shape.gii)\n"
          "  --quiet             no progress and no summary on stderr (errors and warnings remain)\n"
          "  --help              this text\n");
 }
@@ -65,7 +70,8 @@ static void print_sample_help(void) {
          "  --grid WxH          grid size, W and H from 1 to 16384 (required)\n"
          "  --map SPHERE_MAP    the sphere map of IN (computed on the fly when absent)\n"
          "  --normals           add the surface normal (3 columns)\n"
-         "  --attr FILE         add a per-vertex scalar (a text file, one number per vertex); repeatable\n"
+         "  --attr FILE         add a per-vertex scalar (one number per vertex: a text file, a FreeSurfer\n"
+         "                      curv file such as lh.sulc, or GIfTI .shape.gii / .func.gii); repeatable\n"
          "  --report R.json     the surface area of every cell's preimage (mean, std/mean, min, max) and\n"
          "                      the map's distortion\n"
          "  --preview P.png     the preview picture of the sphere map (see `authalic texture --help`)\n"
@@ -75,7 +81,7 @@ static void print_sample_help(void) {
 
 /* Everything either command was asked to do. */
 typedef struct tex_args {
-  const char *in, *out, *map, *lonlat, *bake, *image, *preview, *render, *report;
+  const char *in, *out, *map, *lonlat, *bake, *image, *preview, *render, *report, *distortion;
   const char *attr[MAX_ATTR];
   int nattr;
   au_tex_proj proj;
@@ -142,6 +148,7 @@ static int parse_args(int argc, char **argv, tex_args *a) {
       else if (!a->sample && strcmp(s, "--bake") == 0) slot = &a->bake;
       else if (!a->sample && strcmp(s, "--image") == 0) slot = &a->image;
       else if (!a->sample && strcmp(s, "--render") == 0) slot = &a->render;
+      else if (!a->sample && strcmp(s, "--distortion") == 0) slot = &a->distortion;
       else if (a->sample && strcmp(s, "--report") == 0) slot = &a->report;
       else if (!a->sample && strcmp(s, "--projection") == 0) ;
       else if (!a->sample && strcmp(s, "--size") == 0) ;
@@ -199,14 +206,15 @@ static int parse_args(int argc, char **argv, tex_args *a) {
 
   /* Every output distinct from the inputs and from each other, in an existing directory. */
   char *mtl = (!a->sample && a->bake) ? mtl_path(a->out) : NULL;
-  const char *outs[7] = {a->out, a->lonlat, a->image, a->preview, a->render, a->report, mtl};
-  const char *names[7] = {"output", "--lonlat", "--image", "--preview", "--render", "--report", "material file"};
+  const char *outs[8] = {a->out, a->lonlat, a->image, a->preview, a->render, a->report, mtl, a->distortion};
+  const char *names[8] = {"output", "--lonlat", "--image", "--preview", "--render", "--report", "material file",
+                          "--distortion"};
   const char *ins[2 + MAX_ATTR] = {a->in, a->map};
   int nin = 2;
   for (int k = 0; k < a->nattr; k++) ins[nin++] = a->attr[k];
   if (!a->sample && a->bake && strcmp(a->bake, "normal") && strcmp(a->bake, "position")) ins[nin++] = a->bake;
   int rc = -1;
-  for (int k = 0; k < 7 && rc < 0; k++) {
+  for (int k = 0; k < 8 && rc < 0; k++) {
     if (!outs[k]) continue;
     for (int j = 0; j < nin && rc < 0; j++)
       if (ins[j] && cli_same_file(outs[k], ins[j]))
@@ -238,11 +246,15 @@ static int get_map(const tex_args *a, const au_mesh *m, const au_topo *topo, dou
       au_mesh_free(&s);
       return cli_fail(a->map, AU_E_FORMAT, &msg);
     }
+    /* The sphere's radius is that of the first vertex used: FreeSurfer's and HCP's have 100. */
+    double R = 0;
+    for (int i = 0; i < m->nv && !(R > 0); i++)
+      if (topo->vused[i]) R = sqrt(s->X[3 * i] * s->X[3 * i] + s->X[3 * i + 1] * s->X[3 * i + 1] + s->X[3 * i + 2] * s->X[3 * i + 2]);
     for (int i = 0; i < m->nv; i++) {
       const double *q = s->X + 3 * (size_t)i;
       double r = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-      if (topo->vused[i] && !(fabs(r - 1) <= 1e-6)) {
-        au_msg_set(&msg, AU_E_FORMAT, "vertex %d is not on the unit sphere (|p| = %.9g)", i, r);
+      if (topo->vused[i] && !(fabs(r / R - 1) <= 1e-6)) {
+        au_msg_set(&msg, AU_E_FORMAT, "vertex %d is not on the sphere of the first vertex's radius %.9g (|p| = %.9g)", i, R, r);
         au_mesh_free(&s);
         return cli_fail(a->map, AU_E_FORMAT, &msg);
       }
@@ -381,12 +393,13 @@ static int run_texture(const tex_args *a) {
   au_msg msg = {{0}};
   au_status st;
   au_metrics met;
+  au_io_meta *meta = NULL;
   written w = {{0}, 0};
   double range[2] = {0, 0};
 
   au_mesh_expect ex = au_mesh_expect_default();
   ex.loops = 0, ex.genus = 0, ex.command = "texture";
-  rc = cli_load(a->in, &ex, &m, &topo, &warn, stages, &nst);
+  rc = cli_load_meta(a->in, &ex, &m, &topo, &meta, &warn, stages, &nst);
   if (rc >= 0) goto done;
   P = malloc(3 * (size_t)m->nv * sizeof *P);
   if (!P) {
@@ -449,6 +462,14 @@ static int run_texture(const tex_args *a) {
     rc = write_done(&w, a->preview, au_tex_preview(a->preview, m, P, 1024, 0, &msg), &msg);
     if (rc >= 0) goto done;
   }
+  if (a->distortion) {
+    rc = cli_write_distortion(a->distortion, m, P, AU_DOMAIN_SPHERE, meta);
+    if (rc >= 0) {
+      for (int k = 0; k < w.n; k++) unlink(w.path[k]);
+      goto done;
+    }
+    w.path[w.n++] = a->distortion;
+  }
   if (a->render) {
     double view[3];
     au_tex_seam_view(t, view);
@@ -467,6 +488,7 @@ static int run_texture(const tex_args *a) {
 done:
   au_tex_mesh_free(&t);
   au_locator_free(&loc);
+  au_io_meta_free(&meta);
   au_topo_free(&topo);
   au_mesh_free(&m);
   free(P), free(rgb), free(mtl), free(mtlbuf), free(ref), free(ll);
