@@ -14,7 +14,7 @@
  * stderr instead of returning them (a corrupted base64 array is reported there and then returned as
  * if read). So every use of it holds one mutex, and stderr is redirected to a temporary file while
  * giftiio runs: anything it printed while reading makes the file bad, and its first line is the
- * message. Lengths announced by a file are checked (a metadata-only pass first) before giftiio
+ * message (except complaints that do not concern us: see benign). Lengths announced by a file are checked (a metadata-only pass first) before giftiio
  * allocates them, and arrays stored in external files are not read. */
 #define _POSIX_C_SOURCE 200809L
 
@@ -124,6 +124,10 @@ static int capture_begin(gii_capture *c) {
   return 0;
 }
 
+/* Complaints of giftiio's validation about files that are fine for us: nibabel gives every array,
+ * the triangles too, a coordinate system, which giftiio says only a pointset should have. */
+static int benign(const char *s) { return strstr(s, "has coordsys with intent") != NULL; }
+
 /* Restore stderr; line gets the first non-empty line giftiio printed ("" if none), without its "** ". */
 static void capture_end(gii_capture *c, char *line, size_t len) {
   fflush(stderr);
@@ -136,7 +140,7 @@ static void capture_end(gii_capture *c, char *line, size_t len) {
     char *s = buf;
     while (*s == '*' || *s == ' ' || *s == '-' || *s == '+') s++;
     s[strcspn(s, "\r\n")] = '\0';
-    if (*s) snprintf(line, len, "%.200s", s);
+    if (*s && !benign(s)) snprintf(line, len, "%.200s", s);
   }
   fclose(c->fp);
 }

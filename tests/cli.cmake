@@ -138,3 +138,9 @@ au_cli_test(init_only.spiky_ico quality.sh init_only data/spiky_ico.obj)
 foreach(c half count negative missing)
   au_cli_test(density_${c} density.sh ${c})
 endforeach()
+
+# Neuroimaging formats (issue 19): nibabel reads what we write and we read what it writes, the
+# FreeSurfer footer kept, Connectome Workbench on our sphere, fsaverage5's bounds (tests/cli/neuro.sh).
+foreach(c nibabel_reads nibabel_writes fs_roundtrip fsaverage5 workbench sample_sulc planar)
+  au_cli_test(neuro.${c} neuro.sh ${c})
+endforeach()
