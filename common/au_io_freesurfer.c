@@ -74,7 +74,7 @@ static au_status fs_header(const char *path, const unsigned char *buf, size_t le
                            au_msg *msg) {
   const unsigned char *nl = len > 3 ? memchr(buf + 3, '\n', len - 3) : NULL;
   if (!nl)
-    return au_msg_set(msg, AU_E_FORMAT, "%s: FreeSurfer surface without its created-by line (the file ends after "
+    return au_msg_set(msg, AU_E_FORMAT, "%s: FreeSurfer surface without its created-by line (no line end in its "
                       "%zu bytes)", path, len);
   for (const unsigned char *c = buf + 3; c < nl; c++)
     if ((*c < 0x20 && *c != '\t' && *c != '\r') || *c == 0x7f)

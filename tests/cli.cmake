@@ -84,6 +84,22 @@ set(au_cli_bad
   degenerate.stl         "4 facets but OpenMesh kept 3"
   open.stl               "1 boundary loop.*closed surface"
   nonmanifold.stl        "non-manifold edge \\(0, 1\\)"
+  # FreeSurfer (found by the magic number, whatever the name) and GIfTI (issue 19;
+  # scripts/neuro_bad_corpus.py writes them)
+  truncated.white        "announces 4 vertices and 4 faces \\(96 bytes\\) but 86 bytes follow its header \\(truncated"
+  lying_count.white      "announces 1000000 vertices"
+  index_range.white      "face 3: index 7 is out of range \\(4 vertices"
+  no_stamp.white         "without its created-by line"
+  quad.white             "magic number 0xFFFFFF: a curv file .* not a triangle surface"
+  truncated.gii          "not a GIfTI file giftiio can read: unclosed token"
+  truncated.gii.gz       "the gzip data ends early \\(truncated"
+  lying_dims.gii         "announces 6000000000 values, more than a 692-byte file holds"
+  short_data.gii         "GIfTI data cannot be read: uncompressed buf is 48 bytes, expected 480"
+  corrupt_data.gii       "GIfTI data cannot be read: 4 bad base64 chars"
+  no_triangles.gii       "0 TRIANGLE arrays"
+  values.shape.gii       "0 POINTSET arrays"
+  index_range.gii        "face 3: index 9 is out of range"
+  external.gii           "external file, which is not read"
   # any format
   mesh.xyz               "unknown mesh file extension"
   unreadable.obj         "cannot open.*permission denied")
