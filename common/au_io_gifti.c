@@ -14,12 +14,14 @@
  * stderr instead of returning them (a corrupted base64 array is reported there and then returned as
  * if read). So every use of it holds one mutex, and stderr is redirected to a temporary file while
  * giftiio runs: anything it printed while reading makes the file bad, and its first line is the
- * message (except complaints that do not concern us: see benign). Lengths announced by a file are checked (a metadata-only pass first) before giftiio
- * allocates them, and arrays stored in external files are not read. */
+ * message (except complaints that do not concern us: see benign). Lengths announced by a file are
+ * checked (a metadata-only pass first) before giftiio allocates them, ASCII arrays are counted with
+ * expat (giftiio does not notice a short one), and arrays stored in external files are not read. */
 #define _POSIX_C_SOURCE 200809L
 
 #include "au_io_internal.h"
 
+#include <expat.h>
 #include <gifti_io.h>
 
 #include <errno.h>
@@ -148,9 +150,82 @@ static void capture_end(gii_capture *c, char *line, size_t len) {
 /* The most bytes a file of len bytes can honestly hold as data (base64 of deflated data at best). */
 static long long data_bound(size_t len) { return (long long)len * GII_INFLATE_RATIO + 65536; }
 
-/* giftiio's reading of the XML document xml[0..len): a metadata-only pass checks what the arrays
- * announce, then the real read. Called with gii_lock held. */
-static au_status gii_parse(const char *path, const char *name, size_t len, gifti_image **out, au_msg *msg) {
+/* Check what the arrays of a metadata-only read announce before giftiio allocates it: no external
+ * data files, no more values than a file of len bytes can hold. *ascii: 1 if an array is ASCII. */
+static au_status check_arrays(const char *path, const gifti_image *g, size_t len, int *ascii, au_msg *msg) {
+  long long total = 0;
+  *ascii = 0;
+  for (int i = 0; i < g->numDA; i++) {
+    const giiDataArray *d = g->darray[i];
+    if (d->encoding == GIFTI_ENCODING_EXTBIN || (d->ext_fname && d->ext_fname[0]))
+      return au_msg_set(msg, AU_E_FORMAT, "%s: GIfTI array %d keeps its data in an external file, which is not read",
+                        path, i);
+    if (d->nvals < 0 || d->nbyper <= 0 || d->nvals > data_bound(len) / d->nbyper ||
+        (total += d->nvals * d->nbyper) > data_bound(len))
+      return au_msg_set(msg, AU_E_FORMAT, "%s: GIfTI array %d announces %lld values, more than a %zu-byte file holds",
+                        path, i, d->nvals, len);
+    *ascii |= d->encoding == GIFTI_ENCODING_ASCII;
+  }
+  return AU_OK;
+}
+
+/* The numbers in each DataArray's <Data>, counted with expat (the XML library giftiio uses): giftiio
+ * reads ASCII data without checking that it holds as many numbers as the dimensions say, and leaves
+ * the rest of its buffer as it was. */
+typedef struct ascii_count {
+  int da, in_data, in_tok, cap;
+  long long *n; /* n [0..cap-1]: numbers in array k's data */
+} ascii_count;
+
+static void XMLCALL on_start(void *u, const XML_Char *name, const XML_Char **attr) {
+  ascii_count *c = u;
+  (void)attr;
+  if (!strcmp(name, "DataArray")) c->da++;
+  else if (!strcmp(name, "Data")) c->in_data = 1, c->in_tok = 0;
+}
+
+static void XMLCALL on_end(void *u, const XML_Char *name) {
+  ascii_count *c = u;
+  if (!strcmp(name, "Data")) c->in_data = 0;
+}
+
+static void XMLCALL on_text(void *u, const XML_Char *s, int len) {
+  ascii_count *c = u;
+  if (!c->in_data || c->da < 1 || c->da > c->cap) return;
+  for (int i = 0; i < len; i++) {
+    int space = s[i] == ' ' || s[i] == '\t' || s[i] == '\n' || s[i] == '\r';
+    if (!space && !c->in_tok) c->n[c->da - 1]++;
+    c->in_tok = !space;
+  }
+}
+
+/* Every ASCII array of g holds exactly as many numbers as it announces. */
+static au_status check_ascii(const char *path, const gifti_image *g, const char *xml, size_t len, au_msg *msg) {
+  ascii_count c = {0, 0, 0, g->numDA, calloc((size_t)(g->numDA > 0 ? g->numDA : 1), sizeof(long long))};
+  XML_Parser p = c.n ? XML_ParserCreate(NULL) : NULL;
+  if (!p) {
+    free(c.n);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+  }
+  XML_SetUserData(p, &c);
+  XML_SetElementHandler(p, on_start, on_end);
+  XML_SetCharacterDataHandler(p, on_text);
+  au_status st = AU_OK;
+  if (len > INT_MAX || XML_Parse(p, xml, (int)len, 1) != XML_STATUS_OK)
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: not well-formed XML: %s", path, XML_ErrorString(XML_GetErrorCode(p)));
+  for (int i = 0; st == AU_OK && i < g->numDA; i++)
+    if (g->darray[i]->encoding == GIFTI_ENCODING_ASCII && c.n[i] != g->darray[i]->nvals)
+      st = au_msg_set(msg, AU_E_FORMAT, "%s: GIfTI array %d holds %lld numbers but its dimensions announce %lld", path,
+                      i, c.n[i], g->darray[i]->nvals);
+  XML_ParserFree(p);
+  free(c.n);
+  return st;
+}
+
+/* giftiio's reading of the XML document xml[0..len), which it opens as name: a metadata-only pass
+ * checks what the arrays announce, then the real read. Called with gii_lock held. */
+static au_status gii_parse(const char *path, const char *name, const char *xml, size_t len, gifti_image **out,
+                           au_msg *msg) {
   char said[256];
   gii_capture cap;
   if (capture_begin(&cap) != 0) return au_msg_set(msg, AU_E_IO, "%s: cannot redirect giftiio's messages", path);
@@ -160,22 +235,11 @@ static au_status gii_parse(const char *path, const char *name, size_t len, gifti
     gifti_free_image(g);
     return au_msg_set(msg, AU_E_FORMAT, "%s: not a GIfTI file giftiio can read%s%s", path, said[0] ? ": " : "", said);
   }
-  long long total = 0;
-  for (int i = 0; i < g->numDA; i++) {
-    const giiDataArray *d = g->darray[i];
-    if (d->encoding == GIFTI_ENCODING_EXTBIN || (d->ext_fname && d->ext_fname[0])) {
-      gifti_free_image(g);
-      return au_msg_set(msg, AU_E_FORMAT, "%s: GIfTI array %d keeps its data in an external file, which is not read",
-                        path, i);
-    }
-    if (d->nvals < 0 || d->nbyper <= 0 || d->nvals > data_bound(len) / d->nbyper ||
-        (total += d->nvals * d->nbyper) > data_bound(len)) {
-      gifti_free_image(g);
-      return au_msg_set(msg, AU_E_FORMAT, "%s: GIfTI array %d announces %lld values, more than a %zu-byte file holds",
-                        path, i, d->nvals, len);
-    }
-  }
+  int ascii = 0;
+  au_status st = check_arrays(path, g, len, &ascii, msg);
+  if (st == AU_OK && ascii) st = check_ascii(path, g, xml, len, msg);
   gifti_free_image(g);
+  if (st != AU_OK) return st;
   if (capture_begin(&cap) != 0) return au_msg_set(msg, AU_E_IO, "%s: cannot redirect giftiio's messages", path);
   g = gifti_read_image(name, 1);
   capture_end(&cap, said, sizeof said);
@@ -204,7 +268,7 @@ static au_status gii_load(const char *path, const unsigned char *buf, size_t len
     st = au_msg_set(msg, AU_E_IO, "%s: cannot write a temporary file: %s", path, strerror(errno));
   if (st == AU_OK) {
     pthread_mutex_lock(&gii_lock);
-    st = gii_parse(path, t.name, n, out, msg);
+    st = gii_parse(path, t.name, (const char *)buf, n, out, msg);
     pthread_mutex_unlock(&gii_lock);
   }
   if (t.fp) fclose(t.fp);

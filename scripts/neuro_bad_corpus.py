@@ -61,3 +61,6 @@ put("no_triangles.gii", gifti(pts()))
 put("values.shape.gii", gifti(da("NIFTI_INTENT_SHAPE", "NIFTI_TYPE_FLOAT32", 4, 1, [(1,), (2,), (3,), (4,)], "f")))
 put("index_range.gii", gifti(pts(), tri(F[:3] + [(1, 2, 9)])))
 put("external.gii", gifti(pts().replace('ExternalFileName=""', 'ExternalFileName="/dev/zero"'), tri()))
+put("short_ascii.gii", gifti(('<DataArray Intent="NIFTI_INTENT_POINTSET" DataType="NIFTI_TYPE_FLOAT32" '
+    'ArrayIndexingOrder="RowMajorOrder" Dimensionality="2" Dim0="4" Dim1="3" Encoding="ASCII" Endian="LittleEndian" '
+    'ExternalFileName="" ExternalFileOffset="">\n<Data>0 0 0 1 0 0 0 1 0 0 0</Data>\n</DataArray>\n'), tri()))

@@ -11,7 +11,7 @@ PACKAGES=(
   libsuitesparse-dev libopenblas-dev  # CHOLMOD with a fast BLAS
   libopenmesh-dev libgeographiclib-dev libcjson-dev libpng-dev
   python3-numpy  # the shared evaluator (param-eval) and the data and bench scripts
-  libgiftiio-dev zlib1g-dev  # GIfTI surfaces (giftiio reads by name; .gii.gz is inflated with zlib first)
+  libgiftiio-dev libexpat1-dev zlib1g-dev  # GIfTI surfaces (giftiio reads by name; .gii.gz is inflated with zlib first)
   python3-nibabel  # the neuro tests read what we write with nibabel (/usr/bin/python3)
   connectome-workbench  # wb_command: the neuro tests check our spheres with Connectome Workbench
   time  # /usr/bin/time, used by the benchmarks

@@ -100,6 +100,7 @@ set(au_cli_bad
   values.shape.gii       "0 POINTSET arrays"
   index_range.gii        "face 3: index 9 is out of range"
   external.gii           "external file, which is not read"
+  short_ascii.gii        "GIfTI array 0 holds 11 numbers but its dimensions announce 12"
   # any format
   mesh.xyz               "unknown mesh file extension"
   unreadable.obj         "cannot open.*permission denied")

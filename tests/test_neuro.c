@@ -305,6 +305,7 @@ static int t_gifti_meta(void) {
   AU_CHECK(!strcmp(au_io_meta_get(meta2, "GeometricType"), "Flat"));
   AU_CHECK(!strcmp(au_io_meta_get(meta2, "Subject"), "bert"));
   AU_CHECK(au_io_meta_get(meta2, "Date") == NULL);
+  au_mesh_free(&r);
   size_t n;
   char *b = (char *)slurp(tp("out.gii"), &n);
   AU_CHECK(b && strstr(b, "NIFTI_XFORM_TALAIRACH") && strstr(b, "10.000000"));
@@ -355,6 +356,14 @@ static int t_gifti_bad(void) {
   AU_CHECK(put(tp("huge.gii"), huge, strlen(huge)) == 0);
   AU_CHECK_STATUS(au_io_read(tp("huge.gii"), &r, &msg), AU_E_FORMAT, &msg);
   AU_CHECK(strstr(msg.text, "more than a"));
+  /* An ASCII array with fewer numbers than it announces (giftiio itself says nothing). */
+  char *short_ascii = strdup(huge), *d0 = strstr(short_ascii, "Dim0=\"2000000000\"");
+  AU_CHECK(d0 != NULL);
+  memcpy(d0, "Dim0=\"2\"         ", 17);
+  AU_CHECK(put(tp("short.gii"), short_ascii, strlen(short_ascii)) == 0);
+  free(short_ascii);
+  AU_CHECK_STATUS(au_io_read(tp("short.gii"), &r, &msg), AU_E_FORMAT, &msg);
+  AU_CHECK(strstr(msg.text, "holds 3 numbers but its dimensions announce 6"));
   AU_CHECK(r == NULL);
   free(b), free(z);
   au_mesh_free(&m);
