@@ -51,6 +51,7 @@ static unsigned char *slurp(const char *path, size_t *len) {
   rewind(fp);
   unsigned char *b = malloc((size_t)n + 1);
   if (b && fread(b, 1, (size_t)n, fp) != (size_t)n) free(b), b = NULL;
+  if (b) b[n] = 0; /* so that a text file can be searched with strstr */
   fclose(fp);
   *len = (size_t)n;
   return b;
