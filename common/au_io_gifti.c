@@ -169,29 +169,56 @@ static au_status check_arrays(const char *path, const gifti_image *g, size_t len
   return AU_OK;
 }
 
-/* The numbers in each DataArray's <Data>, counted with expat (the XML library giftiio uses): giftiio
- * reads ASCII data without checking that it holds as many numbers as the dimensions say, and leaves
- * the rest of its buffer as it was. */
-typedef struct ascii_count {
-  int da, in_data, in_tok, cap;
-  long long *n; /* n [0..cap-1]: numbers in array k's data */
-} ascii_count;
+/* Before giftiio sees a document, expat (the XML library giftiio itself uses) checks it: giftiio
+ * crashes on some documents that are not well-formed (an end tag that does not match its start
+ * tag) or where GIfTI's elements sit under the wrong parent, so those are refused here, each element
+ * checked against the parent the GIfTI DTD gives it. The same pass counts the numbers in each
+ * DataArray's <Data>: giftiio reads ASCII data without checking that it holds as many numbers as the
+ * dimensions say, and leaves the rest of its buffer as it was. */
+#define XML_MAX_DEPTH 16
+#define XML_MAX_DA 4096
+
+typedef struct xml_scan {
+  const char *stack[XML_MAX_DEPTH]; /* the open elements' names (static strings), or "" for others */
+  int depth, bad, da, in_data, in_tok;
+  char what[160];                   /* what is wrong, when bad */
+  long long n[XML_MAX_DA];          /* n [0..da-1]: numbers in array k's data */
+} xml_scan;
+
+/* The parent each GIfTI element must have ("" for the root). */
+static const char *const gii_parent[][2] = {
+    {"GIFTI", ""},           {"MetaData", "GIFTI"},      {"MetaData", "DataArray"}, {"MD", "MetaData"},
+    {"Name", "MD"},          {"Value", "MD"},            {"LabelTable", "GIFTI"},   {"Label", "LabelTable"},
+    {"DataArray", "GIFTI"},  {"Data", "DataArray"},      {"CoordinateSystemTransformMatrix", "DataArray"},
+    {"DataSpace", "CoordinateSystemTransformMatrix"},   {"TransformedSpace", "CoordinateSystemTransformMatrix"},
+    {"MatrixData", "CoordinateSystemTransformMatrix"}};
 
 static void XMLCALL on_start(void *u, const XML_Char *name, const XML_Char **attr) {
-  ascii_count *c = u;
+  xml_scan *c = u;
   (void)attr;
-  if (!strcmp(name, "DataArray")) c->da++;
+  const char *parent = c->depth ? c->stack[c->depth - 1] : "", *known = NULL;
+  int placed = 0;
+  for (size_t k = 0; k < sizeof gii_parent / sizeof gii_parent[0]; k++)
+    if (!strcmp(name, gii_parent[k][0])) known = gii_parent[k][0], placed |= !strcmp(parent, gii_parent[k][1]);
+  if (!c->bad && (!known || !placed || c->depth == XML_MAX_DEPTH || (!strcmp(name, "DataArray") && c->da == XML_MAX_DA)))
+    c->bad = 1, snprintf(c->what, sizeof c->what, "element <%.40s> %s <%.40s>", name,
+                         known ? "is not allowed under" : "is not GIfTI's, under", *parent ? parent : "(the root)");
+  if (c->bad) return;
+  c->stack[c->depth++] = known;
+  if (!strcmp(name, "DataArray")) c->n[c->da++] = 0;
   else if (!strcmp(name, "Data")) c->in_data = 1, c->in_tok = 0;
 }
 
 static void XMLCALL on_end(void *u, const XML_Char *name) {
-  ascii_count *c = u;
+  xml_scan *c = u;
+  if (c->bad) return;
+  c->depth--;
   if (!strcmp(name, "Data")) c->in_data = 0;
 }
 
 static void XMLCALL on_text(void *u, const XML_Char *s, int len) {
-  ascii_count *c = u;
-  if (!c->in_data || c->da < 1 || c->da > c->cap) return;
+  xml_scan *c = u;
+  if (c->bad || !c->in_data) return;
   for (int i = 0; i < len; i++) {
     int space = s[i] == ' ' || s[i] == '\t' || s[i] == '\n' || s[i] == '\r';
     if (!space && !c->in_tok) c->n[c->da - 1]++;
@@ -199,27 +226,31 @@ static void XMLCALL on_text(void *u, const XML_Char *s, int len) {
   }
 }
 
-/* Every ASCII array of g holds exactly as many numbers as it announces. */
-static au_status check_ascii(const char *path, const gifti_image *g, const char *xml, size_t len, au_msg *msg) {
-  ascii_count c = {0, 0, 0, g->numDA, calloc((size_t)(g->numDA > 0 ? g->numDA : 1), sizeof(long long))};
-  XML_Parser p = c.n ? XML_ParserCreate(NULL) : NULL;
-  if (!p) {
-    free(c.n);
-    return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
-  }
-  XML_SetUserData(p, &c);
+/* Scan the document xml[0..len) into *c (see xml_scan). */
+static au_status xml_check(const char *path, const char *xml, size_t len, xml_scan *c, au_msg *msg) {
+  memset(c, 0, sizeof *c);
+  XML_Parser p = XML_ParserCreate(NULL);
+  if (!p) return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+  XML_SetUserData(p, c);
   XML_SetElementHandler(p, on_start, on_end);
   XML_SetCharacterDataHandler(p, on_text);
   au_status st = AU_OK;
   if (len > INT_MAX || XML_Parse(p, xml, (int)len, 1) != XML_STATUS_OK)
-    st = au_msg_set(msg, AU_E_FORMAT, "%s: not well-formed XML: %s", path, XML_ErrorString(XML_GetErrorCode(p)));
-  for (int i = 0; st == AU_OK && i < g->numDA; i++)
-    if (g->darray[i]->encoding == GIFTI_ENCODING_ASCII && c.n[i] != g->darray[i]->nvals)
-      st = au_msg_set(msg, AU_E_FORMAT, "%s: GIfTI array %d holds %lld numbers but its dimensions announce %lld", path,
-                      i, c.n[i], g->darray[i]->nvals);
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: not well-formed XML (line %lu: %s)", path,
+                    (unsigned long)XML_GetCurrentLineNumber(p), XML_ErrorString(XML_GetErrorCode(p)));
+  else if (c->bad)
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: not a GIfTI document: %s", path, c->what);
   XML_ParserFree(p);
-  free(c.n);
   return st;
+}
+
+/* Every ASCII array of g holds exactly as many numbers as it announces. */
+static au_status check_ascii(const char *path, const gifti_image *g, const xml_scan *c, au_msg *msg) {
+  for (int i = 0; i < g->numDA; i++)
+    if (g->darray[i]->encoding == GIFTI_ENCODING_ASCII && (i >= c->da || c->n[i] != g->darray[i]->nvals))
+      return au_msg_set(msg, AU_E_FORMAT, "%s: GIfTI array %d holds %lld numbers but its dimensions announce %lld",
+                        path, i, i < c->da ? c->n[i] : 0, g->darray[i]->nvals);
+  return AU_OK;
 }
 
 /* giftiio's reading of the XML document xml[0..len), which it opens as name: a metadata-only pass
@@ -228,17 +259,29 @@ static au_status gii_parse(const char *path, const char *name, const char *xml, 
                            au_msg *msg) {
   char said[256];
   gii_capture cap;
-  if (capture_begin(&cap) != 0) return au_msg_set(msg, AU_E_IO, "%s: cannot redirect giftiio's messages", path);
+  xml_scan *scan = malloc(sizeof *scan);
+  if (!scan) return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+  au_status st = xml_check(path, xml, len, scan, msg);
+  if (st != AU_OK) {
+    free(scan);
+    return st;
+  }
+  if (capture_begin(&cap) != 0) {
+    free(scan);
+    return au_msg_set(msg, AU_E_IO, "%s: cannot redirect giftiio's messages", path);
+  }
   gifti_image *g = gifti_read_image(name, 0);
   capture_end(&cap, said, sizeof said);
   if (!g || said[0]) {
     gifti_free_image(g);
+    free(scan);
     return au_msg_set(msg, AU_E_FORMAT, "%s: not a GIfTI file giftiio can read%s%s", path, said[0] ? ": " : "", said);
   }
   int ascii = 0;
-  au_status st = check_arrays(path, g, len, &ascii, msg);
-  if (st == AU_OK && ascii) st = check_ascii(path, g, xml, len, msg);
+  st = check_arrays(path, g, len, &ascii, msg);
+  if (st == AU_OK && ascii) st = check_ascii(path, g, scan, msg);
   gifti_free_image(g);
+  free(scan);
   if (st != AU_OK) return st;
   if (capture_begin(&cap) != 0) return au_msg_set(msg, AU_E_IO, "%s: cannot redirect giftiio's messages", path);
   g = gifti_read_image(name, 1);

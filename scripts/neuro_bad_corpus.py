@@ -64,3 +64,5 @@ put("external.gii", gifti(pts().replace('ExternalFileName=""', 'ExternalFileName
 put("short_ascii.gii", gifti(('<DataArray Intent="NIFTI_INTENT_POINTSET" DataType="NIFTI_TYPE_FLOAT32" '
     'ArrayIndexingOrder="RowMajorOrder" Dimensionality="2" Dim0="4" Dim1="3" Encoding="ASCII" Endian="LittleEndian" '
     'ExternalFileName="" ExternalFileOffset="">\n<Data>0 0 0 1 0 0 0 1 0 0 0</Data>\n</DataArray>\n'), tri()))
+put("mismatched_tag.gii", ok.replace(b"<DataArray", b"<DataArraw", 1))  # giftiio itself crashes on it
+put("misplaced.gii", ok.replace(b"<DataArray", b"<Data>0</Data>\n<DataArray", 1))

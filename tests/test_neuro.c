@@ -341,7 +341,7 @@ static int t_gifti_bad(void) {
   unsigned char *z = slurp(tp("ok.gii.gz"), &nz);
   AU_CHECK(put(tp("cut.gii"), b, n / 2) == 0);
   AU_CHECK_STATUS(au_io_read(tp("cut.gii"), &r, &msg), AU_E_FORMAT, &msg);
-  AU_CHECK(strstr(msg.text, "cut.gii: not a GIfTI file giftiio can read: ") && !strchr(msg.text, '\n'));
+  AU_CHECK(strstr(msg.text, "cut.gii: not well-formed XML (line ") && !strchr(msg.text, '\n'));
   AU_CHECK(put(tp("cut.gii.gz"), z, nz - 10) == 0);
   AU_CHECK_STATUS(au_io_read(tp("cut.gii.gz"), &r, &msg), AU_E_FORMAT, &msg);
   AU_CHECK(strstr(msg.text, "truncated"));
