@@ -179,6 +179,8 @@ static au_status check_arrays(const char *path, const gifti_image *g, size_t len
 #define XML_MAX_DA 4096
 
 typedef struct xml_scan {
+  long long bound;                  /* the most values the document can hold (data_bound) */
+  size_t len;                       /* the document's size in bytes */
   const char *stack[XML_MAX_DEPTH]; /* the open elements' names (static strings), or "" for others */
   int depth, bad, da, in_data, in_tok;
   char what[160];                   /* what is wrong, when bad */
@@ -193,9 +195,32 @@ static const char *const gii_parent[][2] = {
     {"DataSpace", "CoordinateSystemTransformMatrix"},   {"TransformedSpace", "CoordinateSystemTransformMatrix"},
     {"MatrixData", "CoordinateSystemTransformMatrix"}};
 
+/* A DataArray's attributes, checked before giftiio reads them: giftiio allocates an array whose data
+ * is in an external file even when asked for the metadata only, so a file that names one, or
+ * announces more values than it can hold, is refused here. Returns 0, or -1 with c->what set. */
+static int check_da_attrs(xml_scan *c, const XML_Char **attr) {
+  double nvals = 1;
+  for (int k = 0; attr[k] && attr[k + 1]; k += 2) {
+    const char *a = attr[k], *v = attr[k + 1];
+    if ((!strcmp(a, "ExternalFileName") && v[0]) || (!strcmp(a, "Encoding") && !strcmp(v, "ExternalFileBinary"))) {
+      snprintf(c->what, sizeof c->what, "array %d keeps its data in an external file, which is not read", c->da);
+      return -1;
+    }
+    if (!strncmp(a, "Dim", 3) && a[3] >= '0' && a[3] <= '5' && !a[4]) {
+      double d = strtod(v, NULL);
+      if (d > 0) nvals *= d;
+    }
+  }
+  if (nvals > (double)c->bound) {
+    snprintf(c->what, sizeof c->what, "array %d announces %.0f values, more than a %zu-byte file holds", c->da, nvals,
+             c->len);
+    return -1;
+  }
+  return 0;
+}
+
 static void XMLCALL on_start(void *u, const XML_Char *name, const XML_Char **attr) {
   xml_scan *c = u;
-  (void)attr;
   const char *parent = c->depth ? c->stack[c->depth - 1] : "", *known = NULL;
   int placed = 0;
   for (size_t k = 0; k < sizeof gii_parent / sizeof gii_parent[0]; k++)
@@ -203,6 +228,7 @@ static void XMLCALL on_start(void *u, const XML_Char *name, const XML_Char **att
   if (!c->bad && (!known || !placed || c->depth == XML_MAX_DEPTH || (!strcmp(name, "DataArray") && c->da == XML_MAX_DA)))
     c->bad = 1, snprintf(c->what, sizeof c->what, "element <%.40s> %s <%.40s>", name,
                          known ? "is not allowed under" : "is not GIfTI's, under", *parent ? parent : "(the root)");
+  if (!c->bad && !strcmp(name, "DataArray") && check_da_attrs(c, attr) != 0) c->bad = 1;
   if (c->bad) return;
   c->stack[c->depth++] = known;
   if (!strcmp(name, "DataArray")) c->n[c->da++] = 0;
@@ -229,6 +255,7 @@ static void XMLCALL on_text(void *u, const XML_Char *s, int len) {
 /* Scan the document xml[0..len) into *c (see xml_scan). */
 static au_status xml_check(const char *path, const char *xml, size_t len, xml_scan *c, au_msg *msg) {
   memset(c, 0, sizeof *c);
+  c->bound = data_bound(len), c->len = len;
   XML_Parser p = XML_ParserCreate(NULL);
   if (!p) return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
   XML_SetUserData(p, c);
@@ -239,7 +266,8 @@ static au_status xml_check(const char *path, const char *xml, size_t len, xml_sc
     st = au_msg_set(msg, AU_E_FORMAT, "%s: not well-formed XML (line %lu: %s)", path,
                     (unsigned long)XML_GetCurrentLineNumber(p), XML_ErrorString(XML_GetErrorCode(p)));
   else if (c->bad)
-    st = au_msg_set(msg, AU_E_FORMAT, "%s: not a GIfTI document: %s", path, c->what);
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: %s%s", path, c->what[0] == 'e' ? "not a GIfTI document: " : "GIfTI ",
+                    c->what);
   XML_ParserFree(p);
   return st;
 }
