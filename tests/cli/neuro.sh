@@ -229,6 +229,14 @@ c = s[..., 3]
 assert c.min() >= v.min() - 1e-6 and c.max() <= v.max() + 1e-6 and c.min() < 0 < c.max()
 print("sulc grid mean %.4f (vertex mean %.4f)" % (c.mean(), v.mean()))
 PYEOF
+  # texture --bake takes the GIfTI values too, and a curv file of them (written by --distortion's writer).
+  run texture "$FS5/white_right.gii.gz" --map "$T/o/rh.sphere.gii" "$T/o/tex.obj" --bake "$FS5/sulc_right.gii.gz" \
+    --image "$T/o/tex.png" --size 64x32 --quiet --distortion "$T/o/tex.distortion"
+  expect_status 0
+  [ -s "$T/o/tex.png" ] && [ -s "$T/o/tex.distortion" ] || fail "texture wrote no image or no distortion file"
+  run texture "$FS5/white_right.gii.gz" --map "$T/o/rh.sphere.gii" "$T/o/tex2.obj" --bake "$T/o/tex.distortion" \
+    --image "$T/o/tex2.png" --size 64x32 --quiet
+  expect_status 0
   ;;
 planar)
   # The planar commands: --distortion as .shape.gii (shares add up: sum 2^d * surface share = 1),
