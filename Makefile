@@ -60,7 +60,8 @@ test-asan: build-asan
 
 build-fuzz: setup
 	cmake -S tests/fuzz -B $(FUZZ_DIR) -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++
-	cmake --build $(FUZZ_DIR) -j$(JOBS) --target fuzz_read_obj fuzz_read_off fuzz_read_ply fuzz_read_stl fuzz_cli
+	cmake --build $(FUZZ_DIR) -j$(JOBS) --target fuzz_read_obj fuzz_read_off fuzz_read_ply fuzz_read_stl \
+	  fuzz_read_freesurfer fuzz_read_gifti fuzz_cli
 
 fuzz: build-fuzz
 	bash tests/fuzz/run.sh $(FUZZ_DIR) $(FUZZ_SECONDS)

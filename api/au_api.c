@@ -48,8 +48,18 @@ au_status au_mesh_write(const char *path, int nv, const double *V, int nf, const
   /* The writer takes positions and faces through a mesh; it reads them only. */
   au_mesh m = {nv, nf, (double *)V, (int *)F};
   au_io_write_opts w = au_io_write_opts_default();
-  if (opts) w.uv = opts->uv, w.precision = opts->precision, w.nvt = opts->nvt, w.vt = opts->vt, w.Ft = opts->Ft;
-  return au_io_write(path, &m, V, &w, msg);
+  if (opts) {
+    w.uv = opts->uv, w.precision = opts->precision, w.nvt = opts->nvt, w.vt = opts->vt, w.Ft = opts->Ft;
+    w.format = opts->format, w.meta = opts->meta, w.geometric_type = opts->geometric_type;
+  }
+  if (!opts || opts->radius == 0 || opts->radius == 1) return au_io_write(path, &m, V, &w, msg);
+  if (!(opts->radius > 0) || opts->radius > 1e30) return au_msg_set(msg, AU_E_ARG, "au_mesh_write: radius %g", opts->radius);
+  double *S = malloc(3 * (size_t)nv * sizeof *S);
+  if (!S) return au_msg_set(msg, AU_E_NOMEM, "out of memory writing '%s'", path);
+  for (size_t i = 0; i < 3 * (size_t)nv; i++) S[i] = opts->radius * V[i];
+  au_status st = au_io_write(path, &m, S, &w, msg);
+  free(S);
+  return st;
 }
 
 au_status au_write_text(const char *path, const char *text, size_t len, au_msg *msg) {

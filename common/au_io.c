@@ -7,6 +7,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <stdarg.h>
 #include <limits.h>
 #include <signal.h>
@@ -26,9 +27,15 @@
  * vertices anyway, so OpenMesh reads it (merging equal positions, which is what STL means), and
  * we check that it kept every facet. */
 
-typedef enum au_fmt { AU_FMT_NONE, AU_FMT_OBJ, AU_FMT_OFF, AU_FMT_PLY, AU_FMT_STL } au_fmt;
+typedef au_io_format au_fmt;
+#define AU_FMT_NONE AU_IO_FORMAT_AUTO
+#define AU_FMT_OBJ AU_IO_FORMAT_OBJ
+#define AU_FMT_OFF AU_IO_FORMAT_OFF
+#define AU_FMT_PLY AU_IO_FORMAT_PLY
+#define AU_FMT_STL AU_IO_FORMAT_STL
 
 static au_fmt fmt_of(const char *path) {
+  if (au_io__gii_name(path)) return AU_IO_FORMAT_GIFTI;
   const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
   if (!dot || (slash && dot < slash)) return AU_FMT_NONE;
   if (!strcasecmp(dot, ".obj")) return AU_FMT_OBJ;
@@ -38,10 +45,59 @@ static au_fmt fmt_of(const char *path) {
   return AU_FMT_NONE;
 }
 
+au_io_format au_io_format_of_name(const char *path) { return path ? fmt_of(path) : AU_IO_FORMAT_AUTO; }
+
+static const char *const format_names[] = {"auto", "obj", "off", "ply", "stl", "freesurfer", "gifti"};
+
+au_io_format au_io_format_parse(const char *word) {
+  if (!word) return AU_IO_FORMAT_AUTO;
+  for (int f = AU_IO_FORMAT_OBJ; f <= AU_IO_FORMAT_GIFTI; f++)
+    if (f != AU_IO_FORMAT_STL && strcmp(word, format_names[f]) == 0) return (au_io_format)f;
+  return AU_IO_FORMAT_AUTO;
+}
+
+const char *au_io_format_name(au_io_format f) {
+  return f >= AU_IO_FORMAT_AUTO && f <= AU_IO_FORMAT_GIFTI ? format_names[f] : "auto";
+}
+
+au_io_format au_io_meta_format(const au_io_meta *meta) { return meta ? meta->format : AU_IO_FORMAT_AUTO; }
+
+const char *au_io_meta_get(const au_io_meta *meta, const char *name) {
+  if (!meta || !name) return NULL;
+  if (meta->format == AU_IO_FORMAT_FREESURFER) return strcmp(name, "created_by") == 0 ? meta->fs_stamp : NULL;
+  return meta->gii ? au_io__gii_meta_get(meta->gii, name) : NULL;
+}
+
+void au_io_meta_free(au_io_meta **meta) {
+  if (!meta || !*meta) return;
+  free((*meta)->fs_stamp);
+  free((*meta)->fs_footer);
+  au_io__gii_free((*meta)->gii);
+  free(*meta);
+  *meta = NULL;
+}
+
+/* The format of a file as its first bytes say, for the formats that have a signature: FreeSurfer's
+ * magic numbers (0xFFFFFE a triangle surface, 0xFFFFFF a curv file or an old quad surface, 0xFFFFFD
+ * a quad surface) and GIfTI's XML ('<?xml' or '<GIFTI', after an optional byte-order mark; gzip only
+ * under a .gii.gz name). *magic gets the FreeSurfer magic number read, 0 if none. */
+static au_fmt fmt_of_content(const char *path, const char *buf, size_t len, unsigned *magic) {
+  const unsigned char *u = (const unsigned char *)buf;
+  *magic = 0;
+  if (len >= 3 && u[0] == 0xff && u[1] == 0xff && u[2] >= 0xfd) {
+    *magic = 0xFFFF00u | u[2];
+    return AU_IO_FORMAT_FREESURFER;
+  }
+  size_t skip = len >= 3 && !memcmp(buf, "\xEF\xBB\xBF", 3) ? 3 : 0;
+  if ((len - skip >= 5 && !memcmp(buf + skip, "<?xml", 5)) || (len - skip >= 6 && !memcmp(buf + skip, "<GIFTI", 6)))
+    return AU_IO_FORMAT_GIFTI;
+  return fmt_of(path);
+}
+
 /* ---------- reading the whole file ---------- */
 
 /* Read path into a NUL-terminated buffer (*out, *len bytes before the NUL); the caller frees *out. */
-static au_status slurp(const char *path, char **out, size_t *len, au_msg *msg) {
+au_status au_io__slurp(const char *path, char **out, size_t *len, au_msg *msg) {
   *out = NULL;
   *len = 0;
   FILE *fp = fopen(path, "rb");
@@ -172,7 +228,7 @@ static int rest_numeric(const char *p, const char *e) {
   return 1;
 }
 
-static au_status mesh_new(const char *path, long long nv, long long nf, au_mesh **out, au_msg *msg) {
+au_status au_io__mesh_new(const char *path, long long nv, long long nf, au_mesh **out, au_msg *msg) {
   if (nv <= 0 || nf <= 0)
     return au_msg_set(msg, AU_E_EMPTY, "%s: %lld vertices and %lld faces; a mesh needs both", path, nv, nf);
   if (nv > INT_MAX / 3 || nf > INT_MAX / 3)
@@ -208,7 +264,7 @@ static au_status read_obj(const char *path, const char *buf, size_t len, au_mesh
     if (tok_is(ts, te, "v")) nv++;
     if (tok_is(ts, te, "f")) nf++;
   }
-  au_status st = mesh_new(path, nv, nf, out, msg);
+  au_status st = au_io__mesh_new(path, nv, nf, out, msg);
   if (st != AU_OK) return st;
   au_mesh *m = *out;
   int iv = 0, jf = 0;
@@ -304,7 +360,7 @@ static au_status read_off(const char *path, const char *buf, size_t len, au_mesh
   if ((unsigned long long)nv > len / 4 + 1 || (unsigned long long)nf > len / 6 + 1)
     return au_msg_set(msg, AU_E_FORMAT, "%s:%d: the header says %lld vertices and %lld faces, more than a %zu-byte file holds",
                       path, hline, nv, nf, len);
-  au_status st = mesh_new(path, nv, nf, out, msg);
+  au_status st = au_io__mesh_new(path, nv, nf, out, msg);
   if (st != AU_OK) return st;
   au_mesh *m = *out;
   for (int i = 0; i < (int)nv; i++) {
@@ -577,7 +633,7 @@ static au_status ply_body(const char *path, const ply_elem *elems, int nelems, p
     if (elems[i].nprops > 0 && (unsigned long long)elems[i].n > body / (size_t)elems[i].nprops)
       return au_msg_set(msg, AU_E_FORMAT, "%s: the PLY header says %lld %s records, more than the file holds", path,
                         elems[i].n, elems[i].name);
-  au_status st = mesh_new(path, ve->n, fe->n, out, msg);
+  au_status st = au_io__mesh_new(path, ve->n, fe->n, out, msg);
   if (st != AU_OK) return st;
   au_mesh *m = *out;
   for (int i = 0; i < nelems; i++) {
@@ -730,7 +786,7 @@ static au_status read_stl(const char *path, const char *buf, size_t len, au_mesh
   for (int i = 0; i < nv; i++) map[i] = map[i] == i ? n++ : -1 - map[i];
   for (int i = 0; i < nv; i++)
     if (map[i] < 0) map[i] = map[-1 - map[i]];
-  st = mesh_new(path, n, nf, out, msg);
+  st = au_io__mesh_new(path, n, nf, out, msg);
   if (st != AU_OK) goto done;
   for (int i = 0; i < nv; i++) memcpy(&(*out)->X[3 * map[i]], &X[3 * i], 3 * sizeof(double));
   for (int j = 0; j < 3 * nf; j++) (*out)->F[j] = map[F[j]];
@@ -742,15 +798,31 @@ done:
   return st;
 }
 
-au_status au_io_read(const char *path, au_mesh **out, au_msg *msg) {
+/* A FreeSurfer magic number that is not a triangle surface's, said in words. */
+static au_status fs_not_triangles(const char *path, unsigned magic, au_msg *msg) {
+  return au_msg_set(msg, AU_E_FORMAT, "%s: FreeSurfer magic number 0x%06X: %s, not a triangle surface (0xFFFFFE)", path,
+                    magic, magic == 0xFFFFFFu ? "a curv file (per-vertex values) or a quad surface" : "a quad surface");
+}
+
+au_status au_io_read(const char *path, au_mesh **out, au_msg *msg) { return au_io_read_meta(path, out, NULL, msg); }
+
+au_status au_io_read_meta(const char *path, au_mesh **out, au_io_meta **meta, au_msg *msg) {
   if (msg) msg->text[0] = '\0';
+  if (meta) *meta = NULL;
   if (!path || !out) return au_msg_set(msg, AU_E_ARG, "au_io_read: path and out must not be NULL");
   *out = NULL;
   char *buf;
   size_t len;
-  au_status st = slurp(path, &buf, &len, msg);
+  au_status st = au_io__slurp(path, &buf, &len, msg);
   if (st != AU_OK) return st;
-  au_fmt fmt = fmt_of(path);
+  unsigned magic;
+  au_fmt fmt = fmt_of_content(path, buf, len, &magic);
+  au_io_meta *md = calloc(1, sizeof *md);
+  if (!md) {
+    free(buf);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+  }
+  md->format = fmt;
   /* Editors on some systems start text files with a UTF-8 byte-order mark; it is not part of the
    * first record. */
   const char *text = buf;
@@ -758,10 +830,16 @@ au_status au_io_read(const char *path, au_mesh **out, au_msg *msg) {
     text += 3;
     len -= 3;
   }
+  const unsigned char *bytes = (const unsigned char *)buf;
   if (fmt == AU_FMT_NONE)
-    st = au_msg_set(msg, AU_E_FORMAT, "%s: unknown mesh file extension (expected .obj, .off, .ply or .stl)", path);
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: unknown mesh file extension (expected .obj, .off, .ply, .stl, .gii, "
+                    ".gii.gz, or a FreeSurfer surface)", path);
   else if (len == 0)
     st = au_msg_set(msg, AU_E_EMPTY, "%s: the file is empty", path);
+  else if (fmt == AU_IO_FORMAT_FREESURFER)
+    st = magic == 0xFFFFFEu ? au_io__fs_read_surface(path, bytes, len, out, md, msg) : fs_not_triangles(path, magic, msg);
+  else if (fmt == AU_IO_FORMAT_GIFTI)
+    st = au_io__gii_read_surface(path, bytes, len, out, md, msg);
   else if (fmt == AU_FMT_OBJ)
     st = read_obj(path, text, len, out, msg);
   else if (fmt == AU_FMT_OFF)
@@ -771,6 +849,9 @@ au_status au_io_read(const char *path, au_mesh **out, au_msg *msg) {
   else
     st = read_stl(path, buf, len, out, msg);
   free(buf);
+  if (st == AU_OK && meta) *meta = md;
+  else au_io_meta_free(&md);
+  if (st != AU_OK) au_mesh_free(out);
   return st;
 }
 
@@ -791,7 +872,6 @@ static mode_t new_file_mode(void) {
   return 0666 & ~mask;
 }
 
-typedef int (*au_emit_fn)(FILE *fp, const void *ctx);
 
 au_status au_temp_path(const char *path, char *buf, size_t len) {
   if (!path || !buf) return AU_E_ARG;
@@ -803,7 +883,7 @@ au_status au_temp_path(const char *path, char *buf, size_t len) {
  * any failure the temporary is removed and an existing path is left as it was. The name is fixed for
  * the process, so that a program can remove it from a signal handler without the library keeping a
  * list; a file of that name is left only by a process of the same pid that died, so it is replaced. */
-static au_status write_atomic(const char *path, au_emit_fn emit, const void *ctx, au_msg *msg) {
+au_status au_io__write_atomic(const char *path, au_io__emit_fn emit, const void *ctx, au_msg *msg) {
   size_t n = strlen(path) + 32;
   char *tmp = malloc(n);
   if (!tmp) return au_msg_set(msg, AU_E_NOMEM, "out of memory writing '%s'", path);
@@ -959,13 +1039,16 @@ au_io_write_opts au_io_write_opts_default(void) {
   o.uv = NULL;
   o.precision = 17;
   o.nvt = 0, o.vt = NULL, o.Ft = NULL;
+  o.format = AU_IO_FORMAT_AUTO;
+  o.meta = NULL;
+  o.geometric_type = NULL;
   return o;
 }
 
 int au_io_can_write(const char *path) {
   if (!path) return 0;
   au_fmt f = fmt_of(path);
-  return f == AU_FMT_OBJ || f == AU_FMT_OFF || f == AU_FMT_PLY;
+  return f == AU_FMT_OBJ || f == AU_FMT_OFF || f == AU_FMT_PLY || f == AU_IO_FORMAT_GIFTI;
 }
 
 au_status au_io_write(const char *path, const au_mesh *m, const double *P, const au_io_write_opts *opts, au_msg *msg) {
@@ -984,10 +1067,14 @@ au_status au_io_write(const char *path, const au_mesh *m, const double *P, const
   for (int j = 0; opts->vt && j < 3 * m->nf; j++)
     if (opts->Ft[j] < 0 || opts->Ft[j] >= opts->nvt)
       return au_msg_set(msg, AU_E_ARG, "au_io_write: face %d has vt index %d, outside 0..%d", j / 3, opts->Ft[j], opts->nvt - 1);
-  if (!au_io_can_write(path))
-    return au_msg_set(msg, AU_E_FORMAT, "%s: cannot write this extension (expected .obj, .off or .ply)", path);
-  au_mesh_out o = {fmt_of(path), m, P, opts->uv, opts->precision, opts->nvt, opts->vt, opts->Ft};
-  return write_atomic(path, emit_mesh, &o, msg);
+  au_fmt fmt = opts->format != AU_IO_FORMAT_AUTO ? opts->format : fmt_of(path);
+  if (fmt == AU_IO_FORMAT_FREESURFER) return au_io__fs_write_surface(path, m, P, opts->meta, msg);
+  if (fmt == AU_IO_FORMAT_GIFTI) return au_io__gii_write_surface(path, m, P, opts, msg);
+  if (fmt != AU_FMT_OBJ && fmt != AU_FMT_OFF && fmt != AU_FMT_PLY)
+    return au_msg_set(msg, AU_E_FORMAT, "%s: cannot write this extension (expected .obj, .off, .ply, .gii or .gii.gz, "
+                      "or a format given)", path);
+  au_mesh_out o = {fmt, m, P, opts->uv, opts->precision, opts->nvt, opts->vt, opts->Ft};
+  return au_io__write_atomic(path, emit_mesh, &o, msg);
 }
 
 typedef struct au_text_out {
@@ -1005,5 +1092,90 @@ au_status au_io_write_text(const char *path, const char *buf, size_t len, au_msg
   if (msg) msg->text[0] = '\0';
   if (!path || (!buf && len > 0)) return au_msg_set(msg, AU_E_ARG, "au_io_write_text: path and buf must be given");
   au_text_out o = {buf, len};
-  return write_atomic(path, emit_text, &o, msg);
+  return au_io__write_atomic(path, emit_text, &o, msg);
+}
+
+/* ---------- per-vertex values ---------- */
+
+/* Text values: numbers separated by blanks, commas or line ends; a line starting with '#' is a
+ * comment. Counted all through, so that a wrong count is reported as the whole file's. */
+static au_status read_text_scalars(const char *path, const char *buf, size_t len, int n, double **out, int *count,
+                                   au_msg *msg) {
+  size_t cap = n > 0 ? (size_t)n : 1024, cnt = 0;
+  double *v = malloc(cap * sizeof *v);
+  if (!v) return au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+  au_status st = AU_OK;
+  const char *p = buf, *end = buf + len;
+  for (int line = 1; p < end && st == AU_OK; line++) {
+    const char *e = memchr(p, '\n', (size_t)(end - p)), *q = p;
+    if (!e) e = end;
+    while (q < e && (*q == ' ' || *q == '\t' || *q == '\r')) q++;
+    for (; q < e && *q != '#' && st == AU_OK;) {
+      while (q < e && (*q == ' ' || *q == '\t' || *q == '\r' || *q == ',')) q++;
+      if (q == e) break;
+      const char *t = q;
+      while (t < e && *t != ' ' && *t != '\t' && *t != '\r' && *t != ',') t++;
+      double x;
+      if (!tok_double(q, t, &x)) {
+        st = au_msg_set(msg, AU_E_FORMAT, "%s: line %d: '%.*s' is not a number", path, line, (int)(t - q > 20 ? 20 : t - q), q);
+      } else if (!isfinite(x)) {
+        st = au_msg_set(msg, AU_E_FORMAT, "%s: line %d: value %zu is not finite", path, line, cnt + 1);
+      } else if (cnt == cap && n <= 0 && cap >= (size_t)INT_MAX / 2) {
+        st = au_msg_set(msg, AU_E_FORMAT, "%s: too many values", path);
+      } else {
+        if (cnt == cap && n <= 0) {
+          double *g = realloc(v, 2 * cap * sizeof *v);
+          if (!g) st = au_msg_set(msg, AU_E_NOMEM, "out of memory reading '%s'", path);
+          else v = g, cap *= 2;
+        }
+        if (cnt < cap) v[cnt] = x;
+        cnt++;
+      }
+      q = t;
+    }
+    p = e < end ? e + 1 : end;
+  }
+  if (st == AU_OK && n > 0 && cnt != (size_t)n)
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: %zu values for %d vertices (one value a vertex expected)", path, cnt, n);
+  if (st == AU_OK && cnt == 0) st = au_msg_set(msg, AU_E_FORMAT, "%s: no values", path);
+  if (st != AU_OK) {
+    free(v);
+    return st;
+  }
+  *out = v;
+  if (count) *count = (int)cnt;
+  return AU_OK;
+}
+
+au_status au_io_read_scalars(const char *path, int n, double **out, int *count, au_msg *msg) {
+  if (msg) msg->text[0] = '\0';
+  if (out) *out = NULL;
+  if (!path || !out || n < 0) return au_msg_set(msg, AU_E_ARG, "au_io_read_scalars: bad arguments");
+  char *buf;
+  size_t len;
+  au_status st = au_io__slurp(path, &buf, &len, msg);
+  if (st != AU_OK) return st;
+  const unsigned char *u = (const unsigned char *)buf;
+  unsigned magic;
+  au_fmt fmt = fmt_of_content(path, buf, len, &magic);
+  if (fmt == AU_IO_FORMAT_FREESURFER && magic == 0xFFFFFFu)
+    st = au_io__fs_read_curv(path, u, len, n, out, count, msg);
+  else if (fmt == AU_IO_FORMAT_FREESURFER)
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: a FreeSurfer surface, not per-vertex values (a curv file)", path);
+  else if (fmt == AU_IO_FORMAT_GIFTI)
+    st = au_io__gii_read_scalars(path, u, len, n, out, count, msg);
+  else if (memchr(buf, '\0', len))
+    st = au_msg_set(msg, AU_E_FORMAT, "%s: binary data, but not a FreeSurfer curv or GIfTI file", path);
+  else
+    st = read_text_scalars(path, buf, len, n, out, count, msg);
+  free(buf);
+  return st;
+}
+
+au_status au_io_write_scalars(const char *path, int n, const double *values, int nfaces, const au_io_meta *meta,
+                              au_msg *msg) {
+  if (msg) msg->text[0] = '\0';
+  if (!path || n <= 0 || !values) return au_msg_set(msg, AU_E_ARG, "au_io_write_scalars: bad arguments");
+  if (au_io__gii_name(path)) return au_io__gii_write_scalars(path, n, values, meta, msg);
+  return au_io__fs_write_curv(path, n, values, nfaces, msg);
 }

@@ -303,3 +303,45 @@ done:
   free(Ad), free(As), free(Ao), free(U), free(L), free(W), free(vd), free(vs), free(ok), free(used);
   return st;
 }
+
+au_status au_metrics_vertex_distortion(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
+                                       double *out, int *ndegenerate) {
+  if (!X || !P || !F || !out || nv <= 0 || nf <= 0) return AU_E_ARG;
+  if (domain != AU_DOMAIN_SPHERE && domain != AU_DOMAIN_PLANE) return AU_E_ARG;
+  for (size_t i = 0; i < 3 * (size_t)nf; i++)
+    if (F[i] < 0 || F[i] >= nv) return AU_E_ARG;
+  size_t nvs = (size_t)nv;
+  double *vs = calloc(nvs, sizeof *vs);
+  if (!vs) return AU_E_NOMEM;
+  /* out accumulates the domain cells, vs the surface cells. */
+  memset(out, 0, nvs * sizeof *out);
+  double sd = 0, ss = 0, q[3][3], x[3][3], e1[3], e2[3], c[3];
+  for (size_t f = 0; f < (size_t)nf; f++) {
+    for (int k = 0; k < 3; k++) {
+      domain_corner(P, F, f, k, domain, q[k]);
+      memcpy(x[k], X + 3 * (size_t)F[3 * f + k], sizeof x[k]);
+    }
+    sub3(q[1], q[0], e1), sub3(q[2], q[0], e2), cross3(e1, e2, c);
+    double ad = 0.5 * norm3(c);
+    sub3(x[1], x[0], e1), sub3(x[2], x[0], e2), cross3(e1, e2, c);
+    double as = 0.5 * norm3(c);
+    for (int k = 0; k < 3; k++) out[F[3 * f + k]] += ad / 3, vs[F[3 * f + k]] += as / 3;
+    sd += ad, ss += as;
+  }
+  if (!(sd > 0 && ss > 0 && isfinite(sd) && isfinite(ss))) {
+    free(vs);
+    return AU_E_ARG;
+  }
+  int ndeg = 0;
+  for (size_t v = 0; v < nvs; v++) {
+    if (out[v] > AU_DEGEN_REL * sd && vs[v] > AU_DEGEN_REL * ss) {
+      out[v] = log2((out[v] / sd) / (vs[v] / ss));
+    } else {
+      out[v] = 0;
+      ndeg++;
+    }
+  }
+  free(vs);
+  if (ndegenerate) *ndegenerate = ndeg;
+  return AU_OK;
+}

@@ -17,6 +17,8 @@ extern "C" {
 
 /* au_domain, au_metrics and au_metrics_compute are public (include/authalic.h). */
 
+/* au_metrics_vertex_distortion is public (include/authalic.h). */
+
 #ifdef __cplusplus
 }
 #endif

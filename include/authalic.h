@@ -154,6 +154,81 @@ AU_API void au_mesh_free(au_mesh **m);
  * AU_E_FACE. */
 AU_API au_status au_mesh_read(const char *path, au_mesh **out, au_msg *msg);
 
+/* ---- neuroimaging files and per-vertex values
+ * FreeSurfer binary triangle surfaces (`lh.white`: found by their magic number 0xFFFFFE whatever the
+ * name) and GIfTI surfaces (.gii, .surf.gii, gzip-compressed .gii.gz) are read by au_mesh_read too.
+ * What those formats carry besides the mesh (FreeSurfer's created-by line and volume-geometry footer,
+ * GIfTI's metadata and coordinate systems) is kept in an au_io_meta (au_io_read_meta) that
+ * au_write_opts.meta carries into an output of the same format. Per-vertex values (curvature,
+ * thickness, sulcal depth, a map's areal distortion): text, FreeSurfer curv, GIfTI .shape.gii /
+ * .func.gii. Reading GIfTI redirects the process's stderr for the length of giftiio's parse (giftiio
+ * reports damage only there); programs that print from other threads meanwhile lose that output. */
+
+/* The file formats. AU_IO_FORMAT_AUTO means "not given": the output's extension decides. */
+typedef enum au_io_format {
+  AU_IO_FORMAT_AUTO = 0,
+  AU_IO_FORMAT_OBJ,
+  AU_IO_FORMAT_OFF,
+  AU_IO_FORMAT_PLY,
+  AU_IO_FORMAT_STL,        /* read only */
+  AU_IO_FORMAT_FREESURFER, /* binary triangle surface, big-endian */
+  AU_IO_FORMAT_GIFTI       /* .gii; .gii.gz is written gzip-compressed */
+} au_io_format;
+
+/* The format a path's name asks for: .obj .off .ply .stl (any case), .gii or .gii.gz (also
+ * .surf.gii, .shape.gii, ...); AU_IO_FORMAT_AUTO for any other name (FreeSurfer's names, such as
+ * `lh.white` or `rh.sphere.reg`, say nothing about the format). NULL gives AU_IO_FORMAT_AUTO. */
+AU_API au_io_format au_io_format_of_name(const char *path);
+
+/* The format named by a word as `--format` takes it: obj, off, ply, freesurfer, gifti (lower case);
+ * AU_IO_FORMAT_AUTO for anything else (or NULL). */
+AU_API au_io_format au_io_format_parse(const char *word);
+
+/* The lower-case name of a format ("obj", ..., "freesurfer", "gifti"; "auto"). Never NULL. */
+const char *au_io_format_name(au_io_format f);
+
+/* What a neuroimaging file carries besides its mesh, kept so that an output can say it again:
+ * the format read; for FreeSurfer the created-by line and the bytes after the faces (the volume
+ * geometry footer and any tags, kept as they are); for GIfTI the file's metadata and the pointset's
+ * metadata and coordinate systems. Opaque; free with au_io_meta_free. */
+typedef struct au_io_meta au_io_meta;
+
+/* The format of the file the metadata was read from (AU_IO_FORMAT_AUTO for NULL). */
+AU_API au_io_format au_io_meta_format(const au_io_meta *meta);
+
+/* A value of the metadata: for GIfTI a name of the file's or the pointset's metadata
+ * ("AnatomicalStructurePrimary", "GeometricType", ...), for FreeSurfer "created_by" (the created-by
+ * line); NULL if absent. The string belongs to meta. */
+const char *au_io_meta_get(const au_io_meta *meta, const char *name);
+
+/* Free *meta and set it to NULL; NULL-safe. */
+AU_API void au_io_meta_free(au_io_meta **meta);
+
+/* au_io_read, and also what the file carries besides the mesh: on success *meta (if meta is not
+ * NULL) owns the file's metadata (free with au_io_meta_free; for OBJ, OFF, PLY and STL it records
+ * only the format). On failure *meta is NULL. Returns what au_io_read returns. */
+AU_API au_status au_io_read_meta(const char *path, au_mesh **out, au_io_meta **meta, au_msg *msg);
+
+/* Read n per-vertex values from path into *out (malloc'ed, n doubles, owned by the caller; NULL on
+ * failure). The format: a FreeSurfer curv file (found by its magic number 0xFFFFFF, float32 values),
+ * GIfTI (.gii or .gii.gz, e.g. .shape.gii or .func.gii, or XML content: the one data array that is
+ * neither a POINTSET nor a TRIANGLE, one value per vertex), or text: numbers separated by blanks,
+ * commas or line ends, with `#` starting a comment line. n > 0: exactly n values are expected;
+ * n == 0: any positive count is taken. *count (may be NULL) gets the count read. Every value must
+ * be finite. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO (missing, unreadable), AU_E_FORMAT
+ * (malformed, truncated, a non-finite value, another count than n; msg says which). */
+AU_API au_status au_io_read_scalars(const char *path, int n, double **out, int *count, au_msg *msg);
+
+/* Write n per-vertex values: GIfTI (a float32 NIFTI_INTENT_SHAPE array; gzip-compressed for .gii.gz)
+ * when path ends in .gii or .gii.gz (.shape.gii, .func.gii), otherwise a FreeSurfer curv file
+ * (magic 0xFFFFFF, n, nfaces, 1 value per vertex, big-endian float32). nfaces: the mesh's face count,
+ * which a curv header records (0 if unknown). meta (may be NULL): the input's metadata; a GIfTI
+ * output carries its AnatomicalStructurePrimary and AnatomicalStructureSecondary. Written
+ * atomically as au_io_write. Returns AU_OK, AU_E_ARG (n <= 0, NULL values), AU_E_NOMEM, AU_E_IO,
+ * AU_E_FORMAT (a value that is not finite or beyond float32). */
+AU_API au_status au_io_write_scalars(const char *path, int n, const double *values, int nfaces, const au_io_meta *meta,
+                              au_msg *msg);
+
 /* How au_mesh_write writes. Start from au_write_opts_default(). */
 typedef struct au_write_opts {
   const double *uv; /* uv [0..2*nv-1]: per-vertex texture coordinates written as OBJ `vt` lines;
@@ -162,6 +237,15 @@ typedef struct au_write_opts {
   int nvt;          /* per-corner texture coordinates instead (a torus result's vt, Ft): nvt rows */
   const double *vt; /* vt [0..2*nvt-1], written as OBJ `vt` lines; NULL (default): none. Not with uv */
   const int *Ft;    /* Ft [0..3*nf-1]: the vt row of each corner, 0 <= Ft < nvt, written as `f v/vt` */
+  au_io_format format; /* AU_IO_FORMAT_AUTO (default): by path's extension; otherwise this format whatever
+                          the name (STL cannot be written) */
+  const au_io_meta *meta; /* the input's metadata (au_io_read_meta), carried into a FreeSurfer or GIfTI
+                             output of the same format: the footer byte for byte, the GIfTI
+                             AnatomicalStructure and coordinate systems; NULL (default): none */
+  const char *geometric_type; /* GIfTI GeometricType of the output ("Spherical", "Flat"); NULL (default):
+                                 the input's, if it had one */
+  double radius;    /* scale positions by this before writing (a sphere of radius 100 for FreeSurfer and
+                       HCP); 0 (default) or 1: as given */
 } au_write_opts;
 
 AU_API au_write_opts au_write_opts_default(void);
@@ -352,6 +436,7 @@ struct au_expert {
 /* The tuning au_map uses for target t, with or without refine_faces. */
 AU_API au_expert au_expert_default(au_target t, int refine_faces);
 
+
 /* Distortion of a map, with the names and definitions of ../shared/tools/param-eval (they agree to
  * 1e-9). Per face, J is the affine map from the domain triangle (the chord triangle on the sphere)
  * to the surface triangle, the surface scaled to the domain's total area; gmax >= gmin its singular
@@ -386,6 +471,19 @@ typedef struct au_metrics {
  * Returns AU_OK, AU_E_ARG (NULL arrays, nf <= 0, zero total area), AU_E_NOMEM. */
 AU_API au_status au_metrics_compute(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
                                     au_metrics *out, double *ups, double *lam);
+
+/* Per-vertex areal distortion of the map X -> P, as HCP's convention (and param-eval's vertex cells):
+ * out[i] = log2((vd_i / sum vd) / (vs_i / sum vs)), where vd_i and vs_i are the barycentric vertex
+ * areas (a third of each incident triangle's area) on the domain and on the surface. On the sphere
+ * the domain triangles are the chord triangles (what param-eval measures), so the values do not
+ * depend on the sphere's radius; planar domains drop z. Positive where the map gives a vertex more
+ * than its share. A vertex whose cell is degenerate on either side (at most 1e-14 of the total, e.g.
+ * a vertex no face uses) gets 0 and is counted in *ndegenerate.
+ * X, P: nv x 3 row-major; F: nf x 3. out: caller-allocated, nv doubles. ndegenerate may be NULL.
+ * Returns AU_OK, AU_E_ARG (NULL arrays, nv or nf <= 0, an index out of range, zero total area),
+ * AU_E_NOMEM. */
+AU_API au_status au_metrics_vertex_distortion(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
+                                       double *out, int *ndegenerate);
 
 /* The per-step log of a map's flow. */
 typedef struct au_convergence {

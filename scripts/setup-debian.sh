@@ -12,6 +12,9 @@ PACKAGES=(
   libopenmesh-dev libgeographiclib-dev libcjson-dev libpng-dev
   python3-numpy  # the shared evaluator (param-eval), the data and bench scripts, the Python package
   python3-pytest python3-tqdm  # the Python package's tests; its progress bar
+  libgiftiio-dev libexpat1-dev zlib1g-dev  # GIfTI surfaces (giftiio reads by name; .gii.gz is inflated with zlib first)
+  python3-nibabel  # the neuro tests read what we write with nibabel (/usr/bin/python3)
+  connectome-workbench  # wb_command: the neuro tests check our spheres with Connectome Workbench
   time  # /usr/bin/time, used by the benchmarks
   strace  # holds a run at its write in the interrupted-write test
   clang libclang-rt-14-dev llvm  # libFuzzer and its runtime (make fuzz); llvm-symbolizer for sanitizer stacks

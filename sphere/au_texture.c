@@ -751,42 +751,11 @@ au_status au_npy_write(const char *path, int ndim, const long *shape, const doub
 
 au_status au_read_scalars(const char *path, int n, double *vals, au_msg *msg) {
   if (!path || n < 1 || !vals) return au_msg_set(msg, AU_E_ARG, "au_read_scalars: bad arguments");
-  FILE *fp = fopen(path, "r");
-  if (!fp) return au_msg_set(msg, AU_E_IO, "cannot read '%s': %s", path, strerror(errno));
-  char line[4096];
-  int count = 0, lineno = 0;
-  au_status st = AU_OK;
-  while (st == AU_OK && fgets(line, sizeof line, fp)) {
-    lineno++;
-    if (!strchr(line, '\n') && !feof(fp)) {
-      st = au_msg_set(msg, AU_E_FORMAT, "%s: line %d is too long", path, lineno);
-      break;
-    }
-    char *s = line;
-    while (*s == ' ' || *s == '\t' || *s == '\r') s++;
-    if (*s == '#') continue;
-    for (;;) {
-      while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n' || *s == ',') s++;
-      if (!*s) break;
-      char *end;
-      errno = 0;
-      double v = strtod(s, &end);
-      if (end == s || !(*end == '\0' || *end == ' ' || *end == '\t' || *end == '\r' || *end == '\n' || *end == ',')) {
-        st = au_msg_set(msg, AU_E_FORMAT, "%s: line %d: '%.20s' is not a number", path, lineno, s);
-        break;
-      }
-      if (!isfinite(v)) {
-        st = au_msg_set(msg, AU_E_FORMAT, "%s: line %d: value %d is not finite", path, lineno, count + 1);
-        break;
-      }
-      if (count < n) vals[count] = v;
-      count++;
-      s = end;
-    }
-  }
-  if (st == AU_OK && ferror(fp)) st = au_msg_set(msg, AU_E_IO, "cannot read '%s'", path);
-  fclose(fp);
-  if (st == AU_OK && count != n)
-    st = au_msg_set(msg, AU_E_FORMAT, "%s: %d values for %d vertices (one value a vertex expected)", path, count, n);
-  return st;
+  /* au_io_read_scalars reads the text format, FreeSurfer curv files and GIfTI values alike. */
+  double *v = NULL;
+  au_status st = au_io_read_scalars(path, n, &v, NULL, msg);
+  if (st != AU_OK) return st;
+  memcpy(vals, v, (size_t)n * sizeof *vals);
+  free(v);
+  return AU_OK;
 }

@@ -84,6 +84,25 @@ set(au_cli_bad
   degenerate.stl         "4 facets but OpenMesh kept 3"
   open.stl               "1 boundary loop.*closed surface"
   nonmanifold.stl        "non-manifold edge \\(0, 1\\)"
+  # FreeSurfer (found by the magic number, whatever the name) and GIfTI (issue 19;
+  # scripts/neuro_bad_corpus.py writes them)
+  truncated.white        "announces 4 vertices and 4 faces \\(96 bytes\\) but 86 bytes follow its header \\(truncated"
+  lying_count.white      "announces 1000000 vertices"
+  index_range.white      "face 3: index 7 is out of range \\(4 vertices"
+  no_stamp.white         "without its created-by line"
+  quad.white             "magic number 0xFFFFFF: a curv file .* not a triangle surface"
+  truncated.gii          "not well-formed XML \\(line 6: unclosed token\\)"
+  mismatched_tag.gii     "not well-formed XML \\(line 5: mismatched tag\\)"
+  misplaced.gii          "not a GIfTI document: element <Data> is not allowed under <GIFTI>"
+  truncated.gii.gz       "the gzip data ends early \\(truncated"
+  lying_dims.gii         "announces 6000000000 values, more than a 692-byte file holds"
+  short_data.gii         "GIfTI data cannot be read: uncompressed buf is 48 bytes, expected 480"
+  corrupt_data.gii       "GIfTI data cannot be read: 4 bad base64 chars"
+  no_triangles.gii       "0 TRIANGLE arrays"
+  values.shape.gii       "0 POINTSET arrays"
+  index_range.gii        "face 3: index 9 is out of range"
+  external.gii           "external file, which is not read"
+  short_ascii.gii        "GIfTI array 0 holds 11 numbers but its dimensions announce 12"
   # any format
   mesh.xyz               "unknown mesh file extension"
   unreadable.obj         "cannot open.*permission denied")
@@ -137,4 +156,10 @@ au_cli_test(init_only.spiky_ico quality.sh init_only data/spiky_ico.obj)
 # --density FILE (issue 6): per-face density 4 on half the ellipsoid, and bad density files.
 foreach(c half count negative missing)
   au_cli_test(density_${c} density.sh ${c})
+endforeach()
+
+# Neuroimaging formats (issue 19): nibabel reads what we write and we read what it writes, the
+# FreeSurfer footer kept, Connectome Workbench on our sphere, fsaverage5's bounds (tests/cli/neuro.sh).
+foreach(c nibabel_reads nibabel_writes fs_roundtrip fsaverage5 workbench sample_sulc planar)
+  au_cli_test(neuro.${c} neuro.sh ${c})
 endforeach()

@@ -30,9 +30,11 @@ static void print_help(void) {
   for (int i = 0; i < NCOMMANDS; i++) printf("%s authalic %s\n", i == 0 ? "usage:" : "      ", commands[i].usage);
   printf("       authalic COMMAND --help    one command in detail\n"
          "       authalic --help | --version\n\n"
-         "IN is read as .obj .off .ply or .stl; OUT is written as .obj .off or .ply (by extension),\n"
-         "with the input's vertex order and faces. Exit status: 0 ok (also with warnings), 2 bad usage\n"
-         "or bad input, 1 internal or numerical failure.\n\n");
+         "IN is read as .obj .off .ply .stl, a FreeSurfer surface (lh.white: by its magic number) or\n"
+         "GIfTI (.gii .gii.gz); OUT is written as .obj .off .ply .gii or .gii.gz (by extension; another\n"
+         "name gets IN's format; --format chooses), with the input's vertex order and faces.\n"
+         "Exit status: 0 ok (also with warnings), 2 bad usage or bad input, 1 internal or numerical\n"
+         "failure.\n\n");
   cli_print_options(CLI_SPHERE);
 }
 

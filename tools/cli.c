@@ -101,12 +101,9 @@ int cli_check_outputs(const char *help, const char *in, const char *out, const c
   if (cli_same_file(in, out)) return cli_usage_error(help, "output '%s' is the input file; refusing to overwrite it", out);
   if (report && cli_same_file(report, in)) return cli_usage_error(help, "report '%s' is the input file", report);
   if (report && cli_same_file(report, out)) return cli_usage_error(help, "report '%s' is the output file", report);
-  if (!au_mesh_can_write(out)) {
-    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
-    if (!dot || (slash && dot < slash))
-      return cli_usage_error(help, "output '%s' has no extension (use .obj, .off or .ply)", out);
-    return cli_usage_error(help, "cannot write '%s' files (output '%s'; use .obj, .off or .ply)", dot, out);
-  }
+  if (au_io_format_of_name(out) == AU_IO_FORMAT_STL)
+    return cli_usage_error(help, "cannot write '%s' files (output '%s'; use .obj, .off, .ply, .gii or --format)",
+                           strrchr(out, '.'), out);
   int rc = cli_check_writable_path(help, out, "output");
   if (rc == 0 && report) rc = cli_check_writable_path(help, report, "report");
   return rc;
@@ -317,10 +314,33 @@ void cli_warn(cli_warnings *w, const char *path, const char *fmt, ...) {
   }
 }
 
-int cli_load(const char *in, au_target t, au_mesh **m, cli_warnings *w, double *t_read, double *t_check) {
+int cli_output_format(const char *help, const char *out, au_io_format forced, const au_io_meta *in_meta,
+                      au_io_format *fmt) {
+  au_io_format f = forced != AU_IO_FORMAT_AUTO ? forced : au_io_format_of_name(out);
+  if (f == AU_IO_FORMAT_AUTO) f = au_io_meta_format(in_meta);
+  if (f == AU_IO_FORMAT_AUTO || f == AU_IO_FORMAT_STL)
+    return cli_usage_error(help, "output '%s' has no extension of a format that can be written and the input is %s "
+                           "(use .obj, .off, .ply, .gii or --format)", out, au_io_format_name(f));
+  *fmt = f;
+  return 0;
+}
+
+int cli_write_distortion(const char *path, const au_mesh *m, const double *P, au_domain domain,
+                         const au_io_meta *meta) {
+  au_msg msg = {{0}};
+  double *d = malloc((size_t)m->nv * sizeof *d);
+  if (!d) return cli_fail(path, AU_E_NOMEM, NULL);
+  au_status st = au_metrics_vertex_distortion(m->nv, m->nf, m->X, P, m->F, domain, d, NULL);
+  if (st == AU_OK) st = au_io_write_scalars(path, m->nv, d, m->nf, meta, &msg);
+  free(d);
+  return st == AU_OK ? -1 : cli_fail(path, st, &msg);
+}
+
+int cli_load(const char *in, au_target t, au_mesh **m, au_io_meta **meta, cli_warnings *w, double *t_read,
+             double *t_check) {
   au_msg msg = {{0}};
   double t0 = cli_now();
-  au_status st = au_mesh_read(in, m, &msg);
+  au_status st = au_io_read_meta(in, m, meta, &msg);
   if (st != AU_OK) return cli_fail(in, st, &msg);
   *t_read = cli_now() - t0;
   if ((int)t < 0) return -1;
@@ -328,6 +348,7 @@ int cli_load(const char *in, au_target t, au_mesh **m, cli_warnings *w, double *
   st = au_mesh_check((*m)->X, (*m)->nv, (*m)->F, (*m)->nf, t, &msg);
   if (st < 0) {
     au_mesh_free(m);
+    if (meta) au_io_meta_free(meta);
     return cli_fail(in, st, &msg);
   }
   if (st > 0 && w) cli_warn(w, in, "%s", msg.text[0] ? msg.text : au_status_str(st));

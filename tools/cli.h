@@ -68,9 +68,25 @@ int cli_parse_nonneg(const char *s, double *out);
 int cli_same_file(const char *a, const char *b);
 /* 1 if path's extension is ext (".png"), any case. */
 int cli_has_ext(const char *path, const char *ext);
-/* The usual checks of an output mesh path against the input and report paths (same file, known
- * extension, existing directory). report may be NULL. Returns 0 or a usage error. */
+/* The usual checks of an output mesh path against the input and report paths (same file, a format
+ * that can be written, existing directory). An OUT without a known extension is accepted here: it
+ * takes the input's format or --format's (cli_output_format decides once the input is read); one
+ * that names a format that cannot be written (.stl) is refused. report may be NULL. Returns 0 or a
+ * usage error (help names the command's help). */
 int cli_check_outputs(const char *help, const char *in, const char *out, const char *report);
+/* The format OUT is written in: forced (--format) if given, else OUT's extension, else the input's
+ * format (in_meta; so `authalic sphere lh.white lh.sphere.authalic` writes a FreeSurfer surface).
+ * Returns 0 with *fmt set, or prints a usage error and returns EXIT_USAGE (the input's format cannot
+ * be written: STL). */
+int cli_output_format(const char *help, const char *out, au_io_format forced, const au_io_meta *in_meta,
+                      au_io_format *fmt);
+
+/* Write the per-vertex areal distortion of the map X -> P (au_metrics_vertex_distortion) to path
+ * (au_io_write_scalars: curv, or GIfTI for .gii names, with the input's metadata). Returns -1 on
+ * success, else prints the error and returns the exit code. */
+int cli_write_distortion(const char *path, const au_mesh *m, const double *P, au_domain domain,
+                         const au_io_meta *meta);
+
 /* Check that path can be created: its directory exists and it is not a directory. 0 or usage error. */
 int cli_check_writable_path(const char *help, const char *path, const char *what);
 
@@ -102,10 +118,12 @@ void cli_warn(cli_warnings *w, const char *path, const char *fmt, ...)
 
 /* ---- input and output */
 
-/* Read IN and check it for target t (t < 0: read only, as before au_map, which checks itself). On success *m is set (free with au_mesh_free), a check warning
+/* Read IN and check it for target t (t < 0: read only, as before au_map, which checks itself). What
+ * the file carries besides the mesh goes to *meta (free with au_io_meta_free; meta may be NULL). On success *m is set (free with au_mesh_free), a check warning
  * (unreferenced vertices) goes to w, the seconds go to t_read and t_check, and -1 is returned;
  * otherwise the error is printed and the exit code returned. */
-int cli_load(const char *in, au_target t, au_mesh **m, cli_warnings *w, double *t_read, double *t_check);
+int cli_load(const char *in, au_target t, au_mesh **m, au_io_meta **meta, cli_warnings *w, double *t_read,
+             double *t_check);
 
 /* Write the map (nv positions P, nf faces F, optional texture coordinates in wopts) and the report
  * (r's JSON with extra; report may be NULL) so that a failure leaves neither a new OUT nor a clobbered

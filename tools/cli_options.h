@@ -33,15 +33,17 @@ enum {
  * this order. */
 #define CLI_OPTIONS(X)                                                                                                 \
   X(OPT_MAP, "map", "SPHERE_MAP", CLI_FILE, CLI_TEXTURE | CLI_SAMPLE,                                                 \
-    "the sphere map of IN (same vertices and faces, positions on the sphere); computed on the fly when absent")     \
+    "the sphere map of IN (same vertices and faces, positions on a sphere about the origin of any radius); "       \
+    "computed on the fly when absent")                                                                                \
   X(OPT_GRID, "grid", "WxH", CLI_VALUE, CLI_SAMPLE, "grid size, W and H from 1 to 16384 (required)")                \
   X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "write a JSON report: metrics of the result and of the initial map, per-step errors, stage times, warnings")    \
   X(OPT_STEPS, "steps", "K", CLI_VALUE, CLI_MAPS | CLI_TORUS, "most advection steps, 1..%M (default %D)")           \
   X(OPT_TOL, "tol", "T", CLI_VALUE, CLI_MAPS | CLI_TORUS, "stop when the vertex mean |log area ratio| is below T, T >= 0 (default %D)") \
   X(OPT_DENSITY, "density", "FILE", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
-    "prescribed density: one positive number per vertex (or per face) of IN, in order, whitespace-separated; "      \
-    "domain area is proportional to density x surface area")                                                        \
+    "prescribed density: one positive number per vertex (or per face) of IN, in order: text (whitespace-"          \
+    "separated), a FreeSurfer curv or a GIfTI .shape.gii/.func.gii file; domain area is proportional to density "  \
+    "x surface area")                                                        \
   X(OPT_BOUNDARY, "boundary", "MODE", CLI_VALUE, CLI_PLANAR,                                                         \
     "slide (default): boundary vertices slide along the domain's boundary (square: corners fixed); fixed: the "     \
     "initial map's boundary is kept")                                                                                \
@@ -73,6 +75,16 @@ enum {
   X(OPT_LATTICE, "lattice", "SHAPE", CLI_VALUE, CLI_TORUS,                                                           \
     "conformal (default): the conformal modulus's lattice, scaled to area 1; square: the unit square (the linear "   \
     "map from the conformal lattice, no longer conformal)")                                                          \
+  X(OPT_FORMAT, "format", "F", CLI_VALUE, CLI_MAPS,                                                                 \
+    "write OUT as obj, off, ply, freesurfer (binary triangle surface, big-endian, float32) or gifti (.gii; "         \
+    "gzip-compressed for a .gii.gz name); default: by OUT's extension, and an OUT with none "                        \
+    "(lh.sphere.authalic) gets the input's format")                                                                  \
+  X(OPT_RADIUS, "radius", "R", CLI_VALUE, CLI_SPHERE,                                                                \
+    "write the sphere with radius R > 0 (FreeSurfer and HCP spheres: 100); the metrics and the report are those "   \
+    "of the unit sphere (default 1)")                                                                                \
+  X(OPT_DISTORTION, "distortion", "FILE", CLI_FILE, CLI_SPHERE | CLI_PLANAR | CLI_TEXTURE,                           \
+    "per-vertex areal distortion log2(map area share / surface area share) of the barycentric vertex cells "         \
+    "(HCP's convention): a FreeSurfer curv file, or GIfTI when FILE ends in .gii (e.g. .shape.gii)")                \
   X(OPT_PROJECTION, "projection", "P", CLI_VALUE, CLI_TEXTURE,                                                       \
     "cea (default): Lambert cylindrical equal-area, u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; sample with u "     \
     "wrapped (repeat). laea: Lambert azimuthal equal-area, northern hemisphere in the left half, southern in the "  \
@@ -81,13 +93,15 @@ enum {
     "write longitude and latitude in degrees of every vertex of OUT.obj")                                            \
   X(OPT_BAKE, "bake", "ATTR", CLI_FILE, CLI_TEXTURE,                                                                 \
     "bake a per-vertex attribute into --image: `normal` (unit normals as colours (n + 1)/2), `position` (the "      \
-    "bounding box as RGB), or a text file with one number per vertex of IN, drawn with the viridis colour map")     \
+    "bounding box as RGB), or a file with one number per vertex of IN (text, FreeSurfer curv, GIfTI .shape.gii or " \
+    ".func.gii), drawn with the viridis colour map")                                                                 \
   X(OPT_IMAGE, "image", "OUT.png", CLI_FILE, CLI_TEXTURE,                                                            \
     "the baked texture; OUT.mtl is written beside OUT.obj and names it")                                             \
   X(OPT_SIZE, "size", "WxH", CLI_VALUE, CLI_TEXTURE, "texture size in texels (default 1024x512; laea needs an even W)") \
   X(OPT_NORMALS, "normals", NULL, CLI_FLAG, CLI_SAMPLE, "add the surface normal (3 columns)")                       \
   X(OPT_ATTR, "attr", "FILE", CLI_REPEAT, CLI_SAMPLE,                                                                \
-    "add a per-vertex scalar (a text file, one number per vertex); repeatable")                                      \
+    "add a per-vertex scalar (one number per vertex: a text file, a FreeSurfer curv file such as lh.sulc, or "     \
+    "GIfTI .shape.gii / .func.gii); repeatable")                                                                     \
   X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_SAMPLE,                                                            \
     "the surface area of every cell's preimage (mean, std/mean, min, max) and the map's distortion")                \
   X(OPT_PREVIEW, "preview", "P.png", CLI_FILE, CLI_TEXTURE | CLI_SAMPLE,                                             \
@@ -104,7 +118,7 @@ enum {
 typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
   OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_NO_BALANCE, OPT_INIT_ONLY, OPT_LATTICE,
-  OPT_PROJECTION, OPT_LONLAT,
+  OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
   OPT_COUNT
 } cli_opt_id;

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 
@@ -119,51 +120,49 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
         return cli_usage_error(a->help, "--init-only runs no advection: --steps, --tol, --density, --boundary, "
                                         "--refine-faces, --restore-shapes and --angles do not apply");
   }
+  const char *v = a->val[OPT_FORMAT];
+  if (v && au_io_format_parse(v) == AU_IO_FORMAT_AUTO)
+    return cli_usage_error(a->help, "--format '%s': expected obj, off, ply, freesurfer or gifti", v);
+  double radius;
+  if ((v = a->val[OPT_RADIUS]) && (cli_parse_nonneg(v, &radius) || !(radius > 0) || radius > 1e30))
+    return cli_usage_error(a->help, "--radius '%s': expected a positive number", v);
   rc = cli_check_outputs(a->help, a->pos[0], a->pos[1], a->val[OPT_REPORT]);
+  const char *d = a->val[OPT_DISTORTION];
+  if (!rc && d && (cli_same_file(d, a->pos[0]) || cli_same_file(d, a->pos[1]) ||
+                   (a->val[OPT_REPORT] && cli_same_file(d, a->val[OPT_REPORT])) ||
+                   (a->val[OPT_DENSITY] && cli_same_file(d, a->val[OPT_DENSITY]))))
+    rc = cli_usage_error(a->help, "--distortion '%s' is also another input or output file", d);
+  if (!rc && d) rc = cli_check_writable_path(a->help, d, "--distortion");
   if (!rc && cmd == CLI_TORUS && !cli_has_ext(a->pos[1], ".obj"))
     return cli_usage_error(a->help, "%s: the torus map is written as .obj (its seamless `vt` need OBJ)", a->pos[1]);
   return rc ? rc : -1;
 }
 
-/* Read a density file: whitespace-separated numbers, nv of them (per vertex) or nf (per face), each
- * positive and finite. On success *out (malloc'ed) and *count are set and -1 is returned; otherwise
- * the error is printed and the exit code returned. */
+/* Read a density file (au_io_read_scalars: text, FreeSurfer curv or GIfTI values): nv values (per
+ * vertex) or nf (per face), each positive and finite. On success *out (malloc'ed) and *count are set
+ * and -1 is returned; otherwise the error is printed and the exit code returned. */
 static int read_density(const char *path, int nv, int nf, double **out, int *count) {
+  au_msg msg = {{0}};
+  double *v = NULL;
+  int n = 0;
   FILE *fp = fopen(path, "r");
   if (!fp) {
     fprintf(stderr, "authalic: error: %s: cannot open the density file: %s\n", path, strerror(errno));
     return EXIT_USAGE;
   }
-  int cap = (nv > nf ? nv : nf) + 1, n = 0, rc = -1;
-  double *v = malloc(sizeof(double) * (size_t)cap);
-  char tok[128];
-  if (!v) {
-    fclose(fp);
-    return cli_fail(path, AU_E_NOMEM, NULL);
-  }
-  while (fscanf(fp, "%127s", tok) == 1) {
-    char *end = NULL;
-    double x = strtod(tok, &end);
-    if (*end || !isfinite(x) || !(x > 0)) {
-      fprintf(stderr, "authalic: error: %s: value %d ('%s') is not a positive finite number\n", path, n + 1, tok);
-      rc = EXIT_USAGE;
-      break;
-    }
-    if (n == cap - 1) {
-      fprintf(stderr, "authalic: error: %s: more values than the mesh has vertices (%d) or faces (%d)\n", path, nv, nf);
-      rc = EXIT_USAGE;
-      break;
-    }
-    v[n++] = x;
-  }
   fclose(fp);
-  if (rc < 0 && n != nv && n != nf) {
+  au_status st = au_io_read_scalars(path, 0, &v, &n, &msg);
+  if (st != AU_OK) return cli_fail(path, st, &msg);
+  for (int i = 0; i < n; i++)
+    if (!(v[i] > 0)) {
+      fprintf(stderr, "authalic: error: %s: value %d ('%g') is not a positive finite number\n", path, i + 1, v[i]);
+      free(v);
+      return EXIT_USAGE;
+    }
+  if (n != nv && n != nf) {
     fprintf(stderr, "authalic: error: %s: %d values; the mesh has %d vertices and %d faces\n", path, n, nv, nf);
-    rc = EXIT_USAGE;
-  }
-  if (rc >= 0) {
     free(v);
-    return rc;
+    return EXIT_USAGE;
   }
   *out = v, *count = n;
   return -1;
@@ -235,6 +234,8 @@ static int run_map(const cli_args *a, au_options *o) {
   extra.input = in, extra.output = out, extra.tool = "authalic " AU_VERSION;
   au_mesh *m = NULL;
   au_result *r = NULL;
+  au_io_meta *meta = NULL;
+  const char *distortion = a->val[OPT_DISTORTION];
   double *density = NULL;
   au_msg msg = {{0}};
   cli_progress_state prog;
@@ -243,8 +244,12 @@ static int run_map(const cli_args *a, au_options *o) {
   cli_expect_output(report);
 
   /* The check's warning (unreferenced vertices) is the result's too: not kept twice. */
-  int rc = cli_load(in, (au_target)-1, &m, NULL, &extra.t_read, &extra.t_validate);
+  int rc = cli_load(in, (au_target)-1, &m, &meta, NULL, &extra.t_read, &extra.t_validate);
   if (rc >= 0) goto done;
+  au_io_format ofmt = AU_IO_FORMAT_OBJ;
+  if (t != AU_TARGET_TORUS && (rc = cli_output_format(a->help, out, au_io_format_parse(a->val[OPT_FORMAT]), meta, &ofmt)))
+    goto done;
+  cli_expect_output(distortion);
   if (a->val[OPT_DENSITY]) {
     int nval = 0;
     rc = read_density(a->val[OPT_DENSITY], m->nv, m->nf, &density, &nval);
@@ -274,12 +279,22 @@ static int run_map(const cli_args *a, au_options *o) {
   w.uv = r->uv;
   /* The torus keeps the surface in `v` and puts the map in the per-corner `vt`. */
   if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
+  w.format = ofmt, w.meta = meta, w.geometric_type = t == AU_TARGET_SPHERE ? "Spherical" : "Flat";
+  if (a->val[OPT_RADIUS]) cli_parse_nonneg(a->val[OPT_RADIUS], &w.radius); /* checked when parsed */
   if (a->val[OPT_REFINE_MESH] && (rc = write_refined(a->val[OPT_REFINE_MESH], r)) >= 0) goto done;
+  /* The distortion file first (its own atomic write), removed again if OUT cannot be published. */
+  if (distortion) {
+    au_mesh mm = {r->nv, r->nf, r->X, r->F};
+    rc = cli_write_distortion(distortion, &mm, r->P, t == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE, meta);
+    if (rc >= 0) goto done;
+  }
   rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
+  if (rc != EXIT_OK && distortion) unlink(distortion);
   if (rc == EXIT_OK && !quiet) summary(a->cmd, r, cli_now() - t_start);
 done:
   cli_progress_end(&prog);
   au_result_free(&r);
+  au_io_meta_free(&meta);
   au_mesh_free(&m);
   free(density);
   return rc;

@@ -39,7 +39,7 @@ static const char *const usage_sample =
 
 /* Everything either command was asked to do. */
 typedef struct tex_args {
-  const char *in, *out, *map, *lonlat, *bake, *image, *preview, *render, *report;
+  const char *in, *out, *map, *lonlat, *bake, *image, *preview, *render, *report, *distortion;
   const char *attr[MAX_ATTR];
   int nattr;
   au_tex_proj proj;
@@ -66,6 +66,7 @@ static int parse_args(int argc, char **argv, tex_args *a) {
   if (!*a->in || !*a->out) return cli_usage_error(help, "empty file name");
   a->map = c.val[OPT_MAP], a->lonlat = c.val[OPT_LONLAT], a->bake = c.val[OPT_BAKE], a->image = c.val[OPT_IMAGE];
   a->preview = c.val[OPT_PREVIEW], a->render = c.val[OPT_RENDER], a->report = c.val[OPT_REPORT];
+  a->distortion = c.val[OPT_DISTORTION];
   a->normals = c.val[OPT_NORMALS] != NULL, a->mark_seam = c.val[OPT_MARK_SEAM] != NULL, a->quiet = c.val[OPT_QUIET] != NULL;
   for (int k = 0; k < c.nrep; k++) a->attr[a->nattr++] = c.rep[k];
   const char *v = c.val[OPT_PROJECTION];
@@ -100,14 +101,15 @@ static int parse_args(int argc, char **argv, tex_args *a) {
 
   /* Every output distinct from the inputs and from each other, in an existing directory. */
   char *mtl = (!a->sample && a->bake) ? mtl_path(a->out) : NULL;
-  const char *outs[7] = {a->out, a->lonlat, a->image, a->preview, a->render, a->report, mtl};
-  const char *names[7] = {"output", "--lonlat", "--image", "--preview", "--render", "--report", "material file"};
+  const char *outs[8] = {a->out, a->lonlat, a->image, a->preview, a->render, a->report, mtl, a->distortion};
+  const char *names[8] = {"output", "--lonlat", "--image", "--preview", "--render", "--report", "material file",
+                          "--distortion"};
   const char *ins[2 + MAX_ATTR] = {a->in, a->map};
   int nin = 2;
   for (int k = 0; k < a->nattr; k++) ins[nin++] = a->attr[k];
   if (!a->sample && a->bake && strcmp(a->bake, "normal") && strcmp(a->bake, "position")) ins[nin++] = a->bake;
   rc = -1;
-  for (int k = 0; k < 7 && rc < 0; k++) {
+  for (int k = 0; k < 8 && rc < 0; k++) {
     cli_expect_output(outs[k]);
     if (!outs[k]) continue;
     for (int j = 0; j < nin && rc < 0; j++)
@@ -139,19 +141,24 @@ static int get_map(const tex_args *a, const au_mesh *m, double *P, cli_warnings 
       au_mesh_free(&s);
       return cli_fail(a->map, AU_E_FORMAT, &msg);
     }
-    /* Vertices no face uses may lie anywhere. */
+    /* Vertices no face uses may lie anywhere. The sphere's radius is that of the first vertex used:
+     * FreeSurfer's and HCP's have 100, their vertices within 1e-4 of it (FreeSurfer's fsaverage5
+     * sphere: 99.9929 .. 100.0078), and they are projected onto it. */
     unsigned char *used = calloc((size_t)m->nv, 1);
     if (!used) {
       au_mesh_free(&s);
       return cli_fail(a->map, AU_E_NOMEM, NULL);
     }
     for (long i = 0; i < 3L * m->nf; i++) used[m->F[i]] = 1;
+    double R = 0;
+    for (int i = 0; i < m->nv && !(R > 0); i++)
+      if (used[i]) R = sqrt(s->X[3 * i] * s->X[3 * i] + s->X[3 * i + 1] * s->X[3 * i + 1] + s->X[3 * i + 2] * s->X[3 * i + 2]);
     int rc = -1;
     for (int i = 0; i < m->nv && rc < 0; i++) {
       const double *q = s->X + 3 * (size_t)i;
       double r = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-      if (used[i] && !(fabs(r - 1) <= 1e-6)) {
-        au_msg_set(&msg, AU_E_FORMAT, "vertex %d is not on the unit sphere (|p| = %.9g)", i, r);
+      if (used[i] && !(fabs(r / R - 1) <= 1e-3)) {
+        au_msg_set(&msg, AU_E_FORMAT, "vertex %d is not on the sphere of the first vertex's radius %.9g (|p| = %.9g)", i, R, r);
         rc = cli_fail(a->map, AU_E_FORMAT, &msg);
       }
       for (int j = 0; j < 3; j++) P[3 * i + j] = r > 0 ? q[j] / r : (j == 2);
@@ -294,10 +301,11 @@ static int run_texture(const tex_args *a) {
   au_msg msg = {{0}};
   au_status st;
   au_metrics met;
+  au_io_meta *meta = NULL;
   written w = {{0}, 0};
   double range[2] = {0, 0};
 
-  rc = cli_load(a->in, AU_TARGET_SPHERE, &m, &warn, &t_read, &t_check);
+  rc = cli_load(a->in, AU_TARGET_SPHERE, &m, &meta, &warn, &t_read, &t_check);
   if (rc >= 0) goto done;
   P = malloc(3 * (size_t)m->nv * sizeof *P);
   if (!P) {
@@ -360,6 +368,14 @@ static int run_texture(const tex_args *a) {
     rc = write_done(&w, a->preview, au_tex_preview(a->preview, m, P, 1024, 0, &msg), &msg);
     if (rc >= 0) goto done;
   }
+  if (a->distortion) {
+    rc = cli_write_distortion(a->distortion, m, P, AU_DOMAIN_SPHERE, meta);
+    if (rc >= 0) {
+      for (int k = 0; k < w.n; k++) unlink(w.path[k]);
+      goto done;
+    }
+    w.path[w.n++] = a->distortion;
+  }
   if (a->render) {
     double view[3];
     au_tex_seam_view(t, view);
@@ -378,6 +394,7 @@ static int run_texture(const tex_args *a) {
 done:
   au_tex_mesh_free(&t);
   au_locator_free(&loc);
+  au_io_meta_free(&meta);
   au_mesh_free(&m);
   free(P), free(rgb), free(mtl), free(mtlbuf), free(ref), free(ll);
   return rc;
@@ -405,7 +422,7 @@ static int run_sample(const tex_args *a) {
   au_metrics met;
   written w = {{0}, 0};
 
-  rc = cli_load(a->in, AU_TARGET_SPHERE, &m, &warn, &t_read, &t_check);
+  rc = cli_load(a->in, AU_TARGET_SPHERE, &m, NULL, &warn, &t_read, &t_check);
   if (rc >= 0) goto done;
   size_t n = (size_t)a->W * a->H;
   int K = 3 + (a->normals ? 3 : 0) + a->nattr;

@@ -33,7 +33,8 @@ class Mesh(ctypes.Structure):
 
 
 class WriteOpts(ctypes.Structure):
-    _fields_ = [("uv", P_double), ("precision", c_int), ("nvt", c_int), ("vt", P_double), ("Ft", P_int)]
+    _fields_ = [("uv", P_double), ("precision", c_int), ("nvt", c_int), ("vt", P_double), ("Ft", P_int),
+                ("format", c_int), ("meta", c_void_p), ("geometric_type", c_char_p), ("radius", c_double)]
 
 
 class ReportExtra(ctypes.Structure):

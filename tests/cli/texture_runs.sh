@@ -142,7 +142,7 @@ bad_map)
   expect_rejected 'not a map of'
   awk '$1 == "v" { print "v", 2 * $2, 2 * $3, 2 * $4; next } { print }' "$IN" >"$T/in/big.obj"
   run texture "$IN" --map "$T/in/big.obj" "$T/o/tex.obj"
-  expect_rejected 'not on the unit sphere'
+  expect_rejected 'not on the sphere'
   make_map
   # Send one vertex to its antipode: the triangles around it turn over.
   awk '$1 == "v" { n++; if (n == 5) { printf "v %.17g %.17g %.17g\n", -$2, -$3, -$4; next } } { print }' "$MAP" >"$T/in/folded.obj"

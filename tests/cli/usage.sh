@@ -101,12 +101,48 @@ in_eq_out)
   expect_rejected 'report .* is the output'
   ;;
 bad_extension)
-  run sphere "$IN" "$T/o/out.xyz"
-  expect_rejected "cannot write '\.xyz'"
+  # An OUT without a known extension takes the input's format (issue 19): refused only where that
+  # format cannot be written (STL), or where the extension names one (.stl) or --format is not one.
   run sphere "$IN" "$T/o/out.stl"
   expect_rejected "cannot write '\.stl'"
-  run sphere "$IN" "$T/o/out"
-  expect_rejected 'no extension'
+  run sphere "$IN" "$T/o/out" --format stl
+  expect_rejected "--format 'stl': expected obj, off, ply, freesurfer or gifti"
+  cat >"$T/in/tet.stl" <<'EOF2'
+solid tet
+facet normal 0 0 -1
+outer loop
+vertex 0 0 0
+vertex 0 1 0
+vertex 1 0 0
+endloop
+endfacet
+facet normal 0 -1 0
+outer loop
+vertex 0 0 0
+vertex 1 0 0
+vertex 0 0 1
+endloop
+endfacet
+facet normal -1 0 0
+outer loop
+vertex 0 0 0
+vertex 0 0 1
+vertex 0 1 0
+endloop
+endfacet
+facet normal 1 1 1
+outer loop
+vertex 1 0 0
+vertex 0 1 0
+vertex 0 0 1
+endloop
+endfacet
+endsolid tet
+EOF2
+  for o in out out.xyz; do
+    run sphere "$T/in/tet.stl" "$T/o/$o"
+    expect_rejected "output '.*$o' has no extension of a format that can be written and the input is stl"
+  done
   ;;
 *)
   fail "unknown case '$1'"

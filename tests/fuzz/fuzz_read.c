@@ -1,5 +1,9 @@
 /* fuzz_read.c - libFuzzer harness for the mesh readers: the bytes become a file with the extension
- * AU_FUZZ_EXT (".obj", ".off", ".ply" or ".stl"; one fuzz target per format) that au_io_read reads.
+ * AU_FUZZ_EXT (".obj", ".off", ".ply", ".stl", ".white" or ".gii"; one fuzz target per format) that
+ * au_io_read reads. For the neuroimaging formats (AU_FUZZ_FORMAT set: FreeSurfer, found by its
+ * magic number under any name, and GIfTI through giftiio) the same bytes also go through
+ * au_io_read_scalars (curv files, .shape.gii), and the round trip writes in that format with the
+ * input's metadata (the FreeSurfer footer, the GIfTI metadata).
  *
  * Besides "no crash, no leak, no undefined behaviour" (the sanitizers' part), it checks what the
  * readers promise: an error leaves *out NULL and says what is wrong in one non-empty line; a
@@ -63,10 +67,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
 
   au_mesh *m = (au_mesh *)&m; /* not NULL, so that "an error leaves *out NULL" is tested */
   au_msg msg;
+#ifdef AU_FUZZ_FORMAT
+  double *vals = (double *)&m;
+  int count = -1;
+  memset(&msg, 'x', sizeof msg);
+  au_status sst = au_io_read_scalars(in_path, 0, &vals, &count, &msg);
+  if (sst != AU_OK) {
+    if (vals != NULL || sst > 0) abort();
+    check_msg(&msg);
+  } else {
+    if (!vals || count <= 0) abort();
+    for (int i = 0; i < count; i++)
+      if (!isfinite(vals[i])) abort();
+    free(vals);
+  }
+#endif
+  au_io_meta *meta = (au_io_meta *)&m;
   memset(&msg, 'x', sizeof msg); /* not NUL-terminated, so that a missing message is caught */
-  au_status st = au_io_read(in_path, &m, &msg);
+  au_status st = au_io_read_meta(in_path, &m, &meta, &msg);
   if (st != AU_OK) {
-    if (m != NULL || st > 0) abort();
+    if (m != NULL || meta != NULL || st > 0) abort();
     check_msg(&msg);
     return 0;
   }
@@ -92,19 +112,34 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     ex.loops = -1, ex.genus = -1, ex.command = NULL;
   }
 
-  /* Round trip through the writer (STL is read-only). */
-  if (au_io_can_write(out_path)) {
+  /* Round trip through the writer (STL is read-only). FreeSurfer and GIfTI store float32: a position
+   * beyond it (or not finite) is refused, and the others come back as their float32 values. */
+  au_io_write_opts o = au_io_write_opts_default();
+  o.meta = meta;
+#ifdef AU_FUZZ_FORMAT
+  o.format = AU_FUZZ_FORMAT;
+  int fits = 1;
+  for (long i = 0; i < 3L * m->nv; i++) fits &= isfinite(m->X[i]) && fabs(m->X[i]) <= 3.4028234663852886e38;
+#else
+  const int fits = 1;
+#endif
+  if (o.format != AU_IO_FORMAT_AUTO || au_io_can_write(out_path)) {
     memset(&msg, 'x', sizeof msg);
-    st = au_io_write(out_path, m, m->X, NULL, &msg);
-    if (st != AU_OK) abort();
+    st = au_io_write(out_path, m, m->X, &o, &msg);
+    if (!fits && st == AU_E_FORMAT) check_msg(&msg);
+    else if (st != AU_OK) abort();
     au_mesh *r = NULL;
-    st = au_io_read(out_path, &r, &msg);
-    if (st != AU_OK || r->nv != m->nv || r->nf != m->nf) abort();
-    for (long i = 0; i < 3L * m->nv; i++)
-      if (!same_double(r->X[i], m->X[i])) abort();
-    if (memcmp(r->F, m->F, sizeof(int) * 3 * (size_t)m->nf) != 0) abort();
-    au_mesh_free(&r);
+    if (st == AU_OK) {
+      st = au_io_read(out_path, &r, &msg);
+      if (st != AU_OK || r->nv != m->nv || r->nf != m->nf) abort();
+      for (long i = 0; i < 3L * m->nv; i++)
+        if (!same_double(r->X[i], o.format != AU_IO_FORMAT_AUTO ? (double)(float)m->X[i] : m->X[i])) abort();
+      if (memcmp(r->F, m->F, sizeof(int) * 3 * (size_t)m->nf) != 0) abort();
+      au_mesh_free(&r);
+    }
   }
+  au_io_meta_free(&meta);
+  if (meta) abort();
   au_mesh_free(&m);
   if (m) abort();
   return 0;

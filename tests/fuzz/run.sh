@@ -20,7 +20,7 @@ build=$(cd "$1" && pwd) || exit 2
 secs=${2:-60}
 case $secs in ''|*[!0-9]*) echo "run.sh: SECONDS_PER_TARGET must be a whole number" >&2; exit 2 ;; esac
 shift $(( $# >= 2 ? 2 : 1 ))
-targets=${*:-fuzz_read_obj fuzz_read_off fuzz_read_ply fuzz_read_stl fuzz_cli}
+targets=${*:-fuzz_read_obj fuzz_read_off fuzz_read_ply fuzz_read_stl fuzz_read_freesurfer fuzz_read_gifti fuzz_cli}
 
 failed=""
 for t in $targets; do
