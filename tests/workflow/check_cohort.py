@@ -8,7 +8,8 @@ V, F, steps, seconds, folds and the metrics equal to its report.json's values ex
 the input's face count, a map with V vertices, a preview PNG, a distortion file with one value per
 vertex whose mean |ln| (the fallback's) equals the report's vertex_logr_mean_abs; for a bad row:
 status 2, the error line the program itself prints for that input, empty metrics and empty
-placeholder files. cohort.png is a PNG; cohort.md names the failed rows with their error line.
+placeholder files; rows with an attribute file have attribute.png, rows with a density file ran
+with --density. cohort.png is a PNG; cohort.md names the failed rows with their error line.
 With --slurm: every row ran in a Slurm job that the Slurm job-completion log shows COMPLETED.
 Prints one line per failed check and exits 1, else prints a summary line and exits 0.
 """
@@ -106,6 +107,12 @@ def main(argv):
         P, G = meshio_np.read_mesh(os.path.join(d, "map.obj"))
         check(len(P) == rep["V"] and len(G) == rep["F"], f"{i}: map has {len(P)} vertices, {len(G)} faces")
         check(is_png(os.path.join(d, "preview.png")), f"{i}: preview.png is not a PNG picture")
+        if m.get("attribute"):
+            check(is_png(os.path.join(d, "attribute.png")), f"{i}: attribute.png is missing or not a PNG")
+        if m.get("density"):
+            dens = os.path.normpath(os.path.join(base, m["density"]))
+            check(st["argv"][st["argv"].index("--density") + 1] == dens if "--density" in st["argv"] else False,
+                  f"{i}: did not run with --density {dens}: {st['argv']}")
         if dist[0] == "distortion.txt":
             vals = [float(x) for x in open(os.path.join(d, dist[0])).read().split()]
             check(len(vals) == len(P), f"{i}: {len(vals)} distortion values for {len(P)} vertices")

@@ -10,6 +10,7 @@ WORK=$4
 PY=/usr/bin/python3
 SNAKEFILE=$SRC/workflow/Snakefile
 CHECK=$SRC/tests/workflow/check_cohort.py
+export WF_SCRIPTS=$SRC/workflow/scripts
 
 fail() {
   echo "FAIL: $*" >&2
@@ -27,7 +28,8 @@ $PY -c 'import numpy, matplotlib' 2>/dev/null || skip "no numpy or matplotlib fo
 
 # make_cohort DIR: copies six meshes (../shared/meshes when present, data/ otherwise) and one file
 # of the bad-input corpus into DIR/in and writes DIR/manifest.tsv (absolute paths, and one row with
-# a relative path, which the manifest's folder anchors). Every command appears; one row has options.
+# a relative path, which the manifest's folder anchors). Every command appears; one row has options;
+# the first (sphere) row has a density file and an attribute file, the fourth (disk) an attribute.
 make_cohort() {
   local d=$1 rows
   mkdir -p "$d/in" || fail "cannot make $d/in"
@@ -40,17 +42,33 @@ make_cohort() {
           disk_bump:disk_bump.obj:disk: holed_square:holed_sphere.obj:square: annulus_bump:annulus_bump.obj:annulus:"
     MESHDIR=$SRC/data
   fi
-  printf 'id\tinput\tcommand\toptions\n' > "$d/manifest.tsv"
-  local r id file cmd opts first=1
+  printf 'id\tinput\tcommand\toptions\tdensity\tattribute\n' > "$d/manifest.tsv"
+  local r id file cmd opts n=0 path dens attr
   for r in $rows; do
     IFS=: read -r id file cmd opts <<< "$r"
+    n=$((n + 1))
     cp -p "$MESHDIR/$file" "$d/in/" || fail "cannot copy $MESHDIR/$file"
     # The first row names its input relative to the manifest's folder; the others absolutely.
-    if [ $first = 1 ]; then path=in/$file; first=0; else path=$d/in/$file; fi
-    printf '%s\t%s\t%s\t%s\n' "$id" "$path" "$cmd" "${opts//_/ }" >> "$d/manifest.tsv"
+    if [ $n = 1 ]; then path=in/$file; else path=$d/in/$file; fi
+    dens= attr=
+    if [ $n = 1 ] || [ $n = 4 ]; then
+      # Per-vertex files: attribute = height z; density = 2 on the upper half, 1 below.
+      $PY - "$d/in/$file" "$d/in/$id" <<'PYEOF' || fail "cannot write the per-vertex files of $file"
+import os, sys
+sys.path.insert(0, os.environ["WF_SCRIPTS"])
+import meshio_np
+import numpy as np
+X, F = meshio_np.read_mesh(sys.argv[1])
+np.savetxt(sys.argv[2] + ".attribute.txt", X[:, 2])
+np.savetxt(sys.argv[2] + ".density.txt", 1.0 + (X[:, 2] > np.median(X[:, 2])))
+PYEOF
+      attr=$d/in/$id.attribute.txt
+      [ $n = 1 ] && dens=$d/in/$id.density.txt
+    fi
+    printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$id" "$path" "$cmd" "${opts//_/ }" "$dens" "$attr" >> "$d/manifest.tsv"
   done
   cp "$SRC/tests/cli/bad/index_range.obj" "$d/in/bad_index.obj" || fail "cannot copy the bad input"
-  printf 'bad_index\t%s\tsphere\t\n' "$d/in/bad_index.obj" >> "$d/manifest.tsv"
+  printf 'bad_index\t%s\tsphere\t\t\t\n' "$d/in/bad_index.obj" >> "$d/manifest.tsv"
 }
 
 # run_workflow OUT MANIFEST LOG [more snakemake arguments]: the issue's fixed invocation.

@@ -186,7 +186,18 @@ def face_areas(X, F):
 
 
 def surface_for_map(X, F, P, G):
-    """Surface positions for every vertex of a map (P, G) of the surface (X, F).
+    """Surface positions for every vertex of a map (P, G) of the surface (X, F), #P by 3.
+
+    The map's vertices are the surface's, plus the midpoints of split edges (split_ends) after them.
+    """
+    Y = np.vstack([X, np.zeros((len(P) - len(X), 3))]) if len(P) >= len(X) else X
+    for k, (u, v) in split_ends(X, F, P, G).items():
+        Y[k] = 0.5 * (X[u] + X[v])
+    return Y
+
+
+def split_ends(X, F, P, G):
+    """For each map vertex k after the surface's, the ends (u, v) of the surface edge it splits.
 
     Normally the map has the surface's vertices and faces. The square map may split interior edges
     whose ends lie on one side: each midpoint is appended after the input's vertices (and new faces
@@ -195,13 +206,14 @@ def surface_for_map(X, F, P, G):
     edge joins two opposite neighbours (an edge of F between input vertices), and merging its faces
     in pairs across that edge gives the mesh before it was split. Its surface position is the
     midpoint of that edge.
-    Returns the positions, #P by 3; raises ValueError when the map cannot be matched to the surface.
+    Returns {k: (u, v)} (empty when the map has the surface's vertices); raises ValueError when the
+    map cannot be matched to the surface.
     """
     nv = len(X)
     if len(P) < nv or len(G) < len(F) or (len(P) == nv) != (len(G) == len(F)):
         raise ValueError(f"the map has {len(P)} vertices and {len(G)} faces, the surface {nv} and {len(F)}")
     if len(P) == nv:
-        return X
+        return {}
     e = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
     e.sort(axis=1)
     ein = set(map(tuple, e.tolist()))
@@ -211,7 +223,6 @@ def surface_for_map(X, F, P, G):
         for v in t:
             if v >= nv:
                 around.setdefault(v, set()).add(i)
-    Y = np.vstack([X, np.zeros((len(P) - nv, 3))])
     ends = {}
     for k in range(len(P) - 1, nv - 1, -1):
         fk = sorted(around.get(k, ()))
@@ -235,9 +246,7 @@ def surface_for_map(X, F, P, G):
                 for w in t:
                     if w >= nv:
                         around.setdefault(w, set()).add(i)
-    for k, (u, v) in ends.items():
-        Y[k] = 0.5 * (X[u] + X[v])
-    return Y
+    return ends
 
 
 def face_count(path):
