@@ -19,15 +19,18 @@ if ! slurm_start "$d/daemons" 2>"$d/why"; then
 fi
 export USER=${USER:-$(id -un)}  # Snakemake's Slurm executor reads it
 make_cohort "$d"
-snakemake -s "$SNAKEFILE" --profile "$SRC/workflow/profiles/slurm" --directory "$d/out" \
-  --config manifest="$d/manifest.tsv" authalic="$PROG" >"$d/run1.log" 2>&1 ||
+# From the cohort's folder with relative paths, as a user types it: the jobs, which read the
+# Snakefile again on the node in OUT, must still find the manifest.
+cd "$d" || fail "cannot cd to $d"
+snakemake -s "$SNAKEFILE" --profile "$SRC/workflow/profiles/slurm" --directory out \
+  --config manifest=manifest.tsv authalic="$PROG" >"$d/run1.log" 2>&1 ||
   { tail -40 "$d/run1.log" >&2; fail "snakemake --profile workflow/profiles/slurm exited $?"; }
 n=$(grep -c "has been submitted with SLURM jobid" "$d/run1.log")
 # 7 rows x (map, preview, distortion) + 2 attribute pictures; the cohort summary runs locally.
 [ "$n" -eq 23 ] || fail "$n jobs submitted to Slurm, expected 23 (7 rows x map, preview, distortion; 2 attributes)"
 $PY "$CHECK" "$d/out" "$d/manifest.tsv" "$PROG" --slurm "$d/daemons/jobcomp.log" || fail "the cohort's outputs (above)"
 # A second run through Slurm has nothing to submit.
-snakemake -s "$SNAKEFILE" --profile "$SRC/workflow/profiles/slurm" --directory "$d/out" \
-  --config manifest="$d/manifest.tsv" authalic="$PROG" >"$d/run2.log" 2>&1 || fail "second run exited $?"
+snakemake -s "$SNAKEFILE" --profile "$SRC/workflow/profiles/slurm" --directory out \
+  --config manifest=manifest.tsv authalic="$PROG" >"$d/run2.log" 2>&1 || fail "second run exited $?"
 grep -q "Nothing to be done" "$d/run2.log" || fail "the second run through Slurm did something"
 echo "workflow.slurm: $n Slurm jobs, $(grep -c 'JobState=COMPLETED' "$d/daemons/jobcomp.log") completed in Slurm's log"

@@ -79,6 +79,17 @@ def write_png(rows, path):
     fig, axes = plt.subplots(2, 2, figsize=(11, 8))
     for ax, (key, label, logx) in zip(axes.flat, PLOTS):
         vals = [r[key] for r in ok if r[key] is not None and r[key] > 0]
+        if key == "seconds":  # time against size says more than a histogram of times
+            pts = [(r["F"], r[key], r["id"]) for r in ok if r["F"] and r[key]]
+            if pts:
+                ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=12, color="darkred")
+                ax.set_xscale("log")
+                ax.set_yscale("log")
+                for f, t, name in sorted(pts, key=lambda p: p[1], reverse=True)[:3]:
+                    ax.annotate(name, (f, t), fontsize=8, xytext=(3, 3), textcoords="offset points")
+            ax.set_xlabel("faces")
+            ax.set_ylabel(label)
+            continue
         if vals:
             lo, hi = min(vals), max(vals)
             if logx and hi > lo:
