@@ -5,7 +5,8 @@
 # slurmctld and slurmd in the foreground as background processes, and waits until the node is idle.
 # Exports SLURM_CONF so that sbatch, squeue, sinfo, scontrol (and snakemake's calls of them) talk to
 # this Slurm, not to the system's. On a failure it prints one line saying why and returns 1.
-# slurm_stop: stops the three daemons by the PIDs slurm_start recorded (never by name).
+# slurm_stop: cancels what is left in the queue, then stops the three daemons by the PIDs
+# slurm_start recorded (never by name).
 # Everything lives in DIR: state, spool, logs, pid files, the munge key and socket.
 
 SLURM_PIDS=()
@@ -96,6 +97,12 @@ CONF
 
 slurm_stop() {
   local p i
+  # Jobs of a run that failed half-way would outlive slurmd (their slurmstepd are detached): cancel
+  # them first. scancel talks to this Slurm only (SLURM_CONF).
+  if [ ${#SLURM_PIDS[@]} -gt 2 ] && [ -n "${SLURM_CONF:-}" ]; then
+    scancel -u "$(id -un)" 2>/dev/null || true
+    for _ in $(seq 50); do [ -z "$(squeue -h 2>/dev/null)" ] && break; sleep 0.2; done
+  fi
   # Reverse order: slurmd, slurmctld, munged. SIGTERM, then SIGKILL after 10 s.
   for ((i = ${#SLURM_PIDS[@]} - 1; i >= 0; i--)); do
     p=${SLURM_PIDS[i]}
