@@ -8,7 +8,8 @@ V, F, steps, seconds, folds and the metrics equal to its report.json's values ex
 the input's face count, a map with V vertices, a preview PNG, a distortion file with one value per
 vertex whose mean |ln| (the fallback's) equals the report's vertex_logr_mean_abs; for a bad row:
 status 2, the error line the program itself prints for that input, empty metrics and empty
-placeholder files; rows with an attribute file have attribute.png, rows with a density file ran
+placeholder files; rows with an attribute file have attribute.png (or, when the file has the wrong
+length, an empty one and a note saying so), rows with a density file ran
 with --density. cohort.png is a PNG; cohort.md names the failed rows with their error line.
 With --slurm: every row ran in a Slurm job that the Slurm job-completion log shows COMPLETED.
 Prints one line per failed check and exits 1, else prints a summary line and exits 0.
@@ -108,7 +109,15 @@ def main(argv):
         check(len(P) == rep["V"] and len(G) == rep["F"], f"{i}: map has {len(P)} vertices, {len(G)} faces")
         check(is_png(os.path.join(d, "preview.png")), f"{i}: preview.png is not a PNG picture")
         if m.get("attribute"):
-            check(is_png(os.path.join(d, "attribute.png")), f"{i}: attribute.png is missing or not a PNG")
+            nval = len(open(os.path.normpath(os.path.join(base, m["attribute"]))).read().split())
+            if nval == len(X):
+                check(is_png(os.path.join(d, "attribute.png")), f"{i}: attribute.png is missing or not a PNG")
+            else:  # a wrong attribute file: an empty picture and a note, the row still mapped
+                check(os.path.getsize(os.path.join(d, "attribute.png")) == 0, f"{i}: attribute.png of a bad attribute file")
+                check(t["notes"].startswith("attribute.png: ") and f"{nval} values" in t["notes"],
+                      f"{i}: notes {t['notes']!r} do not say the attribute file has {nval} values")
+                t["notes"] = ""
+        check(t["notes"] == "", f"{i}: notes {t['notes']!r}")
         if m.get("density"):
             dens = os.path.normpath(os.path.join(base, m["density"]))
             check(st["argv"][st["argv"].index("--density") + 1] == dens if "--density" in st["argv"] else False,

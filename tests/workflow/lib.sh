@@ -29,7 +29,8 @@ $PY -c 'import numpy, matplotlib' 2>/dev/null || skip "no numpy or matplotlib fo
 # make_cohort DIR: copies six meshes (../shared/meshes when present, data/ otherwise) and one file
 # of the bad-input corpus into DIR/in and writes DIR/manifest.tsv (absolute paths, and one row with
 # a relative path, which the manifest's folder anchors). Every command appears; one row has options;
-# the first (sphere) row has a density file and an attribute file, the fourth (disk) an attribute.
+# the first (sphere) row has a density file and an attribute file, the fourth (disk) an attribute,
+# the sixth one of the wrong length.
 make_cohort() {
   local d=$1 rows
   mkdir -p "$d/in" || fail "cannot make $d/in"
@@ -65,6 +66,9 @@ PYEOF
       attr=$d/in/$id.attribute.txt
       [ $n = 1 ] && dens=$d/in/$id.density.txt
     fi
+    # The sixth row gets the fourth row's attribute file, of the wrong length: its map succeeds,
+    # its attribute picture fails, and that must show in cohort.tsv's notes, not stop the cohort.
+    [ $n = 6 ] && attr=$(awk -F'\t' 'NR == 5 {print $6}' "$d/manifest.tsv")
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$id" "$path" "$cmd" "${opts//_/ }" "$dens" "$attr" >> "$d/manifest.tsv"
   done
   cp "$SRC/tests/cli/bad/index_range.obj" "$d/in/bad_index.obj" || fail "cannot copy the bad input"

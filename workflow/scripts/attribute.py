@@ -22,6 +22,13 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import meshio_np  # noqa: E402
+import product  # noqa: E402
+
+
+def _check(res):
+    if res.returncode != 0:
+        lines = res.stderr.strip().splitlines()
+        raise RuntimeError(f"authalic texture exited {res.returncode}: {lines[-1] if lines else ''}")
 
 
 def main():
@@ -35,18 +42,23 @@ def main():
     ap.add_argument("--status", default="")
     ap.add_argument("--title", default="")
     a = ap.parse_args()
+    return product.guarded(lambda: work(a), a.out)
+
+
+def work(a):
     if a.status and json.load(open(a.status))["status"] != 0:
         open(a.out, "wb").close()
-        return 0
+        return
     if a.command == "sphere":
         with tempfile.TemporaryDirectory(prefix="authalic-attribute.") as tmp:
             png = os.path.join(tmp, "t.png")
-            subprocess.run([a.authalic, "texture", a.input, "--map", a.map, os.path.join(tmp, "t.obj"),
+            res = subprocess.run([a.authalic, "texture", a.input, "--map", a.map, os.path.join(tmp, "t.obj"),
                             "--bake", a.attribute, "--image", png, "--quiet"],
-                           stdin=subprocess.DEVNULL, check=True)
+                           stdin=subprocess.DEVNULL, capture_output=True, text=True)
+            _check(res)
             shutil.copyfile(png, a.out + ".tmp.png")
             os.replace(a.out + ".tmp.png", a.out)
-        return 0
+        return
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -55,7 +67,7 @@ def main():
     P, G = meshio_np.read_mesh(a.map)
     val = np.loadtxt(a.attribute, dtype=np.float64).reshape(-1)
     if len(val) != len(X):
-        raise SystemExit(f"attribute.py: {a.attribute} has {len(val)} values for {len(X)} vertices of {a.input}")
+        raise ValueError(f"{a.attribute} has {len(val)} values for {len(X)} vertices of {a.input}")
     full = np.concatenate([val, np.zeros(len(P) - len(X))])
     for k, (u, v) in meshio_np.split_ends(X, F, P, G).items():
         full[k] = 0.5 * (val[u] + val[v])
@@ -69,7 +81,7 @@ def main():
     fig.tight_layout()
     fig.savefig(a.out + ".tmp.png", dpi=80)
     os.replace(a.out + ".tmp.png", a.out)
-    return 0
+    return
 
 
 if __name__ == "__main__":

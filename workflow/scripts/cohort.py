@@ -8,9 +8,11 @@ id, status (authalic's exit status), error (its error line, empty when none), co
 wall_seconds, slurm_job_id; from its report (authalic --report), empty when the map failed:
 V, F, steps, seconds (the report's time.total), converged, folds, r_mean_abs_dev,
 vertex_logr_mean_abs, angle_diff_mean_deg, upsilon_mean_abs, lambda_mean, r_cv (all from the
-report's final metrics).
+report's final metrics); notes: what went wrong with a mapped surface's other products (a preview,
+distortion or attribute script that failed leaves its file empty and its message in FILE.error).
 """
 import csv
+import glob
 import json
 import math
 import os
@@ -19,7 +21,7 @@ import sys
 COLUMNS = ["id", "status", "V", "F", "steps", "seconds", "folds", "r_mean_abs_dev",
            "vertex_logr_mean_abs", "angle_diff_mean_deg", "error",
            "command", "input", "converged", "upsilon_mean_abs", "lambda_mean", "r_cv",
-           "wall_seconds", "slurm_job_id"]
+           "wall_seconds", "slurm_job_id", "notes"]
 METRICS = ["folds", "r_mean_abs_dev", "vertex_logr_mean_abs", "angle_diff_mean_deg",
            "upsilon_mean_abs", "lambda_mean", "r_cv"]
 
@@ -40,6 +42,8 @@ def read_row(status_path, report_path):
     row = {c: None for c in COLUMNS}
     for k in ("id", "status", "error", "command", "input", "wall_seconds", "slurm_job_id"):
         row[k] = st.get(k)
+    notes = [open(e).read().strip() for e in sorted(glob.glob(os.path.join(os.path.dirname(status_path), "*.error")))]
+    row["notes"] = "; ".join(notes)
     if st["status"] == 0 and os.path.getsize(report_path) > 0:
         rep = json.load(open(report_path))
         final = rep.get("final") or rep.get("metrics") or {}
@@ -132,6 +136,12 @@ def write_md(rows, path):
                        + ", ".join(f"{r['id']} ({r[key]:.3g})" for r in worst) + " |")
         notconv = [r["id"] for r in ok if r["converged"] is False]
         out += ["", f"Not converged to the tolerance: {', '.join(notconv) if notconv else 'none'}.", ""]
+    noted = [r for r in ok if r["notes"]]
+    if noted:
+        out += ["## Mapped, but a product failed", "", "| id | notes |", "|---|---|"]
+        out += [f"| {r['id']} | {r['notes'].replace('|', '/')} |" for r in noted]
+        out += ["", "A fixed input or attribute file redoes its product by itself; otherwise "
+                "`--forcerun surfaces/ID/FILE`.", ""]
     if failed:
         out += ["## Failed", "", "| id | status | error |", "|---|---:|---|"]
         out += [f"| {r['id']} | {r['status']} | {(r['error'] or '').replace('|', '/')} |" for r in failed]

@@ -20,6 +20,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import meshio_np  # noqa: E402
+import product  # noqa: E402
 
 
 def vertex_shares(X, F, nv):
@@ -35,9 +36,13 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--status", default="")
     a = ap.parse_args()
+    return product.guarded(lambda: work(a), a.out)
+
+
+def work(a):
     if a.status and json.load(open(a.status))["status"] != 0:
         open(a.out, "w").close()
-        return 0
+        return
     X, F = meshio_np.read_mesh(a.input)
     P, G = meshio_np.read_mesh(a.map)
     Y = meshio_np.surface_for_map(X, F, P, G)
@@ -46,7 +51,7 @@ def main():
     tmp = a.out + ".tmp"
     np.savetxt(tmp, d, fmt="%.9g")
     os.replace(tmp, a.out)
-    return 0
+    return
 
 
 if __name__ == "__main__":

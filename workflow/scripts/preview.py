@@ -22,11 +22,18 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import meshio_np  # noqa: E402
+import product  # noqa: E402
 
 import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
+
+
+def _check(res):
+    if res.returncode != 0:
+        lines = res.stderr.strip().splitlines()
+        raise RuntimeError(f"authalic texture exited {res.returncode}: {lines[-1] if lines else ''}")
 
 
 def main():
@@ -39,17 +46,22 @@ def main():
     ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square"])
     ap.add_argument("--authalic", default="authalic")
     a = ap.parse_args()
+    return product.guarded(lambda: work(a), a.out)
+
+
+def work(a):
     if a.status and json.load(open(a.status))["status"] != 0:
         open(a.out, "wb").close()
-        return 0
+        return
     if a.command == "sphere":
         with tempfile.TemporaryDirectory(prefix="authalic-preview.") as tmp:
             png = os.path.join(tmp, "preview.png")
-            subprocess.run([a.authalic, "texture", a.input, "--map", a.map, os.path.join(tmp, "t.obj"),
-                            "--preview", png, "--quiet"], stdin=subprocess.DEVNULL, check=True)
+            res = subprocess.run([a.authalic, "texture", a.input, "--map", a.map, os.path.join(tmp, "t.obj"),
+                            "--preview", png, "--quiet"], stdin=subprocess.DEVNULL, capture_output=True, text=True)
+            _check(res)
             shutil.copyfile(png, a.out + ".tmp.png")
             os.replace(a.out + ".tmp.png", a.out)
-        return 0
+        return
     X, F = meshio_np.read_mesh(a.input)
     P, G = meshio_np.read_mesh(a.map)
     Y = meshio_np.surface_for_map(X, F, P, G)
@@ -79,7 +91,7 @@ def main():
     tmp = a.out + ".tmp.png"
     fig.savefig(tmp, dpi=80)
     os.replace(tmp, a.out)
-    return 0
+    return
 
 
 if __name__ == "__main__":
