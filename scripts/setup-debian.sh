@@ -18,6 +18,8 @@ PACKAGES=(
   time  # /usr/bin/time, used by the benchmarks
   strace  # holds a run at its write in the interrupted-write test
   clang libclang-rt-14-dev llvm  # libFuzzer and its runtime (make fuzz); llvm-symbolizer for sanitizer stacks
+  snakemake python3-matplotlib  # workflow/: the cohort engine (7.x), previews and cohort.png
+  slurmctld slurmd slurm-client munge  # workflow/: the cluster path, tested on a one-node Slurm on localhost
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
