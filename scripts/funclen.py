@@ -2,7 +2,7 @@
 # usage: python3 scripts/funclen.py [N]   (from the repository root; prints the N longest, default 15)
 import re,sys,glob
 res=[]
-for f in sorted(glob.glob('common/*.c')+glob.glob('sphere/*.c')+glob.glob('disk/*.c')+glob.glob('common/*.cpp')+glob.glob('sphere/*.cpp')+glob.glob('tools/*.c')):
+for f in sorted(glob.glob('common/*.c')+glob.glob('sphere/*.c')+glob.glob('disk/*.c')+glob.glob('common/*.cpp')+glob.glob('sphere/*.cpp')+glob.glob('tools/*.c')+glob.glob('api/*.c')+glob.glob('torus/*.c')):
     L=open(f).read().split('\n')
     i=0
     while i<len(L):
