@@ -443,11 +443,11 @@ static int corner_shifts(void) {
   AU_CHECK_STATUS(au_torus_texcoords(s, m->F, (const double(*)[2])s->conformal, &nvt, &vt, &Ft, NULL), AU_OK, NULL);
   for (int c = 0; c < 3 * m->nf; c++)
     for (int q = 0; q < 2; q++) AU_CHECK_NEAR(P[3 * m->F[c] + q] + shift[3 * c + q], vt[2 * Ft[c] + q], 1e-14);
-  au_advect_domain d = au_torus_domain();
+  au_advect_domain d = au_torus_domain(shift);
   double p[3] = {0.25, 0.5, 1}, dd[3] = {1, 2, 3};
   d.constrain(d.ctx, 0, p, dd);
   d.retract(d.ctx, 0, p);
-  AU_CHECK(dd[0] == 1 && dd[1] == 2 && dd[2] == 0 && p[0] == 0.25 && p[1] == 0.5 && p[2] == 0 && !d.spherical);
+  AU_CHECK(dd[0] == 1 && dd[1] == 2 && dd[2] == 0 && p[0] == 0.25 && p[1] == 0.5 && p[2] == 0 && !d.spherical && d.shift == shift);
   free(P), free(shift), free(vt), free(Ft);
   au_torus_start_free(&s);
   au_topo_free(&t);
