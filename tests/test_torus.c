@@ -621,6 +621,44 @@ static int corner_shifts(void) {
   d.constrain(d.ctx, 0, p, dd);
   d.retract(d.ctx, 0, p);
   AU_CHECK(dd[0] == 1 && dd[1] == 2 && dd[2] == 0 && p[0] == 0.25 && p[1] == 0.5 && p[2] == 0 && !d.spherical && d.shift == shift);
+  /* The Poisson method reads the corners unshifted: refused with the shifts. */
+  au_advect_opts ao = au_advect_opts_default();
+  au_msg msg2 = {{0}};
+  ao.method = AU_ADVECT_POISSON;
+  AU_CHECK_STATUS(au_advect_run(m, t, &d, &ao, P, NULL, &msg2), AU_E_ARG, &msg2);
+  AU_CHECK(strstr(msg2.text, "Poisson") != NULL);
+  /* The least-shear flow with the shifts: every corner's plane position, re-wrapped, is the one the
+   * flow left (the wrap moves vertices by lattice vectors only), and the map stays fold-free. */
+  ao = au_advect_opts_default();
+  /* Every vertex translated off the fundamental domain first (a translation changes no area), so the
+   * wrap has work to do. */
+  for (int i = 0; i < m->nv; i++) P[3 * i] += 0.37, P[3 * i + 1] += 1.61;
+  au_status st2 = au_advect_run(m, t, &d, &ao, P, NULL, &msg2);
+  AU_CHECK(st2 == AU_OK || st2 == AU_W_NOT_CONVERGED);
+  double *Q = malloc(sizeof(double) * 3 * (size_t)m->nv), *shift2 = malloc(sizeof(double) * 9 * (size_t)m->nf);
+  AU_CHECK(Q && shift2);
+  au_torus_set_positions(s, m->F, (const double(*)[2])s->conformal, P);
+  AU_CHECK_INT(s->folds, ==, 0);
+  au_torus_positions(s, (const double(*)[2])s->conformal, Q);
+  au_torus_corner_shifts(s, (const double(*)[2])s->conformal, shift2);
+  /* Each face moved by one whole lattice vector (its three corners alike): its shape is kept. */
+  const double(*L)[2] = s->conformal;
+  double moved = 0, wrapped = 0;
+  for (int f = 0; f < m->nf; f++) {
+    double dl[3][2];
+    for (int k = 0; k < 3; k++) {
+      int c = 3 * f + k;
+      for (int q = 0; q < 2; q++) dl[k][q] = (Q[3 * m->F[c] + q] + shift2[3 * c + q]) - (P[3 * m->F[c] + q] + shift[3 * c + q]);
+    }
+    double n1 = dl[0][0] / L[0][0] - dl[0][1] * L[1][0] / (L[0][0] * L[1][1]), n2 = dl[0][1] / L[1][1];
+    moved = fmax(moved, fmax(fabs(n1 - nearbyint(n1)), fabs(n2 - nearbyint(n2))));
+    for (int k = 1; k < 3; k++) moved = fmax(moved, fmax(fabs(dl[k][0] - dl[0][0]), fabs(dl[k][1] - dl[0][1])));
+    wrapped = fmax(wrapped, fabs(n1) + fabs(n2));
+  }
+  AU_CHECK_DBL(moved, <=, 1e-12);
+  AU_CHECK_DBL(wrapped, >=, 1); /* the test translated the vertices off the domain: the wrap moved them */
+  for (int i = 0; i < 2 * m->nv; i++) AU_CHECK(s->U[i] >= 0 && s->U[i] < 1);
+  free(Q), free(shift2);
   free(P), free(shift), free(vt), free(Ft);
   au_torus_start_free(&s);
   au_topo_free(&t);

@@ -106,8 +106,9 @@ au_advect_domain au_torus_domain(const double *shift);
 
 /* After a flow in lattice L: the vertices' plane positions P [0..3*nv-1] (any translation of the
  * fundamental domain) into s->U, each vertex moved into [0, 1)^2 by whole lattice vectors that its
- * corners' offsets take up (every corner's plane position is kept, to rounding), each face's lifted
- * centroid back into [0, 1)^2, and s->folds recounted. */
+ * corners' offsets take up, then each face moved by the whole lattice vector that puts its lifted
+ * centroid back into [0, 1)^2 (so every face keeps its shape and the map on the torus is unchanged,
+ * to rounding), and s->folds recounted. L must be the lattice s->off was made for. */
 void au_torus_set_positions(au_torus_start *s, const int *F, const double L[2][2], const double *P);
 
 /* Seamless per-corner texture coordinates in lattice L: vertex i's own copy is vt row i (its
