@@ -288,8 +288,40 @@ static au_status run_planar(map_run *x, au_msg *msg) {
   return st;
 }
 
-/* The torus: the conformal start in the lattice asked for, its seamless texture coordinates. The
- * flow on the torus is not there yet: without init_only the start is returned with a warning. */
+/* The torus's metrics of the texture coordinates (nvt, vt, Ft) of the result's mesh (below). */
+static au_status torus_metrics_of(const au_result *r, int nvt, const double *vt, const int *Ft, au_metrics *out);
+
+/* The flow on the torus: the start's plane positions advected with every face's corners shifted by its
+ * fixed lattice translation (au_advect_domain.shift), then wrapped back into the fundamental domain
+ * (au_torus_set_positions). The lattice is kept, so its area 1 is the total the targets share. */
+static au_status torus_flow(map_run *x, au_torus_start *s, au_msg *msg) {
+  au_result *r = x->r;
+  const double(*L)[2] = (const double(*)[2])r->lattice;
+  if (x->flow.method != AU_ADVECT_LEAST_SHEAR)
+    return au_msg_set(msg, AU_E_ARG, "the torus flow supports the least-shear method only (not the Poisson method)");
+  double *shift = malloc(9 * sizeof(double) * (size_t)r->nf);
+  au_advect_report *rep = calloc(1, sizeof *rep);
+  if (!shift || !rep) {
+    free(shift), free(rep);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory");
+  }
+  au_torus_corner_shifts(s, L, shift);
+  au_advect_domain dom = au_torus_domain(shift);
+  double t0 = now_s();
+  au_status st = au_advect_run(x->m, x->t, &dom, &x->flow, r->P, rep, msg);
+  r->t_flow = now_s() - t0;
+  if (st >= 0) {
+    au_torus_set_positions(s, r->F, L, r->P);
+    au_torus_positions(s, L, r->P);
+    au_status s2 = keep_log(r, rep, msg);
+    if (s2 != AU_OK) st = s2;
+  }
+  free(shift), free(rep);
+  return st;
+}
+
+/* The torus: the conformal start in the lattice asked for, the flow (unless init_only), the seamless
+ * texture coordinates. */
 static au_status run_torus(map_run *x, au_msg *msg) {
   au_result *r = x->r;
   au_torus_start *s = NULL;
@@ -305,32 +337,41 @@ static au_status run_torus(map_run *x, au_msg *msg) {
   if (s->weights != AU_TORUS_COTAN)
     warn(r, "the cotan start folded %d triangles: the start uses positive (mean-value) weights in the cotan lattice",
          s->cotan_folds);
-  st = au_torus_texcoords(s, r->F, (const double(*)[2])r->lattice, &r->nvt, &r->vt, &r->Ft, msg);
-  au_torus_start_free(&s);
-  if (st != AU_OK) return st;
   if (!x->o->init_only) {
-    warn(r, "the torus flow is not implemented yet: this is the conformal start");
-    r->init_only = 1;
-    return AU_W_NOT_CONVERGED;
+    /* The start's metrics, measured as the result's are (the mesh cut at the seams). */
+    int nvt0 = 0, *Ft0 = NULL;
+    double *vt0 = NULL;
+    st = au_torus_texcoords(s, r->F, (const double(*)[2])r->lattice, &nvt0, &vt0, &Ft0, msg);
+    if (st == AU_OK && torus_metrics_of(r, nvt0, vt0, Ft0, &r->init_metrics) != AU_OK)
+      st = au_msg_set(msg, AU_E_NOMEM, "metrics of the start failed");
+    free(vt0), free(Ft0);
+    if (st == AU_OK) st = torus_flow(x, s, msg);
   }
-  return AU_OK;
+  if (st >= 0) {
+    au_status s2 = au_torus_texcoords(s, r->F, (const double(*)[2])r->lattice, &r->nvt, &r->vt, &r->Ft, msg);
+    if (s2 != AU_OK) st = s2;
+  }
+  au_torus_start_free(&s);
+  return st;
 }
 
 /* The torus's metrics: of the mesh cut along the seams, one vertex per vt row (as param-eval measures
  * a map given by vt), so that every face is measured by its own lifted triangle. */
-static au_status torus_metrics(au_result *r, au_metrics *out) {
-  double *Xc = malloc(3 * (size_t)r->nvt * sizeof *Xc), *Pc = calloc(3 * (size_t)r->nvt, sizeof *Pc);
+static au_status torus_metrics_of(const au_result *r, int nvt, const double *vt, const int *Ft, au_metrics *out) {
+  double *Xc = malloc(3 * (size_t)nvt * sizeof *Xc), *Pc = calloc(3 * (size_t)nvt, sizeof *Pc);
   au_status st = Xc && Pc ? AU_OK : AU_E_NOMEM;
   for (size_t c = 0; st == AU_OK && c < 3 * (size_t)r->nf; c++)
-    memcpy(Xc + 3 * (size_t)r->Ft[c], r->X + 3 * (size_t)r->F[c], 3 * sizeof *Xc);
-  for (int i = 0; st == AU_OK && i < r->nvt; i++) {
+    memcpy(Xc + 3 * (size_t)Ft[c], r->X + 3 * (size_t)r->F[c], 3 * sizeof *Xc);
+  for (int i = 0; st == AU_OK && i < nvt; i++) {
     if (i < r->nv) memcpy(Xc + 3 * (size_t)i, r->X + 3 * (size_t)i, 3 * sizeof *Xc);
-    Pc[3 * (size_t)i] = r->vt[2 * (size_t)i], Pc[3 * (size_t)i + 1] = r->vt[2 * (size_t)i + 1];
+    Pc[3 * (size_t)i] = vt[2 * (size_t)i], Pc[3 * (size_t)i + 1] = vt[2 * (size_t)i + 1];
   }
-  if (st == AU_OK) st = au_metrics_compute(r->nvt, r->nf, Xc, Pc, r->Ft, AU_DOMAIN_PLANE, out, NULL, NULL);
+  if (st == AU_OK) st = au_metrics_compute(nvt, r->nf, Xc, Pc, Ft, AU_DOMAIN_PLANE, out, NULL, NULL);
   free(Xc), free(Pc);
   return st;
 }
+
+static au_status torus_metrics(au_result *r, au_metrics *out) { return torus_metrics_of(r, r->nvt, r->vt, r->Ft, out); }
 
 /* The planar result's texture coordinates, and how far its boundary is from the domain's. */
 static au_status planar_finish(map_run *x, au_msg *msg) {
@@ -370,6 +411,8 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
     ms = torus_metrics(r, &r->metrics);
     r->t_metrics = now_s() - t0;
     if (ms != AU_OK) return au_msg_set(msg, ms, "metrics of the map failed");
+    if (st == AU_W_NOT_CONVERGED && !x->o->init_only)
+      warn(r, "tolerance %g not reached in %d steps (error %.3e)", x->flow.tol, r->conv.steps, r->conv.err[r->conv.steps]);
     if (r->metrics.folds > 0)
       return au_msg_set(msg, AU_E_FOLD, "the map has %d folded triangle%s", r->metrics.folds,
                         r->metrics.folds == 1 ? "" : "s");

@@ -159,16 +159,32 @@ static double now_s(void) {
 
 /* Orientation of face f at positions P: spherical domains use the triple product, planar ones the
  * z component of the cross product. Positive means correctly oriented. */
-static double face_orient(const double *P, const int *F, int f, int spherical) {
-  const double *a = P + 3 * F[3 * f], *b = P + 3 * F[3 * f + 1], *c = P + 3 * F[3 * f + 2];
+static double face_orient(const double *P, const int *F, const double *shift, int f, int spherical) {
+  double qa[3], qb[3], qc[3];
+  const double *a = au__corner(P, F, shift, f, 0, qa), *b = au__corner(P, F, shift, f, 1, qb), *c = au__corner(P, F, shift, f, 2, qc);
   if (spherical) return au_dec_sphere_orient(a, b, c);
   return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
 
+/* The faces' areas at P, of the shifted corners where the domain has shifts (au_advect_domain.shift):
+ * each face's corners are gathered and measured by the same formula. */
+static void face_areas(int nf, const int *F, const double *P, const double *shift, double *af) {
+  if (!shift) {
+    au_dec_face_areas(nf, F, P, af);
+    return;
+  }
+  static const int tri[3] = {0, 1, 2};
+  for (int f = 0; f < nf; f++) {
+    double q[9];
+    for (int k = 0; k < 3; k++) au__corner(P, F, shift, f, k, q + 3 * k);
+    au_dec_face_areas(1, tri, q, af + f);
+  }
+}
+
 /* Number of faces with orientation <= 0. */
-static int count_folds(const double *P, const int *F, int nf, int spherical) {
+static int count_folds(const double *P, const int *F, const double *shift, int nf, int spherical) {
   int n = 0;
-  for (int f = 0; f < nf; f++) n += face_orient(P, F, f, spherical) <= 0;
+  for (int f = 0; f < nf; f++) n += face_orient(P, F, shift, f, spherical) <= 0;
   return n;
 }
 
@@ -343,11 +359,14 @@ static void step_control(const au_topo *t, const adjacency *adj, const int *F, i
                          const double *inr, const double *D, double c, const au_advect_domain *dom, double *s,
                          int *heap, int *pos, double *dn) {
   const int spherical = dom->spherical;
+  const double *shift = dom->shift;
   for (int i = 0; i < nv; i++) s[i] = 1;
   for (int f = 0; f < nf; f++) {
     const int *v = F + 3 * f;
-    double tf = face_safe_t(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2], D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], AU_FACE_KEEP,
-                            spherical);
+    double qa[3], qb[3], qc[3];
+    const double *a = au__corner(P, F, shift, f, 0, qa), *b = au__corner(P, F, shift, f, 1, qb),
+                 *cc = au__corner(P, F, shift, f, 2, qc);
+    double tf = face_safe_t(a, b, cc, D + 3 * v[0], D + 3 * v[1], D + 3 * v[2], AU_FACE_KEEP, spherical);
     if (!spherical) {
       /* The fraction above is exact for straight moves; a boundary vertex slides along its curve
        * (retract), off the straight line, and turned the thin triangles at the boundary over after
@@ -356,13 +375,14 @@ static void step_control(const au_topo *t, const adjacency *adj, const int *F, i
        * halved until the triangle keeps AU_BOUNDARY_KEEP of its orientation. Asking for more than
        * the backtracking does holds the boundary back. Interior triangles away from the boundary pass
        * (the final orientation check covers them). */
-      const double *a = P + 3 * v[0], *b = P + 3 * v[1], *cc = P + 3 * v[2];
       double o0 = (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0]);
       for (int h = 0; h < AU_BOUNDARY_HALVINGS && o0 > 0; h++) {
         double q[3][3];
         for (int k = 0; k < 3; k++) {
           move_vertex(dom, P + 3 * v[k], D + 3 * v[k], tf, q[k]);
           dom->retract(dom->ctx, v[k], q[k]);
+          /* The corner's own translation (a flat torus's faces across the seams). */
+          for (int d = 0; shift && d < 3; d++) q[k][d] += shift[9 * (size_t)f + 3 * k + d];
         }
         double o = (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
         if (o >= AU_BOUNDARY_KEEP * o0) break;
@@ -380,7 +400,7 @@ static void step_control(const au_topo *t, const adjacency *adj, const int *F, i
  * cells' mean |log ratio|. af [0..nf-1], AO [0..nv-1]: scratch. */
 static void chord_errors(int nv, int nf, const int *F, const unsigned char *used, const double *P, const double *As,
                          const double *fw, const double *AM, double SM, double *af, double *AO, double *ferr, double *verr) {
-  au_dec_face_areas(nf, F, P, af);
+  au_dec_face_areas(nf, F, P, af); /* the sphere's polish only: no shifts */
   au_dec_vertex_areas(nv, nf, F, P, af, AO);
   double SC = 0, e = 0, v = 0;
   int n = 0;
@@ -559,7 +579,7 @@ static au_status measure_map(flow_state *s) {
   /* On the sphere the domain's areas are the spherical triangles' (see au_lm.c): they vanish where the
    * corners come onto one great circle, and they sum to 4 pi. */
   if (s->phase == FLOW_SPHERICAL) au_dec_sphere_face_areas(nf, F, P, af);
-  else au_dec_face_areas(nf, F, P, af);
+  else face_areas(nf, F, P, s->dom->shift, af);
   au_dec_vertex_areas(nv, nf, F, P, af, AO);
   double SO = 0;
   for (int f = 0; f < nf; f++) SO += af[f];
@@ -926,10 +946,11 @@ static void step_fractions(flow_state *s) {
   const double *P = s->P, *af = s->af;
   double *inr = s->inr, *lim = s->lim;
   for (int f = 0; f < nf; f++) {
-    const int *c = F + 3 * f;
-    double per = 0;
+    double per = 0, buf[3][3];
+    const double *cp[3];
+    for (int e = 0; e < 3; e++) cp[e] = au__corner(P, F, s->dom->shift, f, e, buf[e]);
     for (int e = 0; e < 3; e++) {
-      const double *p = P + 3 * c[e], *q = P + 3 * c[(e + 1) % 3];
+      const double *p = cp[e], *q = cp[(e + 1) % 3];
       per += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
     }
     inr[f] = per > 0 ? 2.0 * af[f] / per : 0;
@@ -970,7 +991,7 @@ static int move_and_check(flow_state *s) {
      * a re-normalization of the output by a reader and the rounding of other formulas for the same
      * sign. One already below it (the tiny triangles of a squeezed start) may shrink by at most
      * AU_ORIENT_SHRINK per step: comparing it with its old value exactly would only compare rounding. */
-    double o_new = face_orient(P, F, f, s->sph);
+    double o_new = face_orient(P, F, s->dom->shift, f, s->sph);
     if (o_new > AU_ORIENT_MARGIN || (o_new > 0 && o_new >= AU_ORIENT_SHRINK * s->orient_old[f])) continue;
     nbad++;
     for (int e = 0; e < 3; e++) s->bad[F[3 * f + e]] = 1;
@@ -985,7 +1006,7 @@ static void take_step(flow_state *s) {
   const int nv = s->nv;
   step_fractions(s);
   memcpy(s->Pold, s->P, sizeof(double) * 3 * nv);
-  for (int f = 0; f < s->nf; f++) s->orient_old[f] = face_orient(s->P, s->F, f, s->sph);
+  for (int f = 0; f < s->nf; f++) s->orient_old[f] = face_orient(s->P, s->F, s->dom->shift, f, s->sph);
   for (int tries = 0; move_and_check(s); tries++) {
     for (int i = 0; i < nv; i++)
       if (s->bad[i]) s->lim[i] = tries < AU_BACKTRACK_HALVINGS ? 0.5 * s->lim[i] : 0;
@@ -1000,7 +1021,7 @@ static au_status flow_begin(flow_state *s) {
   if (!flow_state_alloc(s)) return au_msg_set(s->msg, AU_E_NOMEM, "advect: out of memory");
   au_status st = flow_targets(s);
   if (st != AU_OK) return st;
-  int folds = count_folds(s->P, s->F, s->nf, s->sph);
+  int folds = count_folds(s->P, s->F, s->dom->shift, s->nf, s->sph);
   if (folds) return au_msg_set(s->msg, AU_E_FOLD, "advect: the initial map has %d folded triangles", folds);
   /* The Poisson problem is a pure Neumann problem (closed sphere, or a boundary that only slides): pin
    * the first referenced vertex; unreferenced vertices have empty rows and are fixed too. */
@@ -1314,6 +1335,9 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
       !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
   if (o.weight && o.face_weight) return au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");
+  /* The Poisson method's systems (au_gn.c, the cotan stiffness) read the corners unshifted. */
+  if (dom->shift && o.method != AU_ADVECT_LEAST_SHEAR)
+    return au_msg_set(msg, AU_E_ARG, "advect: the Poisson method does not support per-corner shifts (the flat torus)");
   for (int f = 0; f < m->nf && o.face_weight; f++)
     if (!(o.face_weight[f] > 0 && o.face_weight[f] < INFINITY))
       return au_msg_set(msg, AU_E_DENSITY, "density of face %d is %g; it must be positive and finite", f, o.face_weight[f]);
@@ -1329,8 +1353,9 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
   const int *orig = plan->orig, *forig = plan->forig;
   double *P2 = malloc(sizeof(double) * 3 * (size_t)nv);
   double *w2 = o.weight ? malloc(sizeof(double) * (size_t)nv) : NULL, *fw2 = o.face_weight ? malloc(sizeof(double) * (size_t)nf) : NULL;
+  double *sh2 = dom->shift ? malloc(sizeof(double) * 9 * (size_t)nf) : NULL;
   st = AU_OK;
-  if (!P2 || (o.weight && !w2) || (o.face_weight && !fw2)) {
+  if (!P2 || (o.weight && !w2) || (o.face_weight && !fw2) || (dom->shift && !sh2)) {
     st = au_msg_set(msg, AU_E_NOMEM, "advect: out of memory");
     goto done;
   }
@@ -1339,12 +1364,14 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
     if (w2) w2[k] = o.weight[orig[k]];
   }
   for (int f = 0; f < nf && fw2; f++) fw2[f] = o.face_weight[forig[f]];
+  /* The shifts go with their faces (the copy keeps each face's corner order). */
+  for (int f = 0; f < nf && sh2; f++) memcpy(sh2 + 9 * (size_t)f, dom->shift + 9 * (size_t)forig[f], 9 * sizeof(double));
   reordered_domain rd = {dom, orig};
-  au_advect_domain dom2 = {reordered_constrain, reordered_retract, dom->spherical, &rd, dom->arc_radius};
+  au_advect_domain dom2 = {reordered_constrain, reordered_retract, dom->spherical, &rd, dom->arc_radius, sh2};
   o.weight = w2, o.face_weight = fw2;
   st = advect_core(plan->m2, plan->t2, &dom2, &o, &plan->lm, P2, rep, msg);
   for (int k = 0; k < nv; k++) memcpy(P + 3 * orig[k], P2 + 3 * k, 3 * sizeof(double));
 done:
-  free(P2), free(w2), free(fw2);
+  free(P2), free(w2), free(fw2), free(sh2);
   return st;
 }

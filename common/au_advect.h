@@ -28,6 +28,12 @@ typedef struct au_advect_domain {
                         its circle and the interior vertices beside it then turn together, and the
                         long, thin triangles an equal-area disk map must have at a short boundary do
                         not turn over (see au_advect.c, move_vertex) */
+  const double *shift; /* per-corner translations, or NULL (every domain but the flat torus): corner k of face f
+                          lies at P[F[3f+k]] + shift[9f+3k..9f+3k+2]. A face's geometry (areas, orientation,
+                          step control, the step systems) is that of its shifted corners; the shifts stay
+                          fixed for the run, so a periodic map is advected with its vertices free to leave
+                          the fundamental domain (au_torus.h). The least-shear method only: the Poisson
+                          method refuses shifts (AU_E_ARG) */
 } au_advect_domain;
 
 /* How a step's velocity is chosen. */

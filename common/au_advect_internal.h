@@ -4,6 +4,19 @@
 
 #include "au_advect.h"
 
+#include <stddef.h>
+
+/* Corner k of face f at positions P under per-corner shifts (au_advect_domain.shift): P's own row when
+ * shift is NULL, so that the arithmetic of every unshifted domain stays exactly as it was; else buf,
+ * filled with P[F[3f+k]] + shift. */
+static inline const double *au__corner(const double *P, const int *F, const double *shift, int f, int k, double *buf) {
+  const double *p = P + 3 * F[3 * f + k];
+  if (!shift) return p;
+  const double *s = shift + 9 * (size_t)f + 3 * k;
+  buf[0] = p[0] + s[0], buf[1] = p[1] + s[1], buf[2] = p[2] + s[2];
+  return buf;
+}
+
 typedef struct au_gn au_gn;
 
 /* Prepare the Gauss-Newton step for the mesh's connectivity (pattern analysis done once).

@@ -213,7 +213,10 @@ au_status au__ang_step(au_ang *a, const au_advect_domain *dom, const double *P, 
   }
   for (int f = 0; f < nf; f++) {
     const int *v = F + 3 * f;
-    const double *p0 = P + 3 * v[0], *p1 = P + 3 * v[1], *p2 = P + 3 * v[2];
+    double cbuf[3][3];
+    const double *cp[3];
+    for (int k = 0; k < 3; k++) cp[k] = au__corner(P, F, dom->shift, f, k, cbuf[k]);
+    const double *p0 = cp[0], *p1 = cp[1], *p2 = cp[2];
     double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
     double nr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
     double nn = sqrt(dot3(nr, nr)), A = 0.5 * nn;
@@ -222,7 +225,7 @@ au_status au__ang_step(au_ang *a, const au_advect_domain *dom, const double *P, 
     if (!(nn > 0)) continue;
     for (int d = 0; d < 3; d++) nr[d] /= nn;
     for (int k = 0; k < 3; k++) {
-      const double *pa = P + 3 * v[(k + 1) % 3], *pb = P + 3 * v[(k + 2) % 3];
+      const double *pa = cp[(k + 1) % 3], *pb = cp[(k + 2) % 3];
       double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
       double gr[3] = {0.5 * (nr[1] * e[2] - nr[2] * e[1]), 0.5 * (nr[2] * e[0] - nr[0] * e[2]), 0.5 * (nr[0] * e[1] - nr[1] * e[0])};
       const double *Bk = a->B + 6 * v[k];
@@ -234,7 +237,8 @@ au_status au__ang_step(au_ang *a, const au_advect_domain *dom, const double *P, 
     for (int k = 0; k < 3; k++) {
       int i = v[(k + 1) % 3], j = v[(k + 2) % 3];
       double w = a->wc[3 * f + k];
-      const double *pi = P + 3 * i, *pj = P + 3 * j, *Bi = a->B + 6 * i, *Bj = a->B + 6 * j;
+      /* The edge's two corners as this face places them (shifted on the flat torus). */
+      const double *pi = cp[(k + 1) % 3], *pj = cp[(k + 2) % 3], *Bi = a->B + 6 * i, *Bj = a->B + 6 * j;
       double d[3] = {pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]};
       double Mii[2][2] = {{w * dot3(Bi, Bi), w * dot3(Bi, Bi + 3)}, {w * dot3(Bi + 3, Bi), w * dot3(Bi + 3, Bi + 3)}};
       double Mjj[2][2] = {{w * dot3(Bj, Bj), w * dot3(Bj, Bj + 3)}, {w * dot3(Bj + 3, Bj), w * dot3(Bj + 3, Bj + 3)}};

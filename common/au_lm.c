@@ -199,6 +199,7 @@ static inline void project_out(double *x, const double *n) {
 typedef struct lm_asm {
   const au_lm *l;
   const double *P, *dAf, *wf;
+  const double *shift;   /* per-corner shifts of the domain, or NULL (au_advect_domain.shift) */
   double alpha, restore, lantern;
   int sph;               /* spherical areas and tangent-plane shear */
   int f0, f1;            /* the faces [f0, f1) */
@@ -216,7 +217,10 @@ static void *assemble_faces(void *arg) {
   static const int pairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {2, 0}};
   for (int f = a->f0; f < a->f1; f++) {
     const int *v = F + 3 * f;
-    const double *p0 = P + 3 * v[0], *p1 = P + 3 * v[1], *p2 = P + 3 * v[2];
+    double cbuf[3][3];
+    const double *cp[3];
+    for (int k = 0; k < 3; k++) cp[k] = au__corner(P, F, a->shift, f, k, cbuf[k]);
+    const double *p0 = cp[0], *p1 = cp[1], *p2 = cp[2];
     double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
     double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
     double nn = sqrt(dot3(nrm, nrm));
@@ -247,7 +251,7 @@ static void *assemble_faces(void *arg) {
     /* Per corner k: the area gradient g_k (3D), then its rows in the allowed directions. */
     double rd[6], rc1[6], rc2[6];
     for (int k = 0; k < 3; k++) {
-      const double *pa = P + 3 * v[(k + 1) % 3], *pb = P + 3 * v[(k + 2) % 3];
+      const double *pa = cp[(k + 1) % 3], *pb = cp[(k + 2) % 3];
       double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
       if (sph) project_out(e, nrm);
       double g[3] = {0.5 * (nrm[1] * e[2] - nrm[2] * e[1]), 0.5 * (nrm[2] * e[0] - nrm[0] * e[2]),
@@ -308,7 +312,7 @@ static void *assemble_faces(void *arg) {
         if (lantern > 0 && wf && wf[f] > 0) {
           double l2 = 0;
           for (int k = 0; k < 3; k++) {
-            const double *pa = P + 3 * v[k], *pb = P + 3 * v[(k + 1) % 3];
+            const double *pa = cp[k], *pb = cp[(k + 1) % 3];
             double d2 = (pb[0] - pa[0]) * (pb[0] - pa[0]) + (pb[1] - pa[1]) * (pb[1] - pa[1]) + (pb[2] - pa[2]) * (pb[2] - pa[2]);
             if (d2 > l2) l2 = d2;
           }
@@ -335,7 +339,7 @@ au_status au__lm_step(au_lm *l, const au_advect_domain *dom, const double *P, co
   memset(mass, 0, sizeof(double) * (size_t)n);
   const int sph = dom->spherical && sphere_areas;
   /* Large meshes: half of the faces on a second thread, into buffers of its own, added after. */
-  lm_asm a0 = {l, P, dAf, wf, alpha, restore, lantern, sph, 0, nf, val, l->rhs, mass};
+  lm_asm a0 = {l, P, dAf, wf, dom->shift, alpha, restore, lantern, sph, 0, nf, val, l->rhs, mass};
   lm_asm a1 = a0;
   if (nf >= AU_LM_THREAD_MIN && (l->val1 || (l->val1 = malloc(sizeof(double) * ((size_t)l->colstart[n] + 4 * (size_t)nv))))) {
     a0.f1 = a1.f0 = nf / 2;

@@ -563,11 +563,11 @@ typedef struct au_result {
  * origin); AU_E_ARG (a bad option: msg names it); AU_E_CANCELLED; AU_E_NOMEM; AU_E_NOT_SPD,
  * AU_E_NUMERIC, AU_E_FOLD, AU_E_INTERNAL; or an input error (<= -100) of the check, AU_E_DENSITY
  * (a density value not positive and finite). The warnings of the result say more than the status.
- * AU_TARGET_TORUS: the conformal start only (tree-cotree homology basis, harmonic 1-forms, the
- * conjugate, the period lattice; positive weights if cotan folds; docs/torus.md). init_only = 1 is
- * the honest request; without it the result is the same start, with init_only set in the result,
- * AU_W_NOT_CONVERGED and the warning "the torus flow is not implemented yet: this is the conformal
- * start". A mesh that is not closed genus 1 gets AU_E_GENUS or AU_E_BOUNDARY naming its genus. */
+ * AU_TARGET_TORUS: the conformal start (tree-cotree homology basis, harmonic 1-forms, the conjugate,
+ * the period lattice; positive weights if cotan folds), then the least-shear flow in the plane with
+ * every face's corners keeping their lattice translations (docs/torus.md); init_only = 1 stops at the
+ * start. The Poisson method (expert) is refused with AU_E_ARG. A mesh that is not closed genus 1 gets
+ * AU_E_GENUS or AU_E_BOUNDARY naming its genus. */
 AU_API au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, const au_options *opts,
                         au_result **out, au_msg *msg);
 

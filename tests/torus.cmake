@@ -4,9 +4,9 @@
 # and the public API's torus result (au_map with AU_TARGET_TORUS).
 au_test_module(test_torus test_torus.c
   homology_forms conformal_modulus data_tori scale_invariance shared_meshes bad_topology api_result square_lattice
-  corner_shifts)
+  corner_shifts flow_tori flow_square_lattice flow_meshes flow_cancel)
 
 # `authalic torus` end to end (tests/cli/torus_runs.sh).
-foreach(c data shared no_flow_yet genus0 open not_obj bad_lattice)
+foreach(c data shared flow genus0 open not_obj bad_lattice)
   au_cli_test(torus.${c} torus_runs.sh ${c})
 endforeach()

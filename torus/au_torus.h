@@ -98,9 +98,18 @@ int au_torus_count_folds(const au_torus_start *s, const int *F);
 void au_torus_corner_shifts(const au_torus_start *s, const double L[2][2], double *shift);
 
 /* The torus as an advection domain (common/au_advect.h): planar, no boundary; constrain zeroes the
- * displacement's z, retract sets z = 0. The flow must also read the corner shifts, which
- * au_advect_domain cannot carry yet (docs/torus.md, step 7). */
-au_advect_domain au_torus_domain(void);
+ * displacement's z, retract sets z = 0; shift (from au_torus_corner_shifts, kept by the caller for the
+ * run; NULL: none) places every face's corners across the seams. Vertices are not wrapped during the
+ * flow: they may leave the fundamental domain, the shifts stay (au_torus_set_positions wraps them after).
+ * The 2-D translations are free (no boundary): the least-shear step's kinetic term fixes them. */
+au_advect_domain au_torus_domain(const double *shift);
+
+/* After a flow in lattice L: the vertices' plane positions P [0..3*nv-1] (any translation of the
+ * fundamental domain) into s->U, each vertex moved into [0, 1)^2 by whole lattice vectors that its
+ * corners' offsets take up, then each face moved by the whole lattice vector that puts its lifted
+ * centroid back into [0, 1)^2 (so every face keeps its shape and the map on the torus is unchanged,
+ * to rounding), and s->folds recounted. L must be the lattice s->off was made for. */
+void au_torus_set_positions(au_torus_start *s, const int *F, const double L[2][2], const double *P);
 
 /* Seamless per-corner texture coordinates in lattice L: vertex i's own copy is vt row i (its
  * position in the fundamental domain); each distinct nonzero corner offset of a vertex adds one row,

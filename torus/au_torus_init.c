@@ -349,6 +349,20 @@ nomem:
   return au_msg_set(msg, AU_E_NOMEM, "torus: out of memory for the texture coordinates");
 }
 
+void au_torus_set_positions(au_torus_start *s, const int *F, const double L[2][2], const double *P) {
+  const double det = L[0][0] * L[1][1] - L[0][1] * L[1][0];
+  /* p = u1 a1 + u2 a2, solved for (u1, u2) by Cramer's rule. */
+  for (int i = 0; i < s->nv; i++) {
+    const double *p = P + 3 * (size_t)i;
+    s->U[2 * i] = (p[0] * L[1][1] - p[1] * L[1][0]) / det;
+    s->U[2 * i + 1] = (L[0][0] * p[1] - L[0][1] * p[0]) / det;
+  }
+  /* The flow let vertices wander out of the fundamental domain with the corners' offsets fixed: each
+   * goes back by whole lattice vectors, which its corners' offsets take up, so no corner moves. */
+  to_fundamental_domain(s, F);
+  s->folds = au_torus_count_folds(s, F);
+}
+
 void au_torus_corner_shifts(const au_torus_start *s, const double L[2][2], double *shift) {
   for (size_t c = 0; c < 3 * (size_t)s->nf; c++) {
     const int *o = s->off + 2 * c;
@@ -366,9 +380,9 @@ static void torus_retract(void *ctx, int i, double *p) {
   p[2] = 0;
 }
 
-au_advect_domain au_torus_domain(void) {
+au_advect_domain au_torus_domain(const double *shift) {
   au_advect_domain d;
   memset(&d, 0, sizeof d);
-  d.constrain = torus_constrain, d.retract = torus_retract, d.spherical = 0;
+  d.constrain = torus_constrain, d.retract = torus_retract, d.spherical = 0, d.shift = shift;
   return d;
 }
