@@ -536,7 +536,7 @@ typedef struct au_tex_mesh {
   int fold_splits;    /* edges split because a face came out turned over in its chart */
   int area_splits;    /* edges split because a face's straight texture area missed its spherical area
                          by more than the tolerance */
-  double area_tol;    /* the tolerance used (au_tex_opts.area_tol, or the automatic one) */
+  double area_tol;    /* the tolerance used (au_tex_opts.area_tol, or the automatic one; 0: off) */
   double area_err_mean, area_err_max; /* |straight texture area / spherical area - 1| over the final
                          faces (cea: faces with a pole corner left out) */
   int folds_left;     /* faces turned over in the texture: 0 on success */
@@ -557,9 +557,11 @@ typedef struct au_tex_opts {
   au_tex_axis axis;    /* where the texture's poles go (AU_TEX_AXIS_Z) */
   double axis_dir[3];  /* AU_TEX_AXIS_VECTOR: the north pole in the map's frame, nonzero, any length
                           ((0, 0, 1)) */
-  double area_tol;     /* split a face while |straight texture area / spherical area - 1| exceeds
-                          this, >= 0; < 0: automatic (-1): a quarter of the map's per-face mean
-                          |r - 1| (spherical areas), at least 0.001 */
+  double area_tol;     /* 0 (default): no splitting for area (only faces that would turn over are
+                          split); > 0: also split a face while |straight texture area / spherical
+                          area - 1| exceeds this (costs faces: 3-5x at 0.01 on the shared meshes);
+                          < 0: that with an automatic tolerance, a quarter of the map's per-face
+                          mean |r - 1| (spherical areas), at least 0.001 */
   int max_rounds;      /* rounds of splitting for area, 0..64 (16); splitting for folds always goes
                           on until none is left */
 } au_tex_opts;
@@ -569,8 +571,8 @@ AU_API au_tex_opts au_tex_opts_default(void);
 
 /* Texture coordinates of the sphere map P (nv x 3, fold-free) of m with the options opts (NULL: the
  * defaults). Every face comes out the map's way round in the texture (faces are split until it
- * does: au_tex_mesh.fold_splits), and faces whose straight-edged texture triangle misses its
- * spherical area by more than area_tol are split too (area_splits). On success *out owns the
+ * does: au_tex_mesh.fold_splits), and, when area_tol is not 0, faces whose straight-edged texture
+ * triangle misses its spherical area by more than area_tol are split too (area_splits). On success *out owns the
  * result. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC, AU_E_FOLD. */
 AU_API au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opts *opts, au_tex_mesh **out,
                                     au_msg *msg);

@@ -247,7 +247,7 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, a
   for (int round = 0;; round++) {
     st = au__tex_raw_update(w, opts->proj, msg);
     if (st != AU_OK) break;
-    int area_on = round < opts->max_rounds && t->nf < AU_AREA_GROWTH * nf0 && tol >= 0;
+    int area_on = round < opts->max_rounds && t->nf < AU_AREA_GROWTH * nf0 && tol > 0;
     int folds = 0;
     double emax = 0, esum = 0;
     int ne = 0;

@@ -453,7 +453,7 @@ au_tex_opts au_tex_opts_default(void) {
   o.proj = AU_TEX_CEA;
   o.axis = AU_TEX_AXIS_Z;
   o.axis_dir[2] = 1;
-  o.area_tol = -1;
+  o.area_tol = 0;
   o.max_rounds = 16;
   return o;
 }
@@ -555,7 +555,7 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
   double sigma = 1;
   if (st == AU_OK) {
     double e = map_face_error(m, w.Q);
-    t->area_tol = opts.area_tol >= 0 ? opts.area_tol : fmax(0.001, 0.25 * e);
+    t->area_tol = opts.area_tol >= 0 ? opts.area_tol : fmax(0.001, 0.25 * e); /* 0: no area splits */
     st = au__tex_refine(&w, &opts, t->area_tol, msg);
     double s = 0;
     for (int f = 0; f < nf; f++)

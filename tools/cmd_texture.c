@@ -89,6 +89,12 @@ static int parse_args(int argc, char **argv, tex_args *a) {
              d[0] * d[0] + d[1] * d[1] + d[2] * d[2] == 0)
       return cli_usage_error(help, "--axis '%s': expected auto, x, y, z or a nonzero vector X,Y,Z", v);
   }
+  if ((v = c.val[OPT_AREA_TOL]) != NULL) {
+    char *end;
+    a->topts.area_tol = strcmp(v, "auto") == 0 ? -1 : strtod(v, &end);
+    if (strcmp(v, "auto") && (end == v || *end || !(a->topts.area_tol >= 0 && a->topts.area_tol < 1e3)))
+      return cli_usage_error(help, "--area-tol '%s': expected a number >= 0 or auto", v);
+  }
   cli_opt_id size = a->sample ? OPT_GRID : OPT_SIZE;
   a->has_size = c.val[size] != NULL;
   if (cli_opt_size(&c, size, &a->W, &a->H)) return EXIT_USAGE;
