@@ -167,6 +167,52 @@ static int split_edge(au__tex_work *w, he_table *h, int a, int b, double sp) {
   return 1;
 }
 
+/* oct: split every edge that crosses one of the planes x = 0, y = 0, z = 0 of the texture's frame
+ * (the octahedron's creases: the map is smooth inside an octant only) where it crosses it, so every
+ * face lies in one closed octant and its straight texture triangle in one smooth piece of the map.
+ * The crossing point of the chordal segment C_a C_b is found exactly (the plane's coordinate is
+ * linear along it and the normalization keeps its zero), and the new vertex is the surface point of
+ * the same parameter, as in every other split. Counted into fold_splits: without it, straight edges
+ * across a crease fold near it and splits at the foot point do not converge (spiky_ico). Ends within
+ * 1e-12 of a plane count as on it. */
+static au_status oct_creases(au__tex_work *w, au_msg *msg) {
+  au_tex_mesh *t = w->t;
+  he_table h = {NULL, NULL, 0};
+  int *e = NULL;
+  au_status st = AU_OK;
+  for (int j = 0; j < 3 && st == AU_OK; j++) {
+    int ne = 0;
+    free(e);
+    e = malloc(3 * 2 * (size_t)t->nf * sizeof *e);
+    if (!e || !he_build(&h, t)) {
+      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+      break;
+    }
+    for (int f = 0; f < t->nf; f++)
+      for (int k = 0; k < 3; k++) {
+        int a = t->F[3 * f + k], b = t->F[3 * f + (k + 1) % 3];
+        double qa = w->Q[3 * (size_t)a + j], qb = w->Q[3 * (size_t)b + j];
+        if (a < b && fabs(qa) >= 1e-12 && fabs(qb) >= 1e-12 && (qa < 0) != (qb < 0)) e[2 * ne] = a, e[2 * ne + 1] = b, ne++;
+      }
+    for (int i = 0; i < ne; i++) {
+      int a = e[2 * i], b = e[2 * i + 1];
+      double ca = w->C[3 * (size_t)a + j], cb = w->C[3 * (size_t)b + j];
+      int r = split_edge(w, &h, a, b, ca / (ca - cb));
+      if (r < 0) {
+        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+        break;
+      }
+      if (r) {
+        int m = t->nv - 1;
+        w->C[3 * (size_t)m + j] = 0, w->Q[3 * (size_t)m + j] = 0;
+        t->fold_splits++;
+      }
+    }
+  }
+  free(e), free(h.key), free(h.face);
+  return st;
+}
+
 /* What is wrong with face f: 2 fold, 1 area, 0 nothing; err: |straight / spherical area - 1|
  * (NaN for a pole face or a face of no spherical area). */
 static int face_state(const au__tex_work *w, au_tex_proj proj, int f, double sigma, double tol, double *err) {
@@ -237,6 +283,8 @@ static double map_sign(const au__tex_work *w) {
   return s < 0 ? -1.0 : 1.0;
 }
 
+static const char *pname(au_tex_proj p) { return p == AU_TEX_CEA ? "cea" : p == AU_TEX_LAEA ? "laea" : "oct"; }
+
 au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, au_msg *msg) {
   au_tex_mesh *t = w->t;
   he_table h = {NULL, NULL, 0};
@@ -244,6 +292,10 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, a
   au_status st = AU_OK;
   double sigma = map_sign(w);
   int nf0 = t->nf;
+  if (opts->proj == AU_TEX_OCT) {
+    st = oct_creases(w, msg);
+    if (st != AU_OK) return st;
+  }
   for (int round = 0;; round++) {
     st = au__tex_raw_update(w, opts->proj, msg);
     if (st != AU_OK) break;
@@ -274,13 +326,15 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, a
     t->folds_left = folds;
     if (nbad == 0) break;
     if (round >= AU_FOLD_ROUNDS) {
-      st = au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: %d faces still turned over in the texture after %d rounds of splitting",
-                      folds, round);
+      st = au_msg_set(msg, AU_E_NUMERIC,
+                      "au_tex_coords: projection %s: %d faces stay turned over in the texture after %d rounds of splitting",
+                      pname(opts->proj), folds, round);
       break;
     }
     if (t->nf > AU_FOLD_GROWTH * nf0) {
-      st = au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: %d faces still turned over in the texture after splitting to %d faces",
-                      folds, t->nf);
+      st = au_msg_set(msg, AU_E_NUMERIC,
+                      "au_tex_coords: projection %s: %d faces stay turned over in the texture after splitting to %d faces",
+                      pname(opts->proj), folds, t->nf);
       break;
     }
     /* The faces' corners are read before any split of the round changes them; the split points
