@@ -599,28 +599,38 @@ AU_API au_status au_result_json(const au_result *r, const au_report_extra *extra
 typedef enum au_tex_proj {
   AU_TEX_CEA = 0,  /* Lambert cylindrical equal-area: u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; the
                       seam is the meridian lon = +-pi, the poles are the top and bottom rows */
-  AU_TEX_LAEA = 1  /* two Lambert azimuthal equal-area charts: the northern hemisphere in the left
+  AU_TEX_LAEA = 1, /* two Lambert azimuthal equal-area charts: the northern hemisphere in the left
                       half of the image, the southern in the right half; each chart is a square of
                       half side `half` around its pole, its ring outside the equator (radius sqrt 2)
                       holding the continuation used by faces across the equator */
+  AU_TEX_OCT = 2   /* equal-area octahedral map (Praun & Hoppe 2003, Clarberg 2008): the northern
+                      hemisphere fills the diamond |s| + |t| <= 1 of the square [-1, 1]^2, the
+                      southern the four corners (the south pole); no poles, the seams are the four
+                      southern half meridians (the square's edges, folded at their midpoints); the
+                      image is [-half, half]^2, a gutter around the square holding the continuation
+                      across its edges (s = (2u - 1) half, t = (2v - 1) half) */
 } au_tex_proj;
 
 typedef struct au_tex_layout {
   au_tex_proj proj;
-  double half; /* laea: half side of each chart, in [sqrt 2, 2] (set by au_tex_coords so that every
-                  face fits in its chart); cea: ignored */
+  double half; /* laea: half side of each chart, in [sqrt 2, 2]; oct: half side of the image in the
+                  square's units, in [1, 2] (both set by au_tex_coords so that every face fits);
+                  cea: ignored */
+  double R[9]; /* rotation from the map's frame to the texture's (row-major; the texture's x, y, z
+                  axes in the map's frame as rows): (lon, lat) are those of R p. Identity by default */
 } au_tex_layout;
 
-/* The layout's default: cea; laea with half = 1.5. */
+/* The layout's default: cea; laea with half = 1.5; oct with half = 1.03; R the identity. */
 AU_API au_tex_layout au_tex_layout_default(au_tex_proj proj);
 
-/* Texture coordinates uv [0..2n-1] -> points p [0..3n-1] on the unit sphere. valid: out [0..n-1]
- * (may be NULL): 1 where (u, v) is the image of a point (cea: 0 <= v <= 1, u modulo 1; laea: inside
- * the chart of radius 2), else 0 and p = 0. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
+/* Texture coordinates uv [0..2n-1] -> points p [0..3n-1] on the unit sphere, in the map's frame.
+ * valid: out [0..n-1] (may be NULL): 1 where (u, v) is the image of a point (cea: 0 <= v <= 1, u
+ * modulo 1; laea: inside the chart of radius 2; oct: inside [0, 1]^2), else 0 and p = 0. Returns
+ * AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
 AU_API au_status au_tex_to_sphere(const au_tex_layout *lay, int n, const double *uv, double *p, unsigned char *valid,
                                   au_msg *msg);
-/* Points p [0..3n-1] (nonzero, normalized here) -> uv [0..2n-1] in the layout's primary chart.
- * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
+/* Points p [0..3n-1] (map's frame; nonzero, normalized here) -> uv [0..2n-1] in the layout's primary
+ * chart (oct: inside the square). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC. */
 AU_API au_status au_tex_from_sphere(const au_tex_layout *lay, int n, const double *p, double *uv, au_msg *msg);
 /* Longitude, latitude in degrees of points p [0..3n-1] into lonlat [0..2n-1] (lon 0 at the poles).
  * Returns AU_OK, AU_E_ARG. */
@@ -646,28 +656,70 @@ AU_API void au_locator_free(au_locator **loc);
 AU_API int au_locator_find(const au_locator *loc, const double p[3], int *hint, double bary[3]);
 
 /* A mesh with per-corner texture coordinates (au_tex_coords): the input's vertices first, then
- * vertices added at the poles or on split edges; the input's faces first (a split face keeps its
- * index for its first part), then the added ones. */
+ * vertices added at the poles or on split edges (each on an input triangle: the midpoint of an
+ * edge, so the surface is unchanged), the input's faces first (a split face keeps its index for its
+ * first part), then the added ones. */
 typedef struct au_tex_mesh {
   int nv, nf;         /* after the splits */
   int nv_in, nf_in;   /* the input's counts */
   double *X;          /* X [0..3*nv-1]: positions on the surface */
-  double *P;          /* P [0..3*nv-1]: positions on the sphere */
+  double *P;          /* P [0..3*nv-1]: positions on the sphere (the map's frame) */
   int *F;             /* F [0..3*nf-1] */
   int *src_face;      /* src_face [0..nf-1]: the input face each face comes from */
   int nvt;            /* number of texture coordinates */
   double *vt;         /* vt [0..2*nvt-1]; cea: u may leave [0, 1] on faces across the seam (repeat) */
   int *Ft;            /* Ft [0..3*nf-1]: the texture coordinate of each corner */
-  double *lonlat;     /* lonlat [0..2*nv-1]: longitude, latitude in degrees of P */
+  double *lonlat;     /* lonlat [0..2*nv-1]: longitude, latitude in degrees of R P (texture frame) */
   au_tex_layout layout; /* the layout the coordinates refer to */
-  int seam_faces;     /* faces whose corners were shifted across the seam (cea) */
+  int seam_faces;     /* faces whose corners were shifted across the seam (cea), straddle the
+                         equator (laea), or were unfolded across the square's edge (oct) */
   int pole_splits;    /* faces split at a pole (cea, 0..2) */
   int pole_vertices;  /* input vertices on a pole */
-  int edge_splits;    /* cea: edges split because a face came out flipped in (u, v) */
+  int edge_splits;    /* edges split: fold_splits + area_splits */
+  int fold_splits;    /* edges split because a face came out turned over in its chart */
+  int area_splits;    /* edges split because a face's straight texture area missed its spherical area
+                         by more than the tolerance */
+  double area_tol;    /* the tolerance used (au_tex_opts.area_tol, or the automatic one; 0: off) */
+  double area_err_mean, area_err_max; /* |straight texture area / spherical area - 1| over the final
+                         faces (cea: faces with a pole corner left out) */
+  int folds_left;     /* faces turned over in the texture: 0 on success */
 } au_tex_mesh;
 
-/* Texture coordinates of the sphere map P (nv x 3, fold-free) of m in projection proj. On success
- * *out owns the result. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC, AU_E_FOLD. */
+/* Options of au_tex_coords_opts. */
+typedef enum au_tex_axis {
+  AU_TEX_AXIS_Z = 0,     /* the map's own axes: poles on its z axis, cea's seam at its -x */
+  AU_TEX_AXIS_AUTO = 1,  /* poles where the map's triangles are smallest (least mean spherical area of
+                            the faces within 10 degrees of either pole, over 500 directions), then
+                            turned about that axis so the seam crosses the fewest faces (cea: the
+                            meridian at 180 degrees; oct: the four southern half meridians) */
+  AU_TEX_AXIS_VECTOR = 2 /* the north pole at axis_dir */
+} au_tex_axis;
+
+typedef struct au_tex_opts {
+  au_tex_proj proj;    /* projection (AU_TEX_CEA) */
+  au_tex_axis axis;    /* where the texture's poles go (AU_TEX_AXIS_Z) */
+  double axis_dir[3];  /* AU_TEX_AXIS_VECTOR: the north pole in the map's frame, nonzero, any length
+                          ((0, 0, 1)) */
+  double area_tol;     /* 0 (default): no splitting for area (only faces that would turn over are
+                          split); > 0: also split a face while |straight texture area / spherical
+                          area - 1| exceeds this (costs faces: 8-22x with auto on the shared meshes);
+                          < 0: that with an automatic tolerance, a quarter of the map's per-face
+                          mean |r - 1| (spherical areas), at least 0.001 */
+  int max_rounds;      /* rounds of splitting for area, 0..64 (16); splitting for folds always goes
+                          on until none is left */
+} au_tex_opts;
+
+/* The defaults above. */
+AU_API au_tex_opts au_tex_opts_default(void);
+
+/* Texture coordinates of the sphere map P (nv x 3, fold-free) of m with the options opts (NULL: the
+ * defaults). Every face comes out the map's way round in the texture (faces are split until it
+ * does: au_tex_mesh.fold_splits), and, when area_tol is not 0, faces whose straight-edged texture
+ * triangle misses its spherical area by more than area_tol are split too (area_splits). On success *out owns the
+ * result. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NUMERIC, AU_E_FOLD. */
+AU_API au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opts *opts, au_tex_mesh **out,
+                                    au_msg *msg);
+/* au_tex_coords_opts with the default options but the projection. */
 AU_API au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_tex_mesh **out, au_msg *msg);
 AU_API void au_tex_mesh_free(au_tex_mesh **t);
 

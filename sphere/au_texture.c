@@ -3,7 +3,9 @@
  * area of equal-area grid cells, and the small file formats (.npy, per-vertex scalars).
  *
  * Projections come from GeographicLib through au_geo.h (Lambert cylindrical and azimuthal
- * equal-area are AlbersEqualArea on the unit sphere with stdlat 0 and +-90). */
+ * equal-area are AlbersEqualArea on the unit sphere with stdlat 0 and +-90) and, for the
+ * equal-area octahedral map, from au_octahedral.c. The adaptive splitting and the choice of axis
+ * are in au_texsplit.c. */
 
 #include <errno.h>
 #include <math.h>
@@ -15,7 +17,7 @@
 
 #include "au_geo.h"
 #include "au_io.h"
-#include "au_texture.h"
+#include "au_texture_internal.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -28,21 +30,36 @@
  * the chart's edge (where a texel's bilinear lookup would read the next chart). */
 #define AU_LAEA_MARGIN 1.02
 
-/* Rounds of splitting flipped faces in the cylindrical layout: each halves the offending arcs, and
- * the shared meshes need at most a few. */
-#define AU_FLIP_ROUNDS 8
+/* The octahedral image reaches this much past the farthest face corner (the gutter's margin). */
+#define AU_OCT_MARGIN 1.01
 
 au_tex_layout au_tex_layout_default(au_tex_proj proj) {
   au_tex_layout l;
+  memset(&l, 0, sizeof l);
   l.proj = proj;
-  l.half = proj == AU_TEX_LAEA ? 1.5 : 0.0;
+  l.half = proj == AU_TEX_LAEA ? 1.5 : proj == AU_TEX_OCT ? 1.03 : 0.0;
+  l.R[0] = l.R[4] = l.R[8] = 1;
   return l;
 }
 
 static int layout_ok(const au_tex_layout *lay) {
   if (!lay) return 0;
+  double err = 0; /* R orthonormal: R R^T = I */
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double d = lay->R[3 * i] * lay->R[3 * j] + lay->R[3 * i + 1] * lay->R[3 * j + 1] + lay->R[3 * i + 2] * lay->R[3 * j + 2];
+      err = fmax(err, fabs(d - (i == j)));
+    }
+  if (!(err <= 1e-9)) return 0;
   if (lay->proj == AU_TEX_CEA) return 1;
+  if (lay->proj == AU_TEX_OCT) return lay->half >= 1 && lay->half <= 2;
   return lay->proj == AU_TEX_LAEA && lay->half >= SQRT2 - 1e-12 && lay->half <= 2.0 + 1e-12;
+}
+
+/* q = R p (to the texture's frame) or R^T p (back to the map's). */
+static void rot(const double *R, int back, const double *p, double *q) {
+  for (int i = 0; i < 3; i++)
+    q[i] = back ? R[i] * p[0] + R[3 + i] * p[1] + R[6 + i] * p[2] : R[3 * i] * p[0] + R[3 * i + 1] * p[1] + R[3 * i + 2] * p[2];
 }
 
 static void unit_from_latlon(double lat_deg, double lon_deg, double *p) {
@@ -76,6 +93,17 @@ au_status au_tex_to_sphere(const au_tex_layout *lay, int n, const double *uv, do
                            au_msg *msg) {
   if (!layout_ok(lay) || n < 0 || (n > 0 && (!uv || !p))) return au_msg_set(msg, AU_E_ARG, "au_tex_to_sphere: bad arguments");
   if (n == 0) return AU_OK;
+  if (lay->proj == AU_TEX_OCT) {
+    for (int i = 0; i < n; i++) {
+      double u = uv[2 * i], v = uv[2 * i + 1], q[3];
+      int ok = isfinite(u) && isfinite(v) && u >= 0 && u <= 1 && v >= 0 && v <= 1;
+      double st[2] = {(2 * u - 1) * lay->half, (2 * v - 1) * lay->half};
+      if (ok) au__oct_inverse(st, q), rot(lay->R, 1, q, p + 3 * (size_t)i);
+      else p[3 * i] = p[3 * i + 1] = p[3 * i + 2] = 0;
+      if (valid) valid[i] = (unsigned char)ok;
+    }
+    return AU_OK;
+  }
   double *buf = malloc(4 * (size_t)n * sizeof *buf);
   int *idx = malloc((size_t)n * sizeof *idx);
   signed char *chart = malloc((size_t)n);
@@ -123,17 +151,25 @@ au_status au_tex_to_sphere(const au_tex_layout *lay, int n, const double *uv, do
   }
   for (int i = 0; i < n; i++) {
     if (chart[i] < 0) p[3 * i] = p[3 * i + 1] = p[3 * i + 2] = 0;
+    else if (st == AU_OK) {
+      double q[3] = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
+      rot(lay->R, 1, q, p + 3 * (size_t)i);
+    }
     if (valid) valid[i] = chart[i] >= 0;
   }
   free(buf), free(idx), free(chart);
   return st;
 }
 
-/* uv of n points (lat, lon in degrees) in chart `kind` of the layout. */
+/* uv of the point with chart coordinates x, y in chart `kind` of the layout (oct: the square's
+ * coordinates, kind ignored). */
 static void chart_uv(const au_tex_layout *lay, au_geo_aea kind, double x, double y, double *uv) {
-  if (kind == AU_GEO_CEA) {
+  if (kind == AU_GEO_CEA && lay->proj != AU_TEX_OCT) {
     uv[0] = (x + M_PI) / (2 * M_PI);
     uv[1] = (y + 1) / 2;
+  } else if (lay->proj == AU_TEX_OCT) {
+    uv[0] = (x / lay->half + 1) / 2;
+    uv[1] = (y / lay->half + 1) / 2;
   } else {
     uv[0] = (x / lay->half + 1) / 4 + (kind == AU_GEO_LAEA_SOUTH ? 0.5 : 0.0);
     uv[1] = (y / lay->half + 1) / 2;
@@ -148,16 +184,22 @@ au_status au_tex_from_sphere(const au_tex_layout *lay, int n, const double *p, d
   double *lat = buf, *lon = buf + n, *x = buf + 2 * (size_t)n, *y = buf + 3 * (size_t)n;
   au_status st = AU_OK;
   for (int i = 0; i < n && st == AU_OK; i++) {
-    const double *q = p + 3 * (size_t)i;
+    const double *q0 = p + 3 * (size_t)i;
+    double q[3];
+    rot(lay->R, 0, q0, q);
     if (!(isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2])) || (q[0] == 0 && q[1] == 0 && q[2] == 0))
       st = au_msg_set(msg, AU_E_ARG, "au_tex_from_sphere: point %d is zero or not finite", i);
-    else
+    else if (lay->proj == AU_TEX_OCT) {
+      double s2[2];
+      au__oct_forward(q, s2);
+      chart_uv(lay, AU_GEO_CEA, s2[0], s2[1], uv + 2 * i);
+    } else
       latlon_of(q, &lat[i], &lon[i]);
   }
   if (st == AU_OK && lay->proj == AU_TEX_CEA) {
     st = au_geo_aea_forward(AU_GEO_CEA, n, lat, lon, x, y, msg);
     for (int i = 0; i < n && st == AU_OK; i++) chart_uv(lay, AU_GEO_CEA, x[i], y[i], uv + 2 * i);
-  } else if (st == AU_OK) {
+  } else if (st == AU_OK && lay->proj == AU_TEX_LAEA) {
     /* Both charts for every point (two batches), then each point takes its own hemisphere's. */
     double *xs = malloc(2 * (size_t)n * sizeof *xs);
     if (!xs) st = au_msg_set(msg, AU_E_NOMEM, "au_tex_from_sphere: out of memory");
@@ -188,30 +230,34 @@ void au_tex_mesh_free(au_tex_mesh **t) {
   *t = NULL;
 }
 
-/* Split the face containing the pole (0, 0, sz) of the cea layout, unless the pole is one of its
- * corners. Adds a vertex and two faces to t (room reserved by the caller). */
-static au_status split_pole(au_tex_mesh *t, const au_locator *loc, double sz, unsigned char *is_pole, au_msg *msg) {
+/* Split the face containing the pole (0, 0, sz) of the texture's frame, unless the pole is one of
+ * its corners (or within 1e-9 of one, which is then moved there: splitting would leave a sliver
+ * whose coordinates are all rounding). The new vertex is the pole's preimage: its barycentric
+ * coordinates in the map's flat triangle applied to X and C. */
+static au_status split_pole(au__tex_work *w, const au_locator *loc, double sz, au_msg *msg) {
+  au_tex_mesh *t = w->t;
   double pole[3] = {0, 0, sz}, b[3];
   int f = au_locator_find(loc, pole, NULL, b);
   if (f < 0) return au_msg_set(msg, AU_E_FOLD, "the %s pole lies in no triangle of the map (the map does not cover the sphere)",
                                sz > 0 ? "north" : "south");
   int *c = t->F + 3 * (size_t)f;
   for (int k = 0; k < 3; k++) {
-    double *q = t->P + 3 * (size_t)c[k];
-    /* A corner on the pole, or within 1e-9 of it (snapped there: splitting would leave a sliver
-     * whose coordinates are all rounding). */
+    double *q = w->Q + 3 * (size_t)c[k];
     if ((q[0] == 0 && q[1] == 0) || b[k] > 1 - 1e-9) {
       q[0] = 0, q[1] = 0, q[2] = sz;
-      is_pole[c[k]] = 1;
+      w->is_pole[c[k]] = 1;
       return AU_OK;
     }
   }
+  if (!au__tex_reserve(w, t->nv + 1, t->nf + 2)) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  c = t->F + 3 * (size_t)f;
   int v = t->nv++;
   for (int j = 0; j < 3; j++) {
     t->X[3 * v + j] = b[0] * t->X[3 * c[0] + j] + b[1] * t->X[3 * c[1] + j] + b[2] * t->X[3 * c[2] + j];
-    t->P[3 * v + j] = pole[j];
+    w->C[3 * v + j] = b[0] * w->C[3 * c[0] + j] + b[1] * w->C[3 * c[1] + j] + b[2] * w->C[3 * c[2] + j];
+    w->Q[3 * v + j] = pole[j];
   }
-  is_pole[v] = 1;
+  w->is_pole[v] = 1;
   int a0 = c[0], a1 = c[1], a2 = c[2];
   int g1 = t->nf++, g2 = t->nf++;
   c[0] = a0, c[1] = a1, c[2] = v;
@@ -222,335 +268,312 @@ static au_status split_pole(au_tex_mesh *t, const au_locator *loc, double sz, un
   return AU_OK;
 }
 
-/* (u, v) of the cea layout up to its affine chart, straight from the unit vector p: u follows the
- * longitude, v = (1 + z) / 2. Enough for orientation tests (the chart scales both positively). */
-static void cea_raw(const double *p, double *u, double *v) {
-  *u = atan2(p[1], p[0]) / (2 * M_PI);
-  *v = 0.5 * (1 + p[2]);
-}
-
-/* 1 if face f, drawn with straight edges in the cea layout (longitudes unwrapped around its first
- * corner), is not positively oriented. Faces with a pole corner are drawn differently (the pole
- * takes the middle of the others' u) and are left alone. */
-static int cea_flipped(const au_tex_mesh *t, const unsigned char *is_pole, int f) {
-  const int *c = t->F + 3 * (size_t)f;
-  double u[3], v[3];
-  for (int k = 0; k < 3; k++) {
-    if (is_pole[c[k]]) return 0;
-    cea_raw(t->P + 3 * (size_t)c[k], &u[k], &v[k]);
-    if (k > 0) u[k] = u[0] + (u[k] - u[0] - nearbyint(u[k] - u[0]));
-  }
-  return (u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0]) <= 0;
-}
-
-/* Room for at least nv vertices and nf faces in the arrays the splits grow. */
-static int tex_reserve(au_tex_mesh *t, unsigned char **is_pole, int *nvcap, int *nfcap, int nv, int nf) {
-  if (nv > *nvcap) {
-    int cap = nv + nv / 2 + 16;
-    double *X = realloc(t->X, 3 * (size_t)cap * sizeof *X);
-    if (X) t->X = X;
-    double *P = realloc(t->P, 3 * (size_t)cap * sizeof *P);
-    if (P) t->P = P;
-    unsigned char *ip = realloc(*is_pole, (size_t)cap);
-    if (ip) *is_pole = ip;
-    if (!X || !P || !ip) return 0;
-    memset(*is_pole + *nvcap, 0, (size_t)(cap - *nvcap));
-    *nvcap = cap;
-  }
-  if (nf > *nfcap) {
-    int cap = nf + nf / 2 + 16;
-    int *F = realloc(t->F, 3 * (size_t)cap * sizeof *F);
-    if (F) t->F = F;
-    int *src = realloc(t->src_face, (size_t)cap * sizeof *src);
-    if (src) t->src_face = src;
-    if (!F || !src) return 0;
-    *nfcap = cap;
-  }
-  return 1;
-}
-
-/* Split the edge (a, b) at its midpoint (on the surface: the middle of the straight edge; on the
- * sphere: the normalized middle of the chord, which is where the map sends that surface point),
- * and each face on it into two with the same orientation. Room for one vertex and two faces must
- * be reserved. Returns 0 if the edge is not in the mesh. */
-static int split_edge(au_tex_mesh *t, int a, int b) {
-  int m = t->nv, found = 0;
-  for (int f = 0, nf = t->nf; f < nf; f++) {
-    int *c = t->F + 3 * (size_t)f;
-    for (int k = 0; k < 3; k++) {
-      int p = c[k], q = c[(k + 1) % 3], r = c[(k + 2) % 3];
-      if (!((p == a && q == b) || (p == b && q == a))) continue;
-      if (!found) {
-        double s = 0, *P = t->P + 3 * (size_t)m;
-        for (int j = 0; j < 3; j++) {
-          t->X[3 * (size_t)m + j] = 0.5 * (t->X[3 * (size_t)a + j] + t->X[3 * (size_t)b + j]);
-          P[j] = t->P[3 * (size_t)a + j] + t->P[3 * (size_t)b + j];
-          s += P[j] * P[j];
-        }
-        s = sqrt(s);
-        if (!(s > 0)) return 0;
-        for (int j = 0; j < 3; j++) P[j] /= s;
-        t->nv++;
-        found = 1;
-      }
-      int g = t->nf++;
-      c[0] = p, c[1] = m, c[2] = r;
-      t->F[3 * (size_t)g] = m, t->F[3 * (size_t)g + 1] = q, t->F[3 * (size_t)g + 2] = r;
-      t->src_face[g] = t->src_face[f];
-      break;
-    }
-  }
-  return found;
-}
-
-/* Split until no face is flipped in the cea layout, at most `rounds` times: each flipped face's
- * longest edge (on the sphere) is split with its neighbour, so every arc of the face gets shorter
- * and bends less in the projection. A flip happens where a triangle's middle corner lies between a
- * long edge's great circle and the straight line of its image: slivers, and ordinary triangles
- * near a pole. */
-static au_status split_flipped(au_tex_mesh *t, unsigned char **is_pole, int *nvcap, int *nfcap, int rounds,
-                               au_msg *msg) {
-  int *edges = NULL, ne = 0, cap = 0;
+au_status au__tex_raw_update(au__tex_work *w, au_tex_proj proj, au_msg *msg) {
+  int i0 = w->nraw, n = w->t->nv - i0;
+  if (n <= 0) return AU_OK;
+  double *buf = malloc(6 * (size_t)n * sizeof *buf);
+  if (!buf) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  double *lat = buf, *lon = buf + n, *x = buf + 2 * (size_t)n, *y = buf + 3 * (size_t)n;
+  double *xs = buf + 4 * (size_t)n, *ys = buf + 5 * (size_t)n;
   au_status st = AU_OK;
-  for (int round = 0; round < rounds; round++) {
-    ne = 0;
-    for (int f = 0; f < t->nf; f++) {
-      if (!cea_flipped(t, *is_pole, f)) continue;
-      const int *c = t->F + 3 * (size_t)f;
-      int best = 0;
-      double lmax = -1;
-      for (int k = 0; k < 3; k++) {
-        const double *p = t->P + 3 * (size_t)c[k], *q = t->P + 3 * (size_t)c[(k + 1) % 3];
-        double l = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
-        if (l > lmax) lmax = l, best = k;
-      }
-      if (ne == cap) {
-        cap = 2 * cap + 16;
-        int *e = realloc(edges, 2 * (size_t)cap * sizeof *e);
-        if (!e) {
-          st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-          goto done;
-        }
-        edges = e;
-      }
-      edges[2 * ne] = c[best], edges[2 * ne + 1] = c[(best + 1) % 3];
-      ne++;
+  if (proj == AU_TEX_OCT) {
+    /* sqrt(pi) (s, t): the square's area 4 becomes the sphere's 4 pi. */
+    double k = sqrt(M_PI);
+    for (int i = 0; i < n; i++) {
+      double st2[2], *r = w->raw + 4 * (size_t)(i0 + i);
+      au__oct_forward(w->Q + 3 * (size_t)(i0 + i), st2);
+      r[0] = k * st2[0], r[1] = k * st2[1], r[2] = r[3] = 0;
     }
-    if (ne == 0) break;
-    for (int i = 0; i < ne; i++) {
-      if (!tex_reserve(t, is_pole, nvcap, nfcap, t->nv + 1, t->nf + 2)) {
-        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-        goto done;
-      }
-      /* An edge named twice (both its faces flipped) is split once: the second time it is gone. */
-      t->edge_splits += split_edge(t, edges[2 * i], edges[2 * i + 1]);
+  } else {
+    for (int i = 0; i < n; i++) latlon_of(w->Q + 3 * (size_t)(i0 + i), &lat[i], &lon[i]);
+    if (proj == AU_TEX_CEA) {
+      st = au_geo_aea_forward(AU_GEO_CEA, n, lat, lon, x, y, msg);
+      for (int i = 0; i < n && st == AU_OK; i++) xs[i] = ys[i] = 0;
+    } else {
+      st = au_geo_aea_forward(AU_GEO_LAEA_NORTH, n, lat, lon, x, y, msg);
+      if (st == AU_OK) st = au_geo_aea_forward(AU_GEO_LAEA_SOUTH, n, lat, lon, xs, ys, msg);
+    }
+    for (int i = 0; i < n && st == AU_OK; i++) {
+      double *r = w->raw + 4 * (size_t)(i0 + i);
+      r[0] = x[i], r[1] = y[i], r[2] = xs[i], r[3] = ys[i];
     }
   }
-done:
-  free(edges);
+  free(buf);
+  if (st == AU_OK) w->nraw = w->t->nv;
   return st;
 }
 
-/* Cylindrical equal-area texture coordinates of t's faces from the projected x, y [0..nv-1]: each face's
- * longitudes unwrapped around its first non-pole corner, one copy of a corner per side of the seam (key
- * [0..3nv-1], -1 on entry), a copy of its own per face at a pole. Returns AU_OK or AU_E_NUMERIC. */
-static au_status cea_faces(au_tex_mesh *t, const unsigned char *is_pole, const double *x, const double *y, int *key,
-                           au_msg *msg) {
+int au__tex_face_raw(const au__tex_work *w, au_tex_proj proj, int f, double xy[6], int *which) {
+  const int *c = w->t->F + 3 * (size_t)f;
+  const double *raw = w->raw;
+  if (proj == AU_TEX_LAEA) {
+    /* The chart of the hemisphere holding the sum of the corners. */
+    int south = w->Q[3 * c[0] + 2] + w->Q[3 * c[1] + 2] + w->Q[3 * c[2] + 2] < 0;
+    for (int k = 0; k < 3; k++) {
+      xy[2 * k] = raw[4 * (size_t)c[k] + 2 * south], xy[2 * k + 1] = raw[4 * (size_t)c[k] + 2 * south + 1];
+      which[k] = south;
+    }
+    return 0;
+  }
+  if (proj == AU_TEX_OCT) {
+    /* Each corner's copy nearest to the first corner: across the square's edges the faces are
+     * unfolded into the continuation (the gutter). */
+    double k = sqrt(M_PI), s0[2] = {raw[4 * (size_t)c[0]] / k, raw[4 * (size_t)c[0] + 1] / k};
+    xy[0] = raw[4 * (size_t)c[0]], xy[1] = raw[4 * (size_t)c[0] + 1], which[0] = 0;
+    for (int j = 1; j < 3; j++) {
+      double sj[2] = {raw[4 * (size_t)c[j]] / k, raw[4 * (size_t)c[j] + 1] / k}, best = INFINITY, o[2];
+      for (int m = 0; m < 9; m++) {
+        au__oct_copy(sj, m, o);
+        double d = (o[0] - s0[0]) * (o[0] - s0[0]) + (o[1] - s0[1]) * (o[1] - s0[1]);
+        if (d < best) best = d, which[j] = m, xy[2 * j] = k * o[0], xy[2 * j + 1] = k * o[1];
+      }
+    }
+    return 0;
+  }
+  /* cea: longitudes unwrapped around the first corner off the poles; a pole corner takes the middle
+   * of the others' longitudes (the pole is the whole top or bottom row). */
+  int ref = -1, pole = 0, nreg = 0;
+  double usum = 0;
+  for (int k = 0; k < 3; k++)
+    if (!w->is_pole[c[k]] && ref < 0) ref = k;
+  for (int k = 0; k < 3; k++) {
+    which[k] = 0;
+    xy[2 * k] = raw[4 * (size_t)c[k]], xy[2 * k + 1] = raw[4 * (size_t)c[k] + 1];
+    if (w->is_pole[c[k]] || ref < 0) {
+      pole = 1;
+      continue;
+    }
+    double d = xy[2 * k] - xy[2 * ref], s = nearbyint(d / (2 * M_PI));
+    xy[2 * k] -= 2 * M_PI * s;
+    which[k] = (int)-s;
+    usum += xy[2 * k], nreg++;
+  }
+  for (int k = 0; k < 3; k++)
+    if (w->is_pole[c[k]]) xy[2 * k] = nreg ? usum / nreg : 0, xy[2 * k + 1] = w->Q[3 * c[k] + 2] > 0 ? 1.0 : -1.0;
+  return pole;
+}
+
+/* The texture coordinates of corner k of face f at chart position xy, shared by the corners of the
+ * same vertex in the same chart or copy (key [0..9nv-1], slot `slot`), a pole corner's its own. */
+static void put_vt(au_tex_mesh *t, int *key, int f, int k, int slot, int own, const double uv[2]) {
+  int v = t->F[3 * f + k], vt;
+  if (own) vt = t->nvt++;
+  else {
+    int *s = &key[9 * (size_t)v + slot];
+    if (*s < 0) *s = t->nvt++;
+    vt = *s;
+  }
+  t->vt[2 * vt] = uv[0], t->vt[2 * vt + 1] = uv[1];
+  t->Ft[3 * f + k] = vt;
+}
+
+/* The cea coordinates of every face: the face moved by whole turns so its mean u lies in [0, 1);
+ * one copy of a vertex per side of the seam. */
+static au_status cea_faces(au__tex_work *w, int *key, au_msg *msg) {
+  au_tex_mesh *t = w->t;
   for (int f = 0; f < t->nf; f++) {
-    const int *c = t->F + 3 * (size_t)f;
-    double u[3], v[3], uraw[3];
-    int ref = -1;
-    for (int k = 0; k < 3; k++) {
-      double uv[2];
-      chart_uv(&t->layout, AU_GEO_CEA, x[c[k]], y[c[k]], uv);
-      uraw[k] = u[k] = uv[0], v[k] = uv[1];
-      if (!is_pole[c[k]] && ref < 0) ref = k;
-    }
-    /* Unwrap the longitudes of the corners around the first non-pole corner, so the face's
-     * corners are within half a turn of each other; pole corners take the middle of the others. */
-    double usum = 0;
-    int nreg = 0;
-    for (int k = 0; k < 3; k++) {
-      if (is_pole[c[k]]) continue;
-      double d = u[k] - u[ref];
-      u[k] = u[ref] + (d - nearbyint(d));
-      usum += u[k], nreg++;
-    }
-    double umid = nreg ? usum / nreg : 0.5;
-    for (int k = 0; k < 3; k++)
-      if (is_pole[c[k]]) u[k] = umid, v[k] = t->P[3 * c[k] + 2] > 0 ? 1.0 : 0.0;
-    double shift = floor((u[0] + u[1] + u[2]) / 3);
+    double xy[6], uv[6];
+    int which[3];
+    au__tex_face_raw(w, AU_TEX_CEA, f, xy, which);
+    for (int k = 0; k < 3; k++) chart_uv(&t->layout, AU_GEO_CEA, xy[2 * k], xy[2 * k + 1], uv + 2 * k);
+    double shift = floor((uv[0] + uv[2] + uv[4]) / 3);
     int seam = 0;
     for (int k = 0; k < 3; k++) {
-      u[k] -= shift;
-      int vt;
-      if (is_pole[c[k]]) {
-        vt = t->nvt++;
-      } else {
-        int s = (int)nearbyint(u[k] - uraw[k]);
-        if (s != 0) seam = 1;
-        if (s < -1 || s > 1) return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: face %d spans more than a turn", f);
-        int *slot = &key[3 * (size_t)c[k] + (s + 1)];
-        if (*slot < 0) *slot = t->nvt++;
-        vt = *slot;
-      }
-      t->vt[2 * vt] = u[k], t->vt[2 * vt + 1] = v[k];
-      t->Ft[3 * f + k] = vt;
+      uv[2 * k] -= shift;
+      int pole = w->is_pole[t->F[3 * f + k]], s = which[k] - (int)shift;
+      if (!pole && s != 0) seam = 1;
+      if (s < -1 || s > 1) return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: face %d spans more than a turn", f);
+      put_vt(t, key, f, k, s + 1, pole, uv + 2 * k);
     }
     t->seam_faces += seam;
   }
   return AU_OK;
 }
 
-/* Lambert azimuthal equal-area texture coordinates: each face in the chart of the hemisphere holding
- * the sum of its corners, one copy of a corner per chart (key [0..3nv-1], -1 on entry); lat, lon
- * [0..nv-1], x, y scratch [0..nv-1]. Returns AU_OK, AU_E_NOMEM or a projection's error. */
-static au_status laea_faces(au_tex_mesh *t, const double *lat, const double *lon, double *x, double *y, int *key,
-                            au_msg *msg) {
-  const int NV = t->nv;
-  au_status st = AU_OK;
-  unsigned char *hemi = malloc((size_t)t->nf);
-  double *xs = malloc(2 * (size_t)NV * sizeof *xs);
-  if (!hemi || !xs) {
-    free(hemi), free(xs);
-    return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-  }
-  double *ys = xs + NV;
-  st = au_geo_aea_forward(AU_GEO_LAEA_NORTH, NV, lat, lon, x, y, msg);
-  if (st == AU_OK) st = au_geo_aea_forward(AU_GEO_LAEA_SOUTH, NV, lat, lon, xs, ys, msg);
-  double need = SQRT2;
-  for (int f = 0; f < t->nf && st == AU_OK; f++) {
-    const int *c = t->F + 3 * (size_t)f;
-    double zs = t->P[3 * c[0] + 2] + t->P[3 * c[1] + 2] + t->P[3 * c[2] + 2];
-    hemi[f] = zs < 0;
-    for (int k = 0; k < 3; k++) {
-      double xx = hemi[f] ? xs[c[k]] : x[c[k]], yy = hemi[f] ? ys[c[k]] : y[c[k]];
-      need = fmax(need, fmax(fabs(xx), fabs(yy)));
-    }
-  }
-  t->layout.half = fmin(2.0, need * AU_LAEA_MARGIN);
-  for (int f = 0; f < t->nf && st == AU_OK; f++) {
-    const int *c = t->F + 3 * (size_t)f;
-    for (int k = 0; k < 3; k++) {
-      int *slot = &key[3 * (size_t)c[k] + hemi[f]];
-      if (*slot < 0) {
-        *slot = t->nvt++;
-        au_geo_aea kind = hemi[f] ? AU_GEO_LAEA_SOUTH : AU_GEO_LAEA_NORTH;
-        chart_uv(&t->layout, kind, hemi[f] ? xs[c[k]] : x[c[k]], hemi[f] ? ys[c[k]] : y[c[k]], t->vt + 2 * (size_t)*slot);
-      }
-      t->Ft[3 * f + k] = *slot;
-    }
-    if (hemi[f]) t->seam_faces++;
-  }
-  /* For laea seam_faces counts the faces in the southern chart; report the ones whose corners
-   * straddle the equator instead, which is what the name promises. */
-  int straddle = 0;
+/* The laea and oct coordinates: the image's half side from the farthest corner, then every face in
+ * its chart (laea) or with its unfolded copies (oct). */
+static au_status chart_faces(au__tex_work *w, au_tex_proj proj, int *key, au_msg *msg) {
+  au_tex_mesh *t = w->t;
+  double need = proj == AU_TEX_LAEA ? SQRT2 : 1, k = proj == AU_TEX_OCT ? sqrt(M_PI) : 1;
   for (int f = 0; f < t->nf; f++) {
-    const int *c = t->F + 3 * (size_t)f;
-    int np = 0;
-    for (int k = 0; k < 3; k++) np += t->P[3 * c[k] + 2] >= 0;
-    straddle += np > 0 && np < 3;
+    double xy[6];
+    int which[3];
+    au__tex_face_raw(w, proj, f, xy, which);
+    for (int j = 0; j < 6; j++) need = fmax(need, fabs(xy[j]) / k);
   }
-  t->seam_faces = straddle;
-  free(hemi), free(xs);
-  return st;
+  if (proj == AU_TEX_OCT && need * AU_OCT_MARGIN > 2)
+    return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: a face reaches %g past the octahedral square", need - 1);
+  t->layout.half = fmin(2.0, need * (proj == AU_TEX_OCT ? AU_OCT_MARGIN : AU_LAEA_MARGIN));
+  for (int f = 0; f < t->nf; f++) {
+    double xy[6], uv[2];
+    int which[3], seam = 0;
+    au__tex_face_raw(w, proj, f, xy, which);
+    for (int j = 0; j < 3; j++) {
+      au_geo_aea kind = proj == AU_TEX_OCT ? AU_GEO_CEA : which[j] ? AU_GEO_LAEA_SOUTH : AU_GEO_LAEA_NORTH;
+      chart_uv(&t->layout, kind, xy[2 * j] / k, xy[2 * j + 1] / k, uv);
+      put_vt(t, key, f, j, which[j], 0, uv);
+      seam |= proj == AU_TEX_OCT && which[j] != 0;
+    }
+    if (proj == AU_TEX_LAEA) {
+      /* laea's seam faces: those whose corners straddle the equator. */
+      int np = 0;
+      for (int j = 0; j < 3; j++) np += w->Q[3 * t->F[3 * f + j] + 2] >= 0;
+      seam = np > 0 && np < 3;
+    }
+    t->seam_faces += seam;
+  }
+  return AU_OK;
 }
 
-au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_tex_mesh **out, au_msg *msg) {
-  if (!out) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: out is NULL");
-  *out = NULL;
-  if (!m || !P || m->nv < 3 || m->nf < 1 || !m->X || !m->F || (proj != AU_TEX_CEA && proj != AU_TEX_LAEA))
-    return au_msg_set(msg, AU_E_ARG, "au_tex_coords: bad arguments");
-  int nv = m->nv, nf = m->nf;
-  for (long i = 0; i < 3L * nf; i++)
-    if (m->F[i] < 0 || m->F[i] >= nv) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: face index out of range");
-  au_status st = AU_OK;
-  au_tex_mesh *t = calloc(1, sizeof *t);
-  au_locator *loc = NULL;
-  unsigned char *is_pole = NULL;
-  int *key = NULL;
-  double *buf = NULL;
-  if (!t) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-  /* Room for the pole splits; the flip splits grow it (tex_reserve). */
-  int nvmax = nv + 2, nfmax = nf + 4;
-  t->X = malloc(3 * (size_t)nvmax * sizeof *t->X);
-  t->P = malloc(3 * (size_t)nvmax * sizeof *t->P);
-  t->F = malloc(3 * (size_t)nfmax * sizeof *t->F);
-  t->src_face = malloc((size_t)nfmax * sizeof *t->src_face);
-  is_pole = calloc((size_t)nvmax, 1);
-  if (!t->X || !t->P || !t->F || !t->src_face || !is_pole) {
-    st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-    goto done;
+/* The map's per-face mean |r - 1| with spherical areas (r: a face's share of the sphere over its
+ * share of the surface), the base of the automatic area tolerance. */
+static double map_face_error(const au_mesh *m, const double *Q) {
+  double sa = 0, ss = 0, e = 0;
+  double *A = malloc(2 * (size_t)m->nf * sizeof *A);
+  if (!A) return 0;
+  for (int f = 0; f < m->nf; f++) {
+    const int *c = m->F + 3 * (size_t)f;
+    const double *a = m->X + 3 * c[0], *b = m->X + 3 * c[1], *d = m->X + 3 * c[2];
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    A[2 * f] = fabs(au__sph_tri_area(Q + 3 * c[0], Q + 3 * c[1], Q + 3 * c[2]));
+    A[2 * f + 1] = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    sa += A[2 * f], ss += A[2 * f + 1];
   }
+  int cnt = 0;
+  for (int f = 0; f < m->nf; f++)
+    if (A[2 * f] > 0 && A[2 * f + 1] > 0) e += fabs((A[2 * f] / sa) / (A[2 * f + 1] / ss) - 1), cnt++;
+  free(A);
+  return cnt ? e / cnt : 0;
+}
+
+au_tex_opts au_tex_opts_default(void) {
+  au_tex_opts o;
+  memset(&o, 0, sizeof o);
+  o.proj = AU_TEX_CEA;
+  o.axis = AU_TEX_AXIS_Z;
+  o.axis_dir[2] = 1;
+  o.area_tol = 0;
+  o.max_rounds = 16;
+  return o;
+}
+
+/* The working copy of m and P in the texture's frame (R), with room for the splits to come. */
+static au_status work_init(au__tex_work *w, const au_mesh *m, const double *P, const double *R, au_msg *msg) {
+  int nv = m->nv, nf = m->nf;
+  au_tex_mesh *t = w->t;
+  if (!au__tex_reserve(w, nv + 2, nf + 4)) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
   t->nv = t->nv_in = nv, t->nf = t->nf_in = nf;
   memcpy(t->X, m->X, 3 * (size_t)nv * sizeof *t->X);
   memcpy(t->F, m->F, 3 * (size_t)nf * sizeof *t->F);
   for (int f = 0; f < nf; f++) t->src_face[f] = f;
   for (int i = 0; i < nv; i++) {
     const double *q = P + 3 * (size_t)i;
-    double r = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-    if (!(r > 0) || !isfinite(r)) {
-      st = au_msg_set(msg, AU_E_ARG, "vertex %d of the sphere map is zero or not finite", i);
-      goto done;
-    }
-    for (int j = 0; j < 3; j++) t->P[3 * i + j] = q[j] / r;
+    double r = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]), p[3];
+    if (!(r > 0) || !isfinite(r)) return au_msg_set(msg, AU_E_ARG, "vertex %d of the sphere map is zero or not finite", i);
+    for (int j = 0; j < 3; j++) p[j] = q[j] / r;
+    rot(R, 0, p, w->Q + 3 * (size_t)i);
+    memcpy(w->C + 3 * (size_t)i, w->Q + 3 * (size_t)i, 3 * sizeof *w->C);
+    w->is_pole[i] = w->Q[3 * i] == 0 && w->Q[3 * i + 1] == 0;
   }
-  t->layout = au_tex_layout_default(proj);
+  return AU_OK;
+}
 
-  if (proj == AU_TEX_CEA) {
-    /* Poles: locate both before splitting either (the locator holds the input faces). */
-    st = au_locator_build(nv, t->P, nf, t->F, &loc, msg);
-    if (st != AU_OK) goto done;
-    for (int i = 0; i < nv; i++)
-      if (t->P[3 * i] == 0 && t->P[3 * i + 1] == 0) is_pole[i] = 1;
-    st = split_pole(t, loc, 1.0, is_pole, msg);
-    if (st == AU_OK) st = split_pole(t, loc, -1.0, is_pole, msg);
-    if (st != AU_OK) goto done;
-    t->pole_vertices = 0;
-    for (int i = 0; i < t->nv_in; i++) t->pole_vertices += is_pole[i];
-    st = split_flipped(t, &is_pole, &nvmax, &nfmax, AU_FLIP_ROUNDS, msg);
-    if (st != AU_OK) goto done;
-  }
+/* vt, Ft, lonlat and P (the map's frame) of the finished mesh; then the faces' orientation in the
+ * final coordinates, counted into folds_left. */
+static au_status tex_finish(au__tex_work *w, au_tex_proj proj, const double *P, double sigma, au_msg *msg) {
+  au_tex_mesh *t = w->t;
   int NV = t->nv;
+  int *key = malloc(9 * (size_t)NV * sizeof *key);
   t->Ft = malloc(3 * (size_t)t->nf * sizeof *t->Ft);
   t->vt = malloc(2 * (3 * (size_t)t->nf) * sizeof *t->vt);
   t->lonlat = malloc(2 * (size_t)NV * sizeof *t->lonlat);
-  key = malloc(3 * (size_t)NV * sizeof *key);
-  buf = malloc(4 * (size_t)NV * sizeof *buf);
-  if (!t->Ft || !t->vt || !t->lonlat || !key || !buf) {
-    st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-    goto done;
+  t->P = malloc(3 * (size_t)NV * sizeof *t->P);
+  if (!key || !t->Ft || !t->vt || !t->lonlat || !t->P) {
+    free(key);
+    return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
   }
-  st = au_tex_lonlat(NV, t->P, t->lonlat);
-  if (st != AU_OK) {
-    au_msg_set(msg, st, "au_tex_coords: bad sphere positions");
-    goto done;
-  }
-  double *lat = buf, *lon = buf + NV, *x = buf + 2 * (size_t)NV, *y = buf + 3 * (size_t)NV;
-  for (int i = 0; i < NV; i++) lon[i] = t->lonlat[2 * i], lat[i] = t->lonlat[2 * i + 1];
-  for (int i = 0; i < 3 * NV; i++) key[i] = -1;
+  for (size_t i = 0; i < 9 * (size_t)NV; i++) key[i] = -1;
   t->nvt = 0;
-
-  if (proj == AU_TEX_CEA) {
-    st = au_geo_aea_forward(AU_GEO_CEA, NV, lat, lon, x, y, msg);
-    if (st != AU_OK) goto done;
-    st = cea_faces(t, is_pole, x, y, key, msg);
-    if (st != AU_OK) goto done;
-  } else {
-    /* Each face goes to the chart of the hemisphere holding the sum of its corners; the charts
-     * reach past the equator far enough for every face. */
-    st = laea_faces(t, lat, lon, x, y, key, msg);
-    if (st != AU_OK) goto done;
-  }
-  *out = t;
-  t = NULL;
-done:
-  au_tex_mesh_free(&t);
-  au_locator_free(&loc);
-  free(is_pole);
+  au_status st = au__tex_raw_update(w, proj, msg);
+  if (st == AU_OK) st = proj == AU_TEX_CEA ? cea_faces(w, key, msg) : chart_faces(w, proj, key, msg);
   free(key);
-  free(buf);
+  if (st != AU_OK) return st;
+  if (au_tex_lonlat(NV, w->Q, t->lonlat) != AU_OK) return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: bad sphere positions");
+  for (int i = 0; i < NV; i++) {
+    if (i < t->nv_in) {
+      const double *q = P + 3 * (size_t)i;
+      double r = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+      for (int j = 0; j < 3; j++) t->P[3 * i + j] = q[j] / r;
+    } else {
+      rot(t->layout.R, 1, w->Q + 3 * (size_t)i, t->P + 3 * (size_t)i);
+    }
+  }
+  t->folds_left = 0;
+  for (int f = 0; f < t->nf; f++) {
+    const double *a = t->vt + 2 * t->Ft[3 * f], *b = t->vt + 2 * t->Ft[3 * f + 1], *c = t->vt + 2 * t->Ft[3 * f + 2];
+    double ar = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+    t->folds_left += !(sigma * ar > 0);
+  }
+  if (t->folds_left)
+    return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: %d faces turned over in the final texture coordinates", t->folds_left);
+  return AU_OK;
+}
+
+au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opts *opts_in, au_tex_mesh **out,
+                             au_msg *msg) {
+  if (!out) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: out is NULL");
+  *out = NULL;
+  au_tex_opts opts = opts_in ? *opts_in : au_tex_opts_default();
+  if (!m || !P || m->nv < 3 || m->nf < 1 || !m->X || !m->F ||
+      (opts.proj != AU_TEX_CEA && opts.proj != AU_TEX_LAEA && opts.proj != AU_TEX_OCT) ||
+      (opts.axis != AU_TEX_AXIS_Z && opts.axis != AU_TEX_AXIS_AUTO && opts.axis != AU_TEX_AXIS_VECTOR) ||
+      !(opts.area_tol == opts.area_tol) || opts.max_rounds < 0 || opts.max_rounds > 64)
+    return au_msg_set(msg, AU_E_ARG, "au_tex_coords: bad arguments");
+  int nv = m->nv, nf = m->nf;
+  for (long i = 0; i < 3L * nf; i++)
+    if (m->F[i] < 0 || m->F[i] >= nv) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: face index out of range");
+  for (int i = 0; i < nv; i++)
+    if (!(isfinite(P[3 * i]) && isfinite(P[3 * i + 1]) && isfinite(P[3 * i + 2])))
+      return au_msg_set(msg, AU_E_ARG, "vertex %d of the sphere map is not finite", i);
+  au__tex_work w;
+  memset(&w, 0, sizeof w);
+  au_locator *loc = NULL;
+  w.t = calloc(1, sizeof *w.t);
+  if (!w.t) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  au_tex_mesh *t = w.t;
+  t->layout = au_tex_layout_default(opts.proj);
+  au_status st = au__tex_axis(&opts, nv, P, nf, m->F, t->layout.R, msg);
+  if (st == AU_OK) st = work_init(&w, m, P, t->layout.R, msg);
+  if (st == AU_OK && opts.proj == AU_TEX_CEA) {
+    /* Poles: locate both before splitting either (the locator holds the input faces). */
+    st = au_locator_build(nv, w.Q, nf, t->F, &loc, msg);
+    if (st == AU_OK) st = split_pole(&w, loc, 1.0, msg);
+    if (st == AU_OK) st = split_pole(&w, loc, -1.0, msg);
+    for (int i = 0; i < t->nv_in; i++) t->pole_vertices += w.is_pole[i];
+  }
+  double sigma = 1;
+  if (st == AU_OK) {
+    double e = map_face_error(m, w.Q);
+    t->area_tol = opts.area_tol >= 0 ? opts.area_tol : fmax(0.001, 0.25 * e); /* 0: no area splits */
+    st = au__tex_refine(&w, &opts, t->area_tol, msg);
+    double s = 0;
+    for (int f = 0; f < nf; f++)
+      s += au__sph_tri_area(w.Q + 3 * (size_t)m->F[3 * f], w.Q + 3 * (size_t)m->F[3 * f + 1], w.Q + 3 * (size_t)m->F[3 * f + 2]);
+    sigma = s < 0 ? -1 : 1;
+  }
+  if (st == AU_OK) st = tex_finish(&w, opts.proj, P, sigma, msg);
+  if (st == AU_OK) *out = t, w.t = NULL;
+  au_tex_mesh_free(&w.t);
+  au_locator_free(&loc);
+  free(w.C), free(w.Q), free(w.is_pole), free(w.raw);
   return st;
+}
+
+au_status au_tex_coords(const au_mesh *m, const double *P, au_tex_proj proj, au_tex_mesh **out, au_msg *msg) {
+  au_tex_opts o = au_tex_opts_default();
+  o.proj = proj;
+  return au_tex_coords_opts(m, P, &o, out, msg);
 }
 
 au_status au_tex_write_obj(const char *path, const au_tex_mesh *t, const char *mtl_name, au_msg *msg) {
@@ -559,13 +582,23 @@ au_status au_tex_write_obj(const char *path, const au_tex_mesh *t, const char *m
   if (t->layout.proj == AU_TEX_CEA)
     au_textbuf_printf(&b, "# authalic texture: Lambert cylindrical equal-area (cea) coordinates of a sphere map\n"
                   "# u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; %d faces across the seam have u outside [0, 1]:\n"
-                  "# sample the texture with u wrapped (repeat). %d face(s) split at a pole, %d edge(s) split where\n"
-                  "# a face would flip in (u, v): vertices %d.. and faces %d.. added.\n",
-              t->seam_faces, t->pole_splits, t->edge_splits, t->nv_in + 1, t->nf_in + 1);
-  else
+                  "# sample the texture with u wrapped (repeat). %d face(s) split at a pole.\n",
+              t->seam_faces, t->pole_splits);
+  else if (t->layout.proj == AU_TEX_LAEA)
     au_textbuf_printf(&b, "# authalic texture: Lambert azimuthal equal-area (laea) coordinates of a sphere map\n"
                   "# northern hemisphere in the left half, southern in the right half, chart half side %.17g\n",
               t->layout.half);
+  else
+    au_textbuf_printf(&b, "# authalic texture: equal-area octahedral (oct) coordinates of a sphere map\n"
+                  "# the square [-1, 1]^2 is the sphere (north: |s| + |t| <= 1), s = (2u - 1) h, t = (2v - 1) h with\n"
+                  "# h = %.17g; %d faces across the square's edges reach into the gutter around it.\n",
+              t->layout.half, t->seam_faces);
+  au_textbuf_printf(&b, "# edges split: %d where a face would turn over, %d where its area would miss its share by more\n"
+                "# than %.3g (after: mean %.3g, max %.3g); vertices %d.. and faces %d.. added.\n"
+                "# texture frame (rows, in the map's frame): %.17g %.17g %.17g / %.17g %.17g %.17g / %.17g %.17g %.17g\n",
+            t->fold_splits, t->area_splits, t->area_tol, t->area_err_mean, t->area_err_max, t->nv_in + 1, t->nf_in + 1,
+            t->layout.R[0], t->layout.R[1], t->layout.R[2], t->layout.R[3], t->layout.R[4], t->layout.R[5],
+            t->layout.R[6], t->layout.R[7], t->layout.R[8]);
   if (mtl_name) au_textbuf_printf(&b, "mtllib %s\n", mtl_name);
   for (int i = 0; i < t->nv; i++) au_textbuf_printf(&b, "v %.17g %.17g %.17g\n", t->X[3 * i], t->X[3 * i + 1], t->X[3 * i + 2]);
   for (int i = 0; i < t->nvt; i++) au_textbuf_printf(&b, "vt %.17g %.17g\n", t->vt[2 * i], t->vt[2 * i + 1]);

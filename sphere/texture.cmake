@@ -10,6 +10,8 @@ set(AU_TEXTURE_SOURCES
   sphere/au_geographiclib.cpp
   sphere/au_locate.c
   sphere/au_texture.c
+  sphere/au_texsplit.c
+  sphere/au_octahedral.c
   sphere/au_image.c)
 set(AU_TEXTURE_INCLUDE_DIRS ${GEOGRAPHICLIB_INCLUDE_DIR} ${PNG_INCLUDE_DIR})
 set(AU_TEXTURE_LIBRARIES ${GEOGRAPHICLIB_LIBRARY} ${PNG_LIBRARY})

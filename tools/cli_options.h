@@ -88,7 +88,13 @@ enum {
   X(OPT_PROJECTION, "projection", "P", CLI_VALUE, CLI_TEXTURE,                                                       \
     "cea (default): Lambert cylindrical equal-area, u = (lon + pi)/(2 pi), v = (sin lat + 1)/2; sample with u "     \
     "wrapped (repeat). laea: Lambert azimuthal equal-area, northern hemisphere in the left half, southern in the "  \
-    "right half (no wrapping needed)")                                                                               \
+    "right half (no wrapping needed). oct: equal-area octahedral square, no poles, a thin gutter around it")        \
+  X(OPT_AXIS, "axis", "A", CLI_VALUE, CLI_TEXTURE,                                                                   \
+    "the texture's north pole: z (default, the map's own axes), x, y, a vector X,Y,Z, or auto (the poles where the " \
+    "map's triangles are smallest, the seam across the fewest faces; the rotation is printed)")                    \
+  X(OPT_AREA_TOL, "area-tol", "T", CLI_VALUE, CLI_TEXTURE,                                                           \
+    "also split faces whose straight texture triangle misses its spherical area by more than T (e.g. 0.01; auto: a " \
+    "quarter of the map's per-face error): closer per-face areas at several times the faces (default 0: off)")      \
   X(OPT_LONLAT, "lonlat", "FILE", CLI_FILE, CLI_TEXTURE,                                                             \
     "write longitude and latitude in degrees of every vertex of OUT.obj")                                            \
   X(OPT_BAKE, "bake", "ATTR", CLI_FILE, CLI_TEXTURE,                                                                 \
@@ -118,7 +124,7 @@ enum {
 typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
   OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_NO_BALANCE, OPT_INIT_ONLY, OPT_LATTICE,
-  OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_LONLAT,
+  OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
   OPT_COUNT
 } cli_opt_id;

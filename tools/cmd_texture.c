@@ -43,6 +43,7 @@ typedef struct tex_args {
   const char *attr[MAX_ATTR];
   int nattr;
   au_tex_proj proj;
+  au_tex_opts topts;
   int has_proj, W, H, has_size, normals, quiet, sample, mark_seam;
 } tex_args;
 
@@ -72,7 +73,29 @@ static int parse_args(int argc, char **argv, tex_args *a) {
   const char *v = c.val[OPT_PROJECTION];
   if (v && strcmp(v, "cea") == 0) a->proj = AU_TEX_CEA;
   else if (v && strcmp(v, "laea") == 0) a->proj = AU_TEX_LAEA;
-  else if (v) return cli_usage_error(help, "--projection '%s': expected cea or laea", v);
+  else if (v && strcmp(v, "oct") == 0) a->proj = AU_TEX_OCT;
+  else if (v) return cli_usage_error(help, "--projection '%s': expected cea, laea or oct", v);
+  a->topts = au_tex_opts_default();
+  a->topts.proj = a->proj;
+  if ((v = c.val[OPT_AXIS]) != NULL) {
+    double *d = a->topts.axis_dir;
+    char tail;
+    a->topts.axis = AU_TEX_AXIS_VECTOR;
+    d[0] = d[1] = d[2] = 0;
+    if (strcmp(v, "auto") == 0) a->topts.axis = AU_TEX_AXIS_AUTO;
+    else if (strcmp(v, "z") == 0) a->topts.axis = AU_TEX_AXIS_Z, d[2] = 1;
+    else if (strcmp(v, "x") == 0) d[0] = 1;
+    else if (strcmp(v, "y") == 0) d[1] = 1;
+    else if (sscanf(v, "%lf,%lf,%lf%c", &d[0], &d[1], &d[2], &tail) != 3 || !isfinite(d[0] + d[1] + d[2]) ||
+             d[0] * d[0] + d[1] * d[1] + d[2] * d[2] == 0)
+      return cli_usage_error(help, "--axis '%s': expected auto, x, y, z or a nonzero vector X,Y,Z", v);
+  }
+  if ((v = c.val[OPT_AREA_TOL]) != NULL) {
+    char *end;
+    a->topts.area_tol = strcmp(v, "auto") == 0 ? -1 : strtod(v, &end);
+    if (strcmp(v, "auto") && (end == v || *end || !(a->topts.area_tol >= 0 && a->topts.area_tol < 1e3)))
+      return cli_usage_error(help, "--area-tol '%s': expected a number >= 0 or auto", v);
+  }
   cli_opt_id size = a->sample ? OPT_GRID : OPT_SIZE;
   a->has_size = c.val[size] != NULL;
   if (cli_opt_size(&c, size, &a->W, &a->H)) return EXIT_USAGE;
@@ -314,7 +337,7 @@ static int run_texture(const tex_args *a) {
   }
   rc = get_map(a, m, P, &warn, &met);
   if (rc >= 0) goto done;
-  st = au_tex_coords(m, P, a->proj, &t, &msg);
+  st = au_tex_coords_opts(m, P, &a->topts, &t, &msg);
   if (st != AU_OK) {
     rc = cli_fail(a->map ? a->map : a->in, st, &msg);
     goto done;
@@ -383,9 +406,12 @@ static int run_texture(const tex_args *a) {
     if (rc >= 0) goto done;
   }
   if (!a->quiet) {
-    fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d edge splits=%d mean|r-1|=%.3g",
-            m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : "laea", t->nvt, t->seam_faces, t->pole_splits, t->edge_splits,
-            met.r_mean_abs_dev);
+    const double *R = t->layout.R;
+    fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d edge splits=%d "
+            "(split for folding=%d for area=%d, tol %.3g) out V=%d F=%d mean|r-1|=%.3g axis=%.6f,%.6f,%.6f",
+            m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : a->proj == AU_TEX_LAEA ? "laea" : "oct", t->nvt, t->seam_faces,
+            t->pole_splits, t->edge_splits, t->fold_splits, t->area_splits, t->area_tol, t->nv, t->nf, met.r_mean_abs_dev,
+            R[6], R[7], R[8]);
     if (a->bake) fprintf(stderr, " baked=%s %dx%d", a->bake, a->W, a->H);
     if (range[1] > range[0]) fprintf(stderr, " range=[%g, %g]", range[0], range[1]);
     fprintf(stderr, " time=%.2fs\n", cli_now() - t_start);

@@ -70,7 +70,27 @@ laea)
   make_map
   run texture "$IN" --map "$MAP" "$T/o/tex.obj" --projection laea --quiet
   expect_status 0
-  [ "$(obj_nv "$T/o/tex.obj")" -eq "$NV" ] || fail "laea added vertices"
+  # laea may split faces that would turn over (fold splits): no face turned over in (u, v), the
+  # input's vertices first and unchanged, two faces more per added vertex.
+  nv=$(obj_nv "$T/o/tex.obj")
+  [ "$(grep -c '^f ' "$T/o/tex.obj")" -eq $((NF + 2 * (nv - NV))) ] || fail "faces not two per added vertex"
+  awk '$1 == "vt" { n++; u[n] = $2; v[n] = $3 }
+       $1 == "f" { for (i = 2; i <= 4; i++) { split($i, c, "/"); t[i] = c[2] }
+                   if ((u[t[3]] - u[t[2]]) * (v[t[4]] - v[t[2]]) - (u[t[4]] - u[t[2]]) * (v[t[3]] - v[t[2]]) <= 0) bad++ }
+       END { exit bad > 0 }' "$T/o/tex.obj" || fail "a face turned over in (u, v)"
+  grep '^v ' "$IN" | awk '{ printf "%.15g %.15g %.15g\n", $2, $3, $4 }' >"$T/a"
+  grep '^v ' "$T/o/tex.obj" | head -n "$NV" | awk '{ printf "%.15g %.15g %.15g\n", $2, $3, $4 }' >"$T/b"
+  cmp -s "$T/a" "$T/b" || fail "the input's vertices are not the OBJ's first vertices"
+  # --axis auto: the rotation is printed, the poles leave the map's z axis, still no fold.
+  run texture "$IN" --map "$MAP" "$T/o/auto.obj" --projection laea --axis auto
+  expect_status 0
+  expect_err 'axis=-?[0-9.]+,-?[0-9.]+,-?[0-9.]+'
+  grep -q 'axis=0.000000,0.000000,1.000000' "$T/log/stderr" && fail "--axis auto kept the map's z axis"
+  grep -q '^# texture frame (rows' "$T/o/auto.obj" || fail "no texture frame in the OBJ"
+  awk '$1 == "vt" { n++; u[n] = $2; v[n] = $3 }
+       $1 == "f" { for (i = 2; i <= 4; i++) { split($i, c, "/"); t[i] = c[2] }
+                   if ((u[t[3]] - u[t[2]]) * (v[t[4]] - v[t[2]]) - (u[t[4]] - u[t[2]]) * (v[t[3]] - v[t[2]]) <= 0) bad++ }
+       END { exit bad > 0 }' "$T/o/auto.obj" || fail "--axis auto: a face turned over in (u, v)"
   awk '$1 == "vt" && ($2 < 0 || $2 > 1 || $3 < 0 || $3 > 1) { exit 1 }' "$T/o/tex.obj" || fail "a vt outside [0, 1]"
   expect_faces_compact "$T/o/tex.obj"
   ;;

@@ -31,7 +31,7 @@ missing_args)
   ;;
 bad_values)
   run texture "$IN" "$OUT" --projection mercator
-  expect_rejected "--projection 'mercator': expected cea or laea"
+  expect_rejected "--projection 'mercator': expected cea, laea or oct"
   run texture "$IN" "$OUT" --bake normal --image "$T/o/t.png" --size 1024
   expect_rejected "--size '1024': expected WxH"
   run texture "$IN" "$OUT" --bake normal --image "$T/o/t.png" --size 0x10

@@ -1,0 +1,504 @@
+/* au_texsplit.c - the adaptive splitting that keeps every straight-edged texture triangle the right
+ * way round and close to its spherical area, and the choice of the texture's axis.
+ *
+ * Why split: a texture triangle joins the projections of its corners by straight lines, while the
+ * spherical triangle's edges are great-circle arcs whose images bend (strongly near a cea pole, near
+ * the rim of a laea chart, across the creases of the octahedral map). A long arc's image can pass on
+ * the other side of the opposite corner, and the straight triangle turns over (a fold: a mirrored
+ * piece of texture); or it just misses part of the area, and the face gets fewer or more texels than
+ * its share. Both shrink with the square of the arcs' length, so halving edges cures them.
+ *
+ * The rule, per round: a face is bad for folding if its signed straight area in its chart (in
+ * steradians: every chart here preserves area) is not of the map's orientation, by a margin of 1e-9
+ * of its spherical area; it is bad for area if |straight area / spherical area - 1| > tol (faces
+ * with a corner on a cea pole are exempt: the pole is a whole line of the image, and a triangle
+ * keeps about half of its wedge whatever the splits). Each bad face's longest edge (chord on the
+ * sphere) is split at its middle on the surface, together with the face on its other side, which
+ * keeps the mesh conforming. Area rounds stop after opts->max_rounds rounds or when the faces
+ * have grown eightfold; fold rounds go on (up to AU_FOLD_ROUNDS) until no fold is left.
+ *
+ * Exactness: the new vertex is the midpoint x of the edge on the input surface (so it lies on the
+ * input's flat triangle and the surface area is kept to rounding), and its point on the sphere is
+ * the image of x under the piecewise linear map: the middle of the edge's two chordal points C,
+ * normalized. That is where the bake and the point location send that surface point, so the
+ * texture and the located texels agree at every vertex, old or new. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "au_texture_internal.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#define AU_FOLD_ROUNDS 64 /* rounds before giving up on a fold (the shared meshes need at most 12) */
+#define AU_AREA_GROWTH 8  /* area splitting stops once the faces have grown this many times */
+#define AU_FOLD_GROWTH 64 /* and fold splitting gives up at this many (a safeguard: none needs it) */
+
+double au__sph_tri_area(const double *a, const double *b, const double *c) {
+  /* tan(E/2) = det[a b c] / (1 + a.b + b.c + c.a), the triple product from edge vectors so small
+   * triangles keep their digits. */
+  double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  double det = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
+  double den = 1 + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) + (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) +
+               (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]);
+  return 2 * atan2(det, den);
+}
+
+int au__tex_reserve(au__tex_work *w, int nv, int nf) {
+  au_tex_mesh *t = w->t;
+  if (nv > w->nvcap) {
+    int cap = nv + nv / 2 + 16;
+    double *X = realloc(t->X, 3 * (size_t)cap * sizeof *X);
+    if (X) t->X = X;
+    double *C = realloc(w->C, 3 * (size_t)cap * sizeof *C);
+    if (C) w->C = C;
+    double *Q = realloc(w->Q, 3 * (size_t)cap * sizeof *Q);
+    if (Q) w->Q = Q;
+    double *raw = realloc(w->raw, 4 * (size_t)cap * sizeof *raw);
+    if (raw) w->raw = raw;
+    unsigned char *ip = realloc(w->is_pole, (size_t)cap);
+    if (ip) w->is_pole = ip;
+    if (!X || !C || !Q || !raw || !ip) return 0;
+    memset(w->is_pole + w->nvcap, 0, (size_t)(cap - w->nvcap));
+    w->nvcap = cap;
+  }
+  if (nf > w->nfcap) {
+    int cap = nf + nf / 2 + 16;
+    int *F = realloc(t->F, 3 * (size_t)cap * sizeof *F);
+    if (F) t->F = F;
+    int *src = realloc(t->src_face, (size_t)cap * sizeof *src);
+    if (src) t->src_face = src;
+    if (!F || !src) return 0;
+    w->nfcap = cap;
+  }
+  return 1;
+}
+
+/* ---------------------------------------------------------------- half-edge table */
+
+/* Open addressing from the half-edge (a, b) to its face; a split edge's entries become tombstones
+ * (face -1) so probing goes on past them. */
+typedef struct he_table {
+  uint64_t *key;
+  int *face;
+  size_t mask;
+} he_table;
+
+static size_t he_slot(const he_table *h, uint64_t k) {
+  uint64_t x = k * 0x9E3779B97F4A7C15ull;
+  return (size_t)(x >> 17) & h->mask;
+}
+
+static void he_put(he_table *h, int a, int b, int f) {
+  uint64_t k = ((uint64_t)(uint32_t)a << 32) | (uint32_t)b;
+  size_t s = he_slot(h, k);
+  while (h->key[s] != UINT64_MAX && h->key[s] != k) s = (s + 1) & h->mask;
+  h->key[s] = k, h->face[s] = f;
+}
+
+static int *he_find(const he_table *h, int a, int b) {
+  uint64_t k = ((uint64_t)(uint32_t)a << 32) | (uint32_t)b;
+  size_t s = he_slot(h, k);
+  while (h->key[s] != UINT64_MAX) {
+    if (h->key[s] == k) return &h->face[s];
+    s = (s + 1) & h->mask;
+  }
+  return NULL;
+}
+
+/* A table for the current faces with room for a round that splits every edge (four times the
+ * half-edges at load 1/2). Returns 0 when out of memory. */
+static int he_build(he_table *h, const au_tex_mesh *t) {
+  size_t need = 8 * 3 * (size_t)t->nf, cap = 1024;
+  while (cap < need) cap <<= 1;
+  free(h->key), free(h->face);
+  h->key = malloc(cap * sizeof *h->key);
+  h->face = malloc(cap * sizeof *h->face);
+  if (!h->key || !h->face) return 0;
+  memset(h->key, 0xff, cap * sizeof *h->key);
+  h->mask = cap - 1;
+  for (int f = 0; f < t->nf; f++)
+    for (int k = 0; k < 3; k++) he_put(h, t->F[3 * f + k], t->F[3 * f + (k + 1) % 3], f);
+  return 1;
+}
+
+/* ---------------------------------------------------------------- splitting */
+
+/* Split face f at its half-edge (p, q) with the vertex m: f keeps (p, m, r), a new face gets
+ * (m, q, r). Room must be reserved. */
+static void split_face(au__tex_work *w, he_table *h, int f, int p, int q, int m) {
+  au_tex_mesh *t = w->t;
+  int *c = t->F + 3 * (size_t)f, k = 0;
+  while (c[k] != p) k++;
+  int r = c[(k + 2) % 3], g = t->nf++;
+  c[0] = p, c[1] = m, c[2] = r;
+  int *d = t->F + 3 * (size_t)g;
+  d[0] = m, d[1] = q, d[2] = r;
+  t->src_face[g] = t->src_face[f];
+  he_put(h, p, m, f), he_put(h, m, r, f);
+  he_put(h, m, q, g), he_put(h, q, r, g), he_put(h, r, m, g);
+}
+
+/* Split the edge (a, b) and its two faces at the surface point (1 - s) x_a + s x_b. Returns 1 if
+ * split, 0 if the edge is gone (split earlier in the round), -1 when out of memory. */
+static int split_edge(au__tex_work *w, he_table *h, int a, int b, double sp) {
+  int *fa = he_find(h, a, b), *fb = he_find(h, b, a);
+  if (!fa || !fb || *fa < 0 || *fb < 0) return 0;
+  if (!au__tex_reserve(w, w->t->nv + 1, w->t->nf + 2)) return -1;
+  int f = *fa, g = *fb;
+  *fa = -1, *fb = -1;
+  au_tex_mesh *t = w->t;
+  int m = t->nv++;
+  double s = 0;
+  for (int j = 0; j < 3; j++) {
+    t->X[3 * (size_t)m + j] = (1 - sp) * t->X[3 * (size_t)a + j] + sp * t->X[3 * (size_t)b + j];
+    w->C[3 * (size_t)m + j] = (1 - sp) * w->C[3 * (size_t)a + j] + sp * w->C[3 * (size_t)b + j];
+    s += w->C[3 * (size_t)m + j] * w->C[3 * (size_t)m + j];
+  }
+  s = sqrt(s);
+  for (int j = 0; j < 3; j++) w->Q[3 * (size_t)m + j] = w->C[3 * (size_t)m + j] / s;
+  w->is_pole[m] = 0;
+  split_face(w, h, f, a, b, m);
+  split_face(w, h, g, b, a, m);
+  return 1;
+}
+
+/* oct: split every edge that crosses one of the planes x = 0, y = 0, z = 0 of the texture's frame
+ * (the octahedron's creases: the map is smooth inside an octant only) where it crosses it, so every
+ * face lies in one closed octant and its straight texture triangle in one smooth piece of the map.
+ * The crossing point of the chordal segment C_a C_b is found exactly (the plane's coordinate is
+ * linear along it and the normalization keeps its zero), and the new vertex is the surface point of
+ * the same parameter, as in every other split. Counted into fold_splits: without it, straight edges
+ * across a crease fold near it and splits at the foot point do not converge (spiky_ico). Ends within
+ * 1e-12 of a plane count as on it. */
+static au_status oct_creases(au__tex_work *w, au_msg *msg) {
+  au_tex_mesh *t = w->t;
+  he_table h = {NULL, NULL, 0};
+  int *e = NULL;
+  au_status st = AU_OK;
+  for (int j = 0; j < 3 && st == AU_OK; j++) {
+    int ne = 0;
+    free(e);
+    e = malloc(3 * 2 * (size_t)t->nf * sizeof *e);
+    if (!e || !he_build(&h, t)) {
+      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+      break;
+    }
+    for (int f = 0; f < t->nf; f++)
+      for (int k = 0; k < 3; k++) {
+        int a = t->F[3 * f + k], b = t->F[3 * f + (k + 1) % 3];
+        double qa = w->Q[3 * (size_t)a + j], qb = w->Q[3 * (size_t)b + j];
+        if (a < b && fabs(qa) >= 1e-12 && fabs(qb) >= 1e-12 && (qa < 0) != (qb < 0)) e[2 * ne] = a, e[2 * ne + 1] = b, ne++;
+      }
+    for (int i = 0; i < ne; i++) {
+      int a = e[2 * i], b = e[2 * i + 1];
+      double ca = w->C[3 * (size_t)a + j], cb = w->C[3 * (size_t)b + j];
+      int r = split_edge(w, &h, a, b, ca / (ca - cb));
+      if (r < 0) {
+        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+        break;
+      }
+      if (r) {
+        int m = t->nv - 1;
+        w->C[3 * (size_t)m + j] = 0, w->Q[3 * (size_t)m + j] = 0;
+        t->fold_splits++;
+      }
+    }
+  }
+  free(e), free(h.key), free(h.face);
+  return st;
+}
+
+/* What is wrong with face f: 2 fold, 1 area, 0 nothing; err: |straight / spherical area - 1|
+ * (NaN for a pole face or a face of no spherical area). */
+static int face_state(const au__tex_work *w, au_tex_proj proj, int f, double sigma, double tol, double *err) {
+  const int *c = w->t->F + 3 * (size_t)f;
+  const double *Q = w->Q;
+  double As = au__sph_tri_area(Q + 3 * (size_t)c[0], Q + 3 * (size_t)c[1], Q + 3 * (size_t)c[2]);
+  double xy[6];
+  int which[3];
+  int pole = au__tex_face_raw(w, proj, f, xy, which);
+  double At = 0.5 * ((xy[2] - xy[0]) * (xy[5] - xy[1]) - (xy[4] - xy[0]) * (xy[3] - xy[1]));
+  *err = NAN;
+  if (!(fabs(As) > 0)) return 0; /* corners coincide on the sphere: nothing a split could mend */
+  if (sigma * At <= 1e-9 * fabs(As)) return 2;
+  if (pole) return 0;
+  /* A sliver along a great circle (spherical area under half its chordal triangle's) has almost
+   * no spherical area whatever its size: its relative error says nothing about the projection. */
+  const double *a = Q + 3 * (size_t)c[0], *b = Q + 3 * (size_t)c[1], *d = Q + 3 * (size_t)c[2];
+  double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+  double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  if (fabs(As) < 0.25 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])) return 0;
+  *err = fabs(At / As - 1);
+  return *err > tol ? 1 : 0;
+}
+
+/* The longest edge of face f, by its chord on the sphere: its first corner's slot. */
+static int longest_edge(const au__tex_work *w, int f) {
+  const int *c = w->t->F + 3 * (size_t)f;
+  int best = 0;
+  double lmax = -1;
+  for (int k = 0; k < 3; k++) {
+    const double *p = w->Q + 3 * (size_t)c[k], *q = w->Q + 3 * (size_t)c[(k + 1) % 3];
+    double l = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+    if (l > lmax) lmax = l, best = k;
+  }
+  return best;
+}
+
+/* Where to split the edge (a, b) of a turned-over face with third corner c: at the surface point
+ * whose image is the foot of c on the arc (a, b), so the two parts meet c across a short edge
+ * nearly perpendicular to the arc and come out the right way round (a turned-over face is mostly a
+ * sliver along the arc, whose midpoint split would leave two slivers); kept within [0.02, 0.98]. */
+static double foot_param(const au__tex_work *w, int a, int b, int c) {
+  const double *qa = w->Q + 3 * (size_t)a, *qb = w->Q + 3 * (size_t)b, *qc = w->Q + 3 * (size_t)c;
+  const double *ca = w->C + 3 * (size_t)a, *cb = w->C + 3 * (size_t)b;
+  double n[3] = {qa[1] * qb[2] - qa[2] * qb[1], qa[2] * qb[0] - qa[0] * qb[2], qa[0] * qb[1] - qa[1] * qb[0]};
+  double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  if (!(nn > 0)) return 0.5;
+  double k = (qc[0] * n[0] + qc[1] * n[1] + qc[2] * n[2]) / nn, f[3];
+  for (int j = 0; j < 3; j++) f[j] = qc[j] - k * n[j];
+  /* f = alpha C_a + beta C_b (both in the arc's plane); the split parameter is beta / (alpha + beta). */
+  double g11 = ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2], g22 = cb[0] * cb[0] + cb[1] * cb[1] + cb[2] * cb[2];
+  double g12 = ca[0] * cb[0] + ca[1] * cb[1] + ca[2] * cb[2];
+  double r1 = ca[0] * f[0] + ca[1] * f[1] + ca[2] * f[2], r2 = cb[0] * f[0] + cb[1] * f[1] + cb[2] * f[2];
+  double det = g11 * g22 - g12 * g12;
+  if (!(det > 0)) return 0.5;
+  double al = (r1 * g22 - r2 * g12) / det, be = (r2 * g11 - r1 * g12) / det;
+  if (!(al + be > 0)) return 0.5;
+  return fmin(0.98, fmax(0.02, be / (al + be)));
+}
+
+/* The map's orientation: the sign of the sum of the spherical areas. */
+static double map_sign(const au__tex_work *w) {
+  double s = 0;
+  for (int f = 0; f < w->t->nf; f++) {
+    const int *c = w->t->F + 3 * (size_t)f;
+    s += au__sph_tri_area(w->Q + 3 * (size_t)c[0], w->Q + 3 * (size_t)c[1], w->Q + 3 * (size_t)c[2]);
+  }
+  return s < 0 ? -1.0 : 1.0;
+}
+
+static const char *pname(au_tex_proj p) { return p == AU_TEX_CEA ? "cea" : p == AU_TEX_LAEA ? "laea" : "oct"; }
+
+au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, au_msg *msg) {
+  au_tex_mesh *t = w->t;
+  he_table h = {NULL, NULL, 0};
+  int *bad = NULL, nbad = 0, badcap = 0;
+  au_status st = AU_OK;
+  double sigma = map_sign(w);
+  int nf0 = t->nf;
+  if (opts->proj == AU_TEX_OCT) {
+    st = oct_creases(w, msg);
+    if (st != AU_OK) return st;
+  }
+  for (int round = 0;; round++) {
+    st = au__tex_raw_update(w, opts->proj, msg);
+    if (st != AU_OK) break;
+    int area_on = round < opts->max_rounds && t->nf < AU_AREA_GROWTH * nf0 && tol > 0;
+    int folds = 0;
+    double emax = 0, esum = 0;
+    int ne = 0;
+    nbad = 0;
+    for (int f = 0; f < t->nf; f++) {
+      double e;
+      int s = face_state(w, opts->proj, f, sigma, area_on ? tol : INFINITY, &e);
+      if (e == e) emax = fmax(emax, e), esum += e, ne++;
+      if (!s) continue;
+      folds += s == 2;
+      if (nbad == badcap) {
+        badcap = 2 * badcap + 64;
+        int *b = realloc(bad, 3 * (size_t)badcap * sizeof *b);
+        if (!b) {
+          st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+          goto done;
+        }
+        bad = b;
+      }
+      bad[3 * nbad] = f, bad[3 * nbad + 1] = s;
+      nbad++;
+    }
+    t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
+    t->folds_left = folds;
+    if (nbad == 0) break;
+    if (round >= AU_FOLD_ROUNDS) {
+      st = au_msg_set(msg, AU_E_NUMERIC,
+                      "au_tex_coords: projection %s: %d faces stay turned over in the texture after %d rounds of splitting",
+                      pname(opts->proj), folds, round);
+      break;
+    }
+    if (t->nf > AU_FOLD_GROWTH * nf0) {
+      st = au_msg_set(msg, AU_E_NUMERIC,
+                      "au_tex_coords: projection %s: %d faces stay turned over in the texture after splitting to %d faces",
+                      pname(opts->proj), folds, t->nf);
+      break;
+    }
+    /* The faces' corners are read before any split of the round changes them; the split points
+     * too (a fold's at the foot of the third corner, an area's at the middle). */
+    double *sp = malloc((size_t)nbad * sizeof *sp);
+    if (!sp) {
+      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+      break;
+    }
+    for (int i = 0; i < nbad; i++) {
+      int f = bad[3 * i], fold = bad[3 * i + 1] == 2, k = longest_edge(w, f);
+      const int *c = t->F + 3 * (size_t)f;
+      bad[3 * i] = c[k], bad[3 * i + 1] = c[(k + 1) % 3], bad[3 * i + 2] = fold;
+      sp[i] = fold ? foot_param(w, c[k], c[(k + 1) % 3], c[(k + 2) % 3]) : 0.5;
+    }
+    if (!he_build(&h, t)) {
+      free(sp);
+      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+      break;
+    }
+    /* Folds first, so that an edge asked for by a fold is split at its foot point. */
+    for (int i = 0; i < 2 * nbad; i++) {
+      int j = i % nbad, fold = bad[3 * j + 2];
+      if (fold != (i < nbad)) continue;
+      int r = split_edge(w, &h, bad[3 * j], bad[3 * j + 1], sp[j]);
+      if (r < 0) {
+        free(sp);
+        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+        goto done;
+      }
+      if (r) {
+        if (fold) t->fold_splits++;
+        else t->area_splits++;
+      }
+    }
+    free(sp);
+  }
+done:
+  t->edge_splits = t->fold_splits + t->area_splits;
+  free(h.key), free(h.face), free(bad);
+  return st;
+}
+
+/* ---------------------------------------------------------------- the axis */
+
+/* The rotation whose rows are the texture's x, y, z axes in the map's frame: z = a (unit), x the
+ * direction at angle beta about a from a fixed perpendicular (the map's z or, for an axis near it,
+ * the map's x, made perpendicular to a). */
+static void frame(const double a[3], double beta, double R[9]) {
+  double ref[3] = {0, 0, 1};
+  if (fabs(a[2]) > 0.99) ref[0] = 1, ref[2] = 0;
+  double d = ref[0] * a[0] + ref[1] * a[1] + ref[2] * a[2], b1[3], b2[3];
+  for (int j = 0; j < 3; j++) b1[j] = ref[j] - d * a[j];
+  double n = sqrt(b1[0] * b1[0] + b1[1] * b1[1] + b1[2] * b1[2]);
+  for (int j = 0; j < 3; j++) b1[j] /= n;
+  b2[0] = a[1] * b1[2] - a[2] * b1[1], b2[1] = a[2] * b1[0] - a[0] * b1[2], b2[2] = a[0] * b1[1] - a[1] * b1[0];
+  double c = cos(beta), s = sin(beta);
+  for (int j = 0; j < 3; j++) {
+    R[j] = c * b1[j] + s * b2[j];
+    R[3 + j] = -s * b1[j] + c * b2[j];
+    R[6 + j] = a[j];
+  }
+}
+
+/* Mean spherical area of the faces whose centroids (unit vectors cen [0..3nf-1], areas A) lie within
+ * AU_AXIS_CAP of the point a, with the face nearest to a always counted. */
+#define AU_AXIS_CAP (10 * M_PI / 180)
+static double cap_mean_area(int nf, const double *cen, const double *A, const double a[3]) {
+  double cc = cos(AU_AXIS_CAP), sum = 0, best = -2, Abest = 0;
+  int n = 0;
+  for (int f = 0; f < nf; f++) {
+    const double *q = cen + 3 * (size_t)f;
+    double d = q[0] * a[0] + q[1] * a[1] + q[2] * a[2];
+    if (d >= cc) sum += A[f], n++;
+    if (d > best) best = d, Abest = A[f];
+  }
+  return n ? sum / n : Abest;
+}
+
+/* The angle beta about the axis that puts the seam where it crosses the fewest faces: cea's seam is
+ * the meridian at longitude 180 degrees, oct's the four southern half meridians at 0, 90, 180, 270
+ * (counted modulo 90 on faces with a southern corner); laea's seam, the equator, does not turn. */
+static au_status seam_angle(au_tex_proj proj, const double a[3], int nv, const double *P, int nf, const int *F,
+                            double *beta, au_msg *msg) {
+  *beta = 0;
+  if (proj == AU_TEX_LAEA) return AU_OK;
+  double R[9];
+  frame(a, 0, R);
+  double *lon = malloc((size_t)nv * sizeof *lon), *z = malloc((size_t)nv * sizeof *z);
+  if (!lon || !z) {
+    free(lon), free(z);
+    return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  }
+  for (int i = 0; i < nv; i++) {
+    const double *p = P + 3 * (size_t)i;
+    double x = R[0] * p[0] + R[1] * p[1] + R[2] * p[2], y = R[3] * p[0] + R[4] * p[1] + R[5] * p[2];
+    z[i] = R[6] * p[0] + R[7] * p[1] + R[8] * p[2];
+    lon[i] = atan2(y, x) * 180 / M_PI;
+  }
+  int period = proj == AU_TEX_OCT ? 90 : 360;
+  long cnt[360] = {0};
+  for (int f = 0; f < nf; f++) {
+    const int *c = F + 3 * (size_t)f;
+    if (proj == AU_TEX_OCT && z[c[0]] >= 0 && z[c[1]] >= 0 && z[c[2]] >= 0) continue;
+    double lo = lon[c[0]], hi = lo;
+    for (int k = 1; k < 3; k++) {
+      double d = lon[c[k]] - lon[c[0]];
+      d -= 360 * nearbyint(d / 360);
+      lo = fmin(lo, lon[c[0]] + d), hi = fmax(hi, lon[c[0]] + d);
+    }
+    if (hi - lo >= 180) continue; /* a face around the pole crosses every meridian alike */
+    for (long d = (long)ceil(lo); d <= (long)floor(hi); d++) cnt[((d % period) + period) % period]++;
+  }
+  int best = 0;
+  for (int d = 1; d < period; d++)
+    if (cnt[d] < cnt[best]) best = d;
+  /* The seam at the map-frame longitude `best` (+ 180 for cea's, whose seam is at 180): the new x
+   * axis turns by best - 180 (cea) or best (oct). */
+  *beta = (proj == AU_TEX_CEA ? best - 180 : best) * M_PI / 180;
+  free(lon), free(z);
+  return AU_OK;
+}
+
+au_status au__tex_axis(const au_tex_opts *opts, int nv, const double *P, int nf, const int *F, double R[9],
+                       au_msg *msg) {
+  static const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  if (opts->axis == AU_TEX_AXIS_Z) {
+    memcpy(R, I, sizeof I);
+    return AU_OK;
+  }
+  double a[3] = {opts->axis_dir[0], opts->axis_dir[1], opts->axis_dir[2]};
+  if (opts->axis == AU_TEX_AXIS_VECTOR) {
+    double n = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    if (!(n > 0) || !isfinite(n)) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: the axis is zero or not finite");
+    for (int j = 0; j < 3; j++) a[j] /= n;
+    frame(a, 0, R);
+    return AU_OK;
+  }
+  /* AU_TEX_AXIS_AUTO: the poles where the map's triangles are smallest (least mean spherical area of
+   * the faces within 10 degrees of the two poles, over 500 Fibonacci directions), then the seam. */
+  double *cen = malloc(3 * (size_t)nf * sizeof *cen), *A = malloc((size_t)nf * sizeof *A);
+  if (!cen || !A) {
+    free(cen), free(A);
+    return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  }
+  for (int f = 0; f < nf; f++) {
+    const double *p0 = P + 3 * (size_t)F[3 * f], *p1 = P + 3 * (size_t)F[3 * f + 1], *p2 = P + 3 * (size_t)F[3 * f + 2];
+    double *q = cen + 3 * (size_t)f, s = 0;
+    for (int j = 0; j < 3; j++) q[j] = p0[j] + p1[j] + p2[j], s += q[j] * q[j];
+    s = sqrt(s);
+    for (int j = 0; j < 3; j++) q[j] = s > 0 ? q[j] / s : 0;
+    A[f] = fabs(au__sph_tri_area(p0, p1, p2));
+  }
+  enum { NDIR = 500 };
+  double best = INFINITY, ga = M_PI * (3 - sqrt(5.0));
+  for (int i = 0; i < NDIR; i++) {
+    double z = 1 - (2 * i + 1.0) / NDIR, r = sqrt(1 - z * z), d[3] = {r * cos(ga * i), r * sin(ga * i), z};
+    double md[3] = {-d[0], -d[1], -d[2]};
+    double cost = cap_mean_area(nf, cen, A, d) + cap_mean_area(nf, cen, A, md);
+    if (cost < best) best = cost, a[0] = d[0], a[1] = d[1], a[2] = d[2];
+  }
+  free(cen), free(A);
+  double beta;
+  au_status st = seam_angle(opts->proj, a, nv, P, nf, F, &beta, msg);
+  if (st == AU_OK) frame(a, beta, R);
+  return st;
+}
