@@ -253,7 +253,14 @@ static int longest_edge(const au__tex_work *w, int f) {
 /* Where to split the edge (a, b) of a turned-over face with third corner c: at the surface point
  * whose image is the foot of c on the arc (a, b), so the two parts meet c across a short edge
  * nearly perpendicular to the arc and come out the right way round (a turned-over face is mostly a
- * sliver along the arc, whose midpoint split would leave two slivers); kept within [0.02, 0.98]. */
+ * sliver along the arc, whose midpoint split would leave two slivers). But when the foot lies
+ * within AU_FOOT_END of an end (or past it), at the middle: the face is a needle (c next to a or b,
+ * the shape every foot split leaves behind), and a split at the foot would only chip a sliver off
+ * its end, leaving a needle nearly as long and still turned over; round after round the chips pile
+ * up along the arc (an unconverged cow map near the cea south pole: 61 folds after 64 rounds, the
+ * long needles shrinking 2-10% a round). Halving it shortens it geometrically, and an image arc's
+ * bend shrinks with the square of its length. */
+#define AU_FOOT_END 0.1
 static double foot_param(const au__tex_work *w, int a, int b, int c) {
   const double *qa = w->Q + 3 * (size_t)a, *qb = w->Q + 3 * (size_t)b, *qc = w->Q + 3 * (size_t)c;
   const double *ca = w->C + 3 * (size_t)a, *cb = w->C + 3 * (size_t)b;
@@ -270,7 +277,8 @@ static double foot_param(const au__tex_work *w, int a, int b, int c) {
   if (!(det > 0)) return 0.5;
   double al = (r1 * g22 - r2 * g12) / det, be = (r2 * g11 - r1 * g12) / det;
   if (!(al + be > 0)) return 0.5;
-  return fmin(0.98, fmax(0.02, be / (al + be)));
+  double p = be / (al + be);
+  return p < AU_FOOT_END || p > 1 - AU_FOOT_END ? 0.5 : p;
 }
 
 /* The map's orientation: the sign of the sum of the spherical areas. */
