@@ -106,6 +106,7 @@ au_options au_options_default(void) {
   o.balance = 1;
   o.boundary = AU_BOUNDARY_SLIDE;
   o.outer_loop = AU_OUTER_LONGER;
+  o.measure_start = 1;
   for (int k = 0; k < 4; k++) o.corners[k] = -1;
   return o;
 }

@@ -344,6 +344,7 @@ static au_status run_torus(map_run *x, au_msg *msg) {
     st = au_torus_texcoords(s, r->F, (const double(*)[2])r->lattice, &nvt0, &vt0, &Ft0, msg);
     if (st == AU_OK && torus_metrics_of(r, nvt0, vt0, Ft0, &r->init_metrics) != AU_OK)
       st = au_msg_set(msg, AU_E_NOMEM, "metrics of the start failed");
+    r->init_measured = st == AU_OK;
     free(vt0), free(Ft0);
     if (st == AU_OK) st = torus_flow(x, s, msg);
   }
@@ -418,7 +419,10 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
                         r->metrics.folds == 1 ? "" : "s");
     return AU_OK;
   }
-  if (!x->o->init_only) ms = au_metrics_compute(r->nv, r->nf, r->X, r->P0, r->F, dom, &r->init_metrics, NULL, NULL);
+  if (!x->o->init_only && x->o->measure_start) {
+    ms = au_metrics_compute(r->nv, r->nf, r->X, r->P0, r->F, dom, &r->init_metrics, NULL, NULL);
+    r->init_measured = ms == AU_OK;
+  }
   if (ms == AU_OK) ms = au_metrics_compute(r->nv, r->nf, r->X, r->P, r->F, dom, &r->metrics, NULL, NULL);
   r->t_metrics = now_s() - t0;
   if (ms != AU_OK) return au_msg_set(msg, ms, "metrics of the map failed");
@@ -538,7 +542,14 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.input = e.input, info.output = e.output;
   info.nv = r->nv, info.nf = r->nf;
   info.steps = r->conv.steps, info.converged = flow && r->conv.converged;
-  info.init = flow ? &r->init_metrics : NULL, info.final = &r->metrics;
+  /* The start's metrics when the map skipped them (au_options.measure_start 0): measured here. */
+  au_metrics start;
+  const au_metrics *init = r->init_measured ? &r->init_metrics : NULL;
+  if (flow && !init && r->target != AU_TARGET_TORUS && r->P0 &&
+      au_metrics_compute(r->nv, r->nf, r->X, r->P0, r->F, r->target == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE,
+                         &start, NULL, NULL) == AU_OK)
+    init = &start;
+  info.init = flow ? init : NULL, info.final = &r->metrics;
   info.stages = stages, info.nstages = ns;
   info.step_err = flow ? r->conv.err : NULL, info.step_frac = flow ? r->conv.frac : NULL;
   info.step_face_err = flow ? r->conv.face_err : NULL;

@@ -259,6 +259,7 @@ static int run_map(const cli_args *a, au_options *o) {
     else o->face_density = density;
   }
   if (!quiet) o->progress = cli_progress, o->user = &prog;
+  o->measure_start = report != NULL; /* only the report shows the start's metrics */
   au_status st = au_map(m->X, m->nv, m->F, m->nf, t, o, &r, &msg);
   cli_progress_end(&prog);
   if (st < 0) {

@@ -48,7 +48,8 @@ class Options(ctypes.Structure):
                 ("vertex_density", P_double), ("face_density", P_double), ("restore_shapes", c_double),
                 ("balance", c_int), ("init_only", c_int), ("boundary", c_int), ("inner_radius", c_double),
                 ("outer_loop", c_int), ("corners", c_int * 4), ("progress", PROGRESS_FN), ("user", c_void_p),
-                ("cancel", P_int), ("expert", c_void_p), ("lattice", c_int), ("refine_mesh", c_int)]
+                ("cancel", P_int), ("expert", c_void_p), ("lattice", c_int), ("refine_mesh", c_int),
+                ("measure_start", c_int)]
 
 
 # The au_metrics fields in order; the doubles among them are named here once.
@@ -87,7 +88,8 @@ class Result(ctypes.Structure):
                 ("corners", c_int * 4), ("nsplit", c_int), ("nwarnings", c_int),
                 ("warnings", (c_char * 600) * AU_MAX_WARNINGS),
                 ("lattice", (c_double * 2) * 2), ("conformal_lattice", (c_double * 2) * 2), ("nvt", c_int),
-                ("vt", P_double), ("Ft", P_int), ("nrefined", c_int), ("parent", P_int), ("parent_t", P_double)]
+                ("vt", P_double), ("Ft", P_int), ("nrefined", c_int), ("parent", P_int), ("parent_t", P_double),
+                ("init_measured", c_int)]
 
 
 STRUCTS = {"au_msg": Msg, "au_mesh": Mesh, "au_write_opts": WriteOpts, "au_report_extra": ReportExtra,
