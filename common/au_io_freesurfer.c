@@ -87,6 +87,14 @@ static au_status fs_header(const char *path, const unsigned char *buf, size_t le
   return AU_OK;
 }
 
+au_status au_io__check_float32(const char *path, int nv, const double *P, const char *container, au_msg *msg) {
+  for (size_t i = 0; i < 3 * (size_t)nv; i++)
+    if (!au_io__fits_float(P[i]))
+      return au_msg_set(msg, AU_E_FORMAT, "%s: vertex %zu has coordinate %g, which %s (float32) cannot hold", path, i / 3,
+                        P[i], container);
+  return AU_OK;
+}
+
 /* Copy [s, e) into a new NUL-terminated string; NULL when out of memory. */
 static char *dup_range(const unsigned char *s, const unsigned char *e) {
   char *t = malloc((size_t)(e - s) + 1);
@@ -176,10 +184,8 @@ static int emit_surface(FILE *fp, const void *ctx) {
 
 au_status au_io__fs_write_surface(const char *path, const au_mesh *m, const double *P, const au_io_meta *meta,
                                   au_msg *msg) {
-  for (size_t i = 0; i < 3 * (size_t)m->nv; i++)
-    if (!au_io__fits_float(P[i]))
-      return au_msg_set(msg, AU_E_FORMAT, "%s: vertex %zu has coordinate %g, which a FreeSurfer surface (float32) "
-                        "cannot hold", path, i / 3, P[i]);
+  au_status st = au_io__check_float32(path, m->nv, P, "a FreeSurfer surface", msg);
+  if (st != AU_OK) return st;
   fs_out o = {m, P, meta};
   return au_io__write_atomic(path, emit_surface, &o, msg);
 }

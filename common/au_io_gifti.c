@@ -619,10 +619,8 @@ static int copy_meta(gifti_image *g, const gifti_image *in, int surface) {
 
 au_status au_io__gii_write_surface(const char *path, const au_mesh *m, const double *P, const au_io_write_opts *opts,
                                    au_msg *msg) {
-  for (size_t i = 0; i < 3 * (size_t)m->nv; i++)
-    if (!au_io__fits_float(P[i]))
-      return au_msg_set(msg, AU_E_FORMAT, "%s: vertex %zu has coordinate %g, which a GIfTI pointset (float32) cannot "
-                        "hold", path, i / 3, P[i]);
+  au_status cst = au_io__check_float32(path, m->nv, P, "a GIfTI pointset", msg);
+  if (cst != AU_OK) return cst;
   const int intent[2] = {NIFTI_INTENT_POINTSET, NIFTI_INTENT_TRIANGLE}, type[2] = {NIFTI_TYPE_FLOAT32, NIFTI_TYPE_INT32};
   const int rows[2] = {m->nv, m->nf}, cols[2] = {3, 3};
   pthread_mutex_lock(&gii_lock);

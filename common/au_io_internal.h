@@ -54,6 +54,9 @@ au_status au_io__fs_read_curv(const char *path, const unsigned char *buf, size_t
 au_status au_io__fs_write_curv(const char *path, int n, const double *values, int nfaces, au_msg *msg);
 /* 1 if x fits a float32 (finite, |x| <= FLT_MAX), else 0. */
 int au_io__fits_float(double x);
+/* AU_OK if every coordinate of P (nv x 3) fits a float32, else AU_E_FORMAT naming the vertex and the
+ * container that cannot hold it ("a FreeSurfer surface", "a GIfTI pointset"). */
+au_status au_io__check_float32(const char *path, int nv, const double *P, const char *container, au_msg *msg);
 
 /* GIfTI through giftiio (au_io_gifti.c). buf holds the whole file (len bytes, gzip or XML). */
 au_status au_io__gii_read_surface(const char *path, const unsigned char *buf, size_t len, au_mesh **out,

@@ -133,7 +133,7 @@ const char *cli_cmd_name(int cmd) {
   return "?";
 }
 
-static au_target cmd_target(int cmd) {
+au_target cli_cmd_target(int cmd) {
   return cmd == CLI_DISK ? AU_TARGET_DISK : cmd == CLI_ANNULUS ? AU_TARGET_ANNULUS : cmd == CLI_SQUARE ? AU_TARGET_SQUARE
          : cmd == CLI_TORUS ? AU_TARGET_TORUS : AU_TARGET_SPHERE;
 }
@@ -142,7 +142,7 @@ static au_target cmd_target(int cmd) {
 static void option_values(cli_opt_id id, int cmd, char *dflt, char *max, size_t n) {
   int steps;
   double tol;
-  au_target_defaults(cmd_target(cmd), &steps, &tol);
+  au_target_defaults(cli_cmd_target(cmd), &steps, &tol);
   dflt[0] = max[0] = '\0';
   if (id == OPT_STEPS) snprintf(dflt, n, "%d", steps), snprintf(max, n, "%d", AU_MAX_STEPS);
   if (id == OPT_TOL) snprintf(dflt, n, "%g", tol);

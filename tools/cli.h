@@ -37,6 +37,8 @@ int cli_parse(int argc, char **argv, int cmd, int maxpos, const char *usage_text
 void cli_print_options(int cmd);
 /* The command's name ("sphere") from its bit. */
 const char *cli_cmd_name(int cmd);
+/* The library's target of a map command's bit (CLI_SPHERE .. CLI_TORUS); the sphere for others. */
+au_target cli_cmd_target(int cmd);
 
 /* Typed values of parsed options: 0 if absent or converted, else a usage error printed and EXIT_USAGE.
  * The messages say "--NAME 'VALUE': expected ...". */

@@ -198,11 +198,6 @@ static void summary(int cmd, const au_result *r, double seconds) {
           r->boundary_dev, extra, r->init_method ? r->init_method : "?", seconds);
 }
 
-static au_target target_of(int cmd) {
-  return cmd == CLI_DISK ? AU_TARGET_DISK : cmd == CLI_ANNULUS ? AU_TARGET_ANNULUS : cmd == CLI_SQUARE ? AU_TARGET_SQUARE
-         : cmd == CLI_TORUS ? AU_TARGET_TORUS : AU_TARGET_SPHERE;
-}
-
 /* --refine-mesh SURF: the refined surface, and SURF.parents.txt (written to a temporary, then renamed).
  * -1 to go on, else the exit code. */
 static int write_refined(const char *surf, const au_result *r) {
@@ -230,7 +225,7 @@ static int run_map(const cli_args *a, au_options *o) {
   double t_start = cli_now();
   const char *in = a->pos[0], *out = a->pos[1], *report = a->val[OPT_REPORT];
   const int quiet = a->val[OPT_QUIET] != NULL;
-  au_target t = target_of(a->cmd);
+  au_target t = cli_cmd_target(a->cmd);
   au_report_extra extra = {NULL, NULL, NULL, -1, -1, -1, NULL, 0};
   extra.input = in, extra.output = out, extra.tool = "authalic " AU_VERSION;
   au_mesh *m = NULL;
