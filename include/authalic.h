@@ -765,6 +765,12 @@ AU_API void au_cmap_diverging(double t, unsigned char rgb[3]);
  * size: width in pixels (>= 200). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO, AU_E_NUMERIC. */
 AU_API au_status au_tex_preview(const char *path, const au_mesh *m, const double *P, int size, double range,
                                 au_msg *msg);
+/* The preview picture of a torus result (AU_TARGET_TORUS, from au_map): its vt triangles tiled 3 x 3
+ * by the lattice (seamless maps tile without gaps or overlaps), faces coloured by Upsilon over
+ * [-range, range] (range <= 0: 0.5), the tiles' edges grey and the fundamental domain black, the
+ * Upsilon and Lambda histograms below. size: width in pixels (>= 200). Returns AU_OK, AU_E_ARG,
+ * AU_E_NOMEM, AU_E_IO, AU_E_NUMERIC. */
+AU_API au_status au_torus_preview(const char *path, const au_result *r, int size, double range, au_msg *msg);
 /* Render the surface of t with the texture img (tw x th RGB) from direction view and from -view,
  * side by side; size: height in pixels (>= 64); mark_seam: 1 tints the cea seam's faces red.
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */

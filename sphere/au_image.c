@@ -1,7 +1,8 @@
 /* au_image.c - pictures of sphere maps: PNG files through libpng's simplified API, colour maps,
  * a small z-buffered triangle rasterizer with a 3x5 bitmap font for labels, the preview of a map
  * coloured by area distortion with the Upsilon/Lambda histograms (the paper's figures: Upsilon dark
- * red, Lambda blue), and a render of a textured mesh. */
+ * red, Lambda blue), the same for a torus map tiled 3 x 3 by its lattice, and a render of a textured
+ * mesh. */
 #include <math.h>
 #include <png.h>
 #include <stdlib.h>
@@ -251,6 +252,42 @@ static void draw_hist(canvas *c, int x0, int y0, int w, int h, const double *v, 
   draw_text(c, x0 + 10, y0 + 6, 2, label, col);
 }
 
+/* The p-th percentile (0..100) of the finite values among v [0..n-1] (|v| when absval), or dflt if none;
+ * tmp holds n doubles. */
+static double finite_percentile(const double *v, int n, int absval, double p, double dflt, double *tmp) {
+  int m = 0;
+  for (int i = 0; i < n; i++)
+    if (!isnan(v[i])) tmp[m++] = absval ? fabs(v[i]) : v[i];
+  if (!m) return dflt;
+  qsort(tmp, (size_t)m, sizeof *tmp, cmp_double);
+  return tmp[(int)(p / 100 * (m - 1))];
+}
+
+/* Below a picture whose top part ends at y0 (the canvas W wide): the colour bar of Upsilon over
+ * [-range, range] and the Upsilon and Lambda histograms of the faces (hist_h high), each over the
+ * data's 99th percentile, so that colours compare between maps and the histograms show the shape. */
+static void draw_legend(canvas *c, int y0, int hist_h, const double *ups, const double *lam, int nf, double range,
+                        double *tmp) {
+  double hrange = fmax(0.05, finite_percentile(ups, nf, 1, 99, 0.05, tmp));
+  double lrange = fmax(0.1, finite_percentile(lam, nf, 0, 99, 0.1, tmp));
+  const unsigned char black[3] = {0, 0, 0};
+  int W = c->W, half = W / 2, by = y0 + 4, bx0 = half / 4, bx1 = W - half / 4;
+  for (int x = bx0; x < bx1; x++) {
+    unsigned char col[3];
+    au_cmap_diverging((x - bx0 + 0.5) / (bx1 - bx0), col);
+    fill_rect(c, x, by, x + 1, by + 14, col);
+  }
+  char s[32];
+  snprintf(s, sizeof s, "%.2f", -range);
+  draw_text(c, bx0 - 8 * (int)strlen(s) - 6, by, 2, s, black);
+  snprintf(s, sizeof s, "+%.2f", range);
+  draw_text(c, bx1 + 6, by, 2, s, black);
+  draw_text(c, (bx0 + bx1) / 2 - 3, by + 18, 2, "0", black);
+  const unsigned char red[3] = {139, 0, 0}, blue[3] = {0, 0, 200};
+  draw_hist(c, 0, y0 + 40, half, hist_h, ups, nf, -hrange, hrange, red, "UPSILON");
+  draw_hist(c, half, y0 + 40, W - half, hist_h, lam, nf, 0, lrange, blue, "LAMBDA");
+}
+
 au_status au_tex_preview(const char *path, const au_mesh *m, const double *P, int size, double range, au_msg *msg) {
   if (!path || !m || !P || size < 200 || size > 8000) return au_msg_set(msg, AU_E_ARG, "au_tex_preview: bad arguments");
   int nf = m->nf;
@@ -263,19 +300,7 @@ au_status au_tex_preview(const char *path, const au_mesh *m, const double *P, in
     free(ups);
     return au_msg_set(msg, st, "cannot measure the map for '%s'", path);
   }
-  int nfin = 0;
-  for (int f = 0; f < nf; f++)
-    if (!isnan(ups[f])) tmp[nfin++] = fabs(ups[f]);
-  qsort(tmp, (size_t)nfin, sizeof *tmp, cmp_double);
-  /* Colours on a fixed scale (comparable between maps), the histogram over the data's range. */
   if (!(range > 0)) range = 0.5;
-  double hrange = fmax(0.05, nfin ? tmp[(int)(0.99 * (nfin - 1))] : 0.05);
-  nfin = 0;
-  for (int f = 0; f < nf; f++)
-    if (!isnan(lam[f])) tmp[nfin++] = lam[f];
-  qsort(tmp, (size_t)nfin, sizeof *tmp, cmp_double);
-  double lrange = fmax(0.1, nfin ? tmp[(int)(0.99 * (nfin - 1))] : 0.1);
-
   int W = size, half = size / 2, H = half + 40 + size / 4;
   canvas c;
   if (canvas_init(&c, W, H)) {
@@ -298,22 +323,100 @@ au_status au_tex_preview(const char *path, const au_mesh *m, const double *P, in
   const unsigned char black[3] = {0, 0, 0};
   draw_text(&c, 8, 8, 3, "+Z", black);
   draw_text(&c, half + 8, 8, 3, "-Z", black);
-  /* The colour bar of Upsilon under the discs. */
-  int by = half + 4, bx0 = half / 4, bx1 = W - half / 4;
-  for (int x = bx0; x < bx1; x++) {
-    unsigned char col[3];
-    au_cmap_diverging((x - bx0 + 0.5) / (bx1 - bx0), col);
-    fill_rect(&c, x, by, x + 1, by + 14, col);
+  draw_legend(&c, half, size / 4, ups, lam, nf, range, tmp);
+  st = au_png_write(path, W, H, c.rgb, msg);
+  canvas_free(&c);
+  free(ups);
+  return st;
+}
+
+/* ---------------------------------------------------------------- the torus preview */
+
+/* A straight line of width w pixels from (x0, y0) to (x1, y1). */
+static void draw_line(canvas *c, double x0, double y0, double x1, double y1, int w, const unsigned char rgb[3]) {
+  int n = (int)ceil(fmax(fabs(x1 - x0), fabs(y1 - y0))) + 1;
+  for (int i = 0; i <= n; i++) {
+    double t = (double)i / n;
+    int x = (int)floor(x0 + t * (x1 - x0)) - w / 2, y = (int)floor(y0 + t * (y1 - y0)) - w / 2;
+    fill_rect(c, x, y, x + w, y + w, rgb);
   }
-  char s[32];
-  snprintf(s, sizeof s, "%.2f", -range);
-  draw_text(&c, bx0 - 8 * (int)strlen(s) - 6, by, 2, s, black);
-  snprintf(s, sizeof s, "+%.2f", range);
-  draw_text(&c, bx1 + 6, by, 2, s, black);
-  draw_text(&c, (bx0 + bx1) / 2 - 3, by + 18, 2, "0", black);
-  const unsigned char red[3] = {139, 0, 0}, blue[3] = {0, 0, 200};
-  draw_hist(&c, 0, half + 40, half, size / 4, ups, nf, -hrange, hrange, red, "UPSILON");
-  draw_hist(&c, half, half + 40, W - half, size / 4, lam, nf, 0, lrange, blue, "LAMBDA");
+}
+
+au_status au_torus_preview(const char *path, const au_result *r, int size, double range, au_msg *msg) {
+  if (!path || !r || !r->vt || !r->Ft || !r->X || !r->F || r->nf < 1 || size < 200 || size > 8000)
+    return au_msg_set(msg, AU_E_ARG, "au_torus_preview: bad arguments (a torus result is needed)");
+  const double(*L)[2] = r->lattice;
+  double det = L[0][0] * L[1][1] - L[0][1] * L[1][0];
+  if (!(fabs(det) > 1e-12)) return au_msg_set(msg, AU_E_ARG, "au_torus_preview: the result's lattice is degenerate");
+  int nf = r->nf, nvt = r->nvt;
+  /* Distortion per face of the surface cut along the seams (one vertex per vt row), as the result's
+   * metrics measure it: every face by its own lifted triangle. */
+  double *ups = malloc(3 * (size_t)nf * sizeof *ups);
+  double *Xc = malloc(3 * (size_t)nvt * sizeof *Xc), *Pc = calloc(3 * (size_t)nvt, sizeof *Pc);
+  au_status st = AU_OK;
+  if (!ups || !Xc || !Pc) st = au_msg_set(msg, AU_E_NOMEM, "out of memory drawing '%s'", path);
+  for (int k = 0; st == AU_OK && k < 3 * nf; k++) {
+    if (r->Ft[k] < 0 || r->Ft[k] >= nvt || r->F[k] < 0 || r->F[k] >= r->nv) {
+      st = au_msg_set(msg, AU_E_ARG, "au_torus_preview: corner %d's index out of range", k);
+      break;
+    }
+    memcpy(Xc + 3 * (size_t)r->Ft[k], r->X + 3 * (size_t)r->F[k], 3 * sizeof *Xc);
+  }
+  for (int i = 0; st == AU_OK && i < nvt; i++) Pc[3 * (size_t)i] = r->vt[2 * (size_t)i], Pc[3 * (size_t)i + 1] = r->vt[2 * (size_t)i + 1];
+  double *lam = ups ? ups + nf : NULL, *tmp = ups ? ups + 2 * (size_t)nf : NULL;
+  au_metrics met;
+  if (st == AU_OK && (st = au_metrics_compute(nvt, nf, Xc, Pc, r->Ft, AU_DOMAIN_PLANE, &met, ups, lam)) != AU_OK)
+    au_msg_set(msg, st, "cannot measure the map for '%s'", path);
+  free(Xc), free(Pc);
+  if (st != AU_OK) {
+    free(ups);
+    return st;
+  }
+  if (!(range > 0)) range = 0.5;
+  /* The 3 x 3 tiles: the parallelogram spanned by 3 a1 and 3 a2 from -a1 - a2, fitted into a square
+   * picture with a margin, y upwards. */
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (int i = 0; i < 4; i++) {
+    double s = (i & 1) ? 2 : -1, t = (i & 2) ? 2 : -1;
+    for (int d = 0; d < 2; d++) {
+      double p = s * L[0][d] + t * L[1][d];
+      lo[d] = fmin(lo[d], p), hi[d] = fmax(hi[d], p);
+    }
+  }
+  int W = size, top = size, H = top + 40 + size / 4;
+  double scale = 0.96 * size / fmax(hi[0] - lo[0], hi[1] - lo[1]);
+  double ox = 0.5 * size - scale * 0.5 * (lo[0] + hi[0]), oy = 0.5 * top + scale * 0.5 * (lo[1] + hi[1]);
+  canvas c;
+  if (canvas_init(&c, W, H)) {
+    free(ups);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory drawing '%s'", path);
+  }
+  preview_ctx pc = {ups, range};
+  for (int ti = -1; ti <= 1; ti++)
+    for (int tj = -1; tj <= 1; tj++) {
+      double sx = ti * L[0][0] + tj * L[1][0], sy = ti * L[0][1] + tj * L[1][1];
+      for (int f = 0; f < nf; f++) {
+        double x[3], y[3], z[3] = {0, 0, 0};
+        for (int k = 0; k < 3; k++) {
+          const double *p = r->vt + 2 * (size_t)r->Ft[3 * f + k];
+          x[k] = ox + scale * (p[0] + sx), y[k] = oy - scale * (p[1] + sy);
+        }
+        raster_tri(&c, x, y, z, f, shade_ups, &pc);
+      }
+    }
+  /* The tiles' edges in grey, the fundamental domain {s a1 + t a2 : 0 <= s, t <= 1} in black. */
+  const unsigned char black[3] = {0, 0, 0}, grey[3] = {110, 110, 110};
+  for (int k = -1; k <= 2; k++) {
+    double ax = k * L[0][0], ay = k * L[0][1], bx = k * L[1][0], by = k * L[1][1];
+    draw_line(&c, ox + scale * (ax - L[1][0]), oy - scale * (ay - L[1][1]), ox + scale * (ax + 2 * L[1][0]),
+              oy - scale * (ay + 2 * L[1][1]), 1, grey);
+    draw_line(&c, ox + scale * (bx - L[0][0]), oy - scale * (by - L[0][1]), ox + scale * (bx + 2 * L[0][0]),
+              oy - scale * (by + 2 * L[0][1]), 1, grey);
+  }
+  double cx[5] = {0, L[0][0], L[0][0] + L[1][0], L[1][0], 0}, cy[5] = {0, L[0][1], L[0][1] + L[1][1], L[1][1], 0};
+  for (int k = 0; k < 4; k++)
+    draw_line(&c, ox + scale * cx[k], oy - scale * cy[k], ox + scale * cx[k + 1], oy - scale * cy[k + 1], 3, black);
+  draw_legend(&c, top, size / 4, ups, lam, nf, range, tmp);
   st = au_png_write(path, W, H, c.rgb, msg);
   canvas_free(&c);
   free(ups);

@@ -357,6 +357,93 @@ static int check_result_vt(const au_result *r) {
 /* au_map onto AU_TARGET_TORUS: the start with its lattice, seamless vt, metrics of the cut mesh
  * (0 folds, domain area 1); without init_only the same start with AU_W_NOT_CONVERGED and the warning;
  * the report's lattice; an OBJ with v, vt and f v/vt that reads back with the input's faces. */
+/* The preview (au_torus_preview): read back, every pixel inside the 3 x 3 tiles (2 pixels from their
+ * outline) is painted and every pixel 2 pixels outside is background: seamless vt tile the plane
+ * without gaps; the start's picture, far from equal area, is further from the colour map's white
+ * than the flow's. A sphere result, which has no vt, is refused. The layout below is the
+ * function's: the tiles' bounding box fitted into size x size with 2 % margin, y upwards. */
+static int preview_stats(const au_result *r, const char *path, int size, double *mean_dev) {
+  au_msg msg = {{0}};
+  AU_CHECK_STATUS(au_torus_preview(path, r, size, 0, &msg), AU_OK, &msg);
+  int W = 0, H = 0;
+  unsigned char *rgb = NULL;
+  AU_CHECK_STATUS(au_png_read(path, &W, &H, &rgb, &msg), AU_OK, &msg);
+  AU_CHECK_INT(W, ==, size);
+  AU_CHECK_INT(H, >, size);
+  const double(*L)[2] = r->lattice;
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (int i = 0; i < 4; i++)
+    for (int d = 0; d < 2; d++) {
+      double p = ((i & 1) ? 2 : -1) * L[0][d] + ((i & 2) ? 2 : -1) * L[1][d];
+      lo[d] = fmin(lo[d], p), hi[d] = fmax(hi[d], p);
+    }
+  double scale = 0.96 * size / fmax(hi[0] - lo[0], hi[1] - lo[1]);
+  double ox = 0.5 * size - scale * 0.5 * (lo[0] + hi[0]), oy = 0.5 * size + scale * 0.5 * (lo[1] + hi[1]);
+  double det = L[0][0] * L[1][1] - L[0][1] * L[1][0];
+  long inside = 0, gaps = 0, spill = 0;
+  double dev = 0;
+  for (int y = 0; y < size; y++)
+    for (int x = 0; x < W; x++) {
+      /* The pixel's centre in lattice coordinates (s, t); the tiles are -1 <= s, t <= 2. */
+      double px = (x + 0.5 - ox) / scale, py = (oy - (y + 0.5)) / scale;
+      double s = (px * L[1][1] - py * L[1][0]) / det, t = (L[0][0] * py - L[0][1] * px) / det;
+      /* The distance in pixels to the tiles' outline, inside positive. */
+      double ds = fmin(s + 1, 2 - s) * scale * fabs(det) / hypot(L[1][0], L[1][1]);
+      double dt = fmin(t + 1, 2 - t) * scale * fabs(det) / hypot(L[0][0], L[0][1]);
+      double dist = fmin(ds, dt);
+      const unsigned char *c = rgb + 3 * ((size_t)y * W + x);
+      int bg = c[0] == 255 && c[1] == 255 && c[2] == 255;
+      if (dist > 2) {
+        inside++;
+        gaps += bg;
+        dev += fabs(c[0] - 247.0) + fabs(c[1] - 247.0) + fabs(c[2] - 247.0);
+      } else if (dist < -2) {
+        spill += !bg;
+      }
+    }
+  au_free(rgb);
+  remove(path);
+  AU_CHECK_INT(inside, >, (long)size * size / 4);
+  AU_CHECK_INT(gaps, ==, 0);
+  AU_CHECK_INT(spill, ==, 0);
+  *mean_dev = dev / inside;
+  return 0;
+}
+
+static int preview(void) {
+  char path[1024], png[1100];
+  snprintf(path, sizeof path, "%s/data/torus_r3.obj", AU_SOURCE_DIR);
+  snprintf(png, sizeof png, "%s/test_torus_preview.png", AU_BINARY_DIR);
+  au_mesh *m = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK_STATUS(au_mesh_read(path, &m, &msg), AU_OK, &msg);
+  au_options o = au_options_default();
+  double dev_start = 0, dev_flow = 0;
+  for (int q = 0; q < 2; q++) {
+    o.init_only = q == 0;
+    o.lattice = q == 0 ? AU_LATTICE_CONFORMAL : AU_LATTICE_SQUARE;
+    au_result *r = NULL;
+    AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_TORUS, &o, &r, &msg), AU_OK, &msg);
+    if (preview_stats(r, png, q == 0 ? 300 : 420, q == 0 ? &dev_start : &dev_flow)) return 1;
+    printf("preview: %s, mean |colour - white| %.2f\n", q == 0 ? "start" : "flow", q == 0 ? dev_start : dev_flow);
+    au_result_free(&r);
+  }
+  AU_CHECK_DBL(dev_start, >, 2 * dev_flow);
+  au_result *r = NULL;
+  au_mesh_free(&m);
+  snprintf(path, sizeof path, "%s/data/ellipsoid.obj", AU_SOURCE_DIR);
+  AU_CHECK_STATUS(au_mesh_read(path, &m, &msg), AU_OK, &msg);
+  o = au_options_default();
+  o.init_only = 1;
+  AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &r, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_torus_preview(png, r, 400, 0, &msg), AU_E_ARG, &msg);
+  FILE *fp = fopen(png, "rb");
+  AU_CHECK(fp == NULL);
+  au_result_free(&r);
+  au_mesh_free(&m);
+  return 0;
+}
+
 static int api_result(void) {
   char path[1024];
   snprintf(path, sizeof path, "%s/data/torus_r3.obj", AU_SOURCE_DIR);
@@ -674,7 +761,7 @@ int main(int argc, char **argv) {
       {"api_result", api_result},           {"square_lattice", square_lattice},
       {"corner_shifts", corner_shifts},     {"flow_tori", flow_tori},
       {"flow_square_lattice", flow_square_lattice}, {"flow_meshes", flow_meshes},
-      {"flow_cancel", flow_cancel},
+      {"flow_cancel", flow_cancel},         {"preview", preview},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof *cases));
 }

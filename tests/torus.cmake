@@ -1,12 +1,12 @@
 # tests for torus/ (closed genus-1 meshes onto a flat torus): the tree-cotree forms, the conformal
 # start's invariants, the closed-form maps of the tori of revolution under refinement (data/torus_r*.obj
 # and generated ones), the shared genus-1 meshes (bob, rocker_arm), the statuses of wrong topologies,
-# and the public API's torus result (au_map with AU_TARGET_TORUS).
+# the public API's torus result (au_map with AU_TARGET_TORUS) and its preview picture.
 au_test_module(test_torus test_torus.c
   homology_forms conformal_modulus data_tori scale_invariance shared_meshes bad_topology api_result square_lattice
-  corner_shifts flow_tori flow_square_lattice flow_meshes flow_cancel)
+  corner_shifts flow_tori flow_square_lattice flow_meshes flow_cancel preview)
 
 # `authalic torus` end to end (tests/cli/torus_runs.sh).
-foreach(c data shared flow genus0 open not_obj bad_lattice)
+foreach(c data shared flow preview genus0 open not_obj bad_lattice)
   au_cli_test(torus.${c} torus_runs.sh ${c})
 endforeach()

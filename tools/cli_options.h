@@ -113,6 +113,9 @@ enum {
   X(OPT_PREVIEW, "preview", "P.png", CLI_FILE, CLI_TEXTURE | CLI_SAMPLE,                                             \
     "the sphere map from +z and -z coloured by Upsilon = ln(surface/sphere area) from -0.5 (blue) to +0.5 (red), " \
     "with the Upsilon (dark red) and Lambda (blue) histograms")                                                      \
+  X(OPT_PREVIEW, "preview", "P.png", CLI_FILE, CLI_TORUS,                                                            \
+    "the map's vt triangles tiled 3 x 3 by the lattice, coloured by Upsilon = ln(surface/domain area) from -0.5 "   \
+    "(blue) to +0.5 (red), the fundamental domain outlined, with the Upsilon and Lambda histograms")                 \
   X(OPT_RENDER, "render", "R.png", CLI_FILE, CLI_TEXTURE,                                                            \
     "IN drawn with the baked texture through OUT.obj's coordinates, from the side of the seam and from the "       \
     "opposite side (needs --bake)")                                                                                  \

@@ -136,6 +136,12 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
   if (!rc && d) rc = cli_check_writable_path(a->help, d, "--distortion");
   if (!rc && cmd == CLI_TORUS && !cli_has_ext(a->pos[1], ".obj"))
     return cli_usage_error(a->help, "%s: the torus map is written as .obj (its seamless `vt` need OBJ)", a->pos[1]);
+  const char *pv = a->val[OPT_PREVIEW];
+  if (!rc && pv && !cli_has_ext(pv, ".png")) return cli_usage_error(a->help, "--preview '%s': use .png", pv);
+  if (!rc && pv && (cli_same_file(pv, a->pos[0]) || cli_same_file(pv, a->pos[1]) ||
+                    (a->val[OPT_REPORT] && cli_same_file(pv, a->val[OPT_REPORT]))))
+    return cli_usage_error(a->help, "--preview '%s' is also another input or output file", pv);
+  if (!rc && pv) rc = cli_check_writable_path(a->help, pv, "--preview");
   return rc ? rc : -1;
 }
 
@@ -285,8 +291,19 @@ static int run_map(const cli_args *a, au_options *o) {
     rc = cli_write_distortion(distortion, &mm, r->P, t == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE, meta);
     if (rc >= 0) goto done;
   }
+  /* The preview likewise first: a picture of a map that was not published is removed again. */
+  const char *preview = a->val[OPT_PREVIEW];
+  if (preview) {
+    cli_expect_output(preview);
+    st = au_torus_preview(preview, r, 1024, 0, &msg);
+    if (st < 0) {
+      rc = cli_fail(preview, st, &msg);
+      goto done;
+    }
+  }
   rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
   if (rc != EXIT_OK && distortion) unlink(distortion);
+  if (rc != EXIT_OK && preview) unlink(preview);
   if (rc == EXIT_OK && !quiet) summary(a->cmd, r, cli_now() - t_start);
 done:
   cli_progress_end(&prog);

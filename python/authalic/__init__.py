@@ -3,7 +3,8 @@
 A thin binding (ctypes, numpy) over libauthalic.so.1, the C library of the `authalic` program. A
 triangle mesh (V, F) is mapped onto the unit sphere (closed genus-0 meshes), the unit disk or the
 unit square (one boundary loop) or an annulus (two boundary loops), so that every part of the
-surface gets its fair share of the domain's area, with no triangle folded.
+surface gets its fair share of the domain's area, with no triangle folded; a closed genus-1 mesh goes
+onto a flat torus (the plane modulo a lattice), with seamless per-corner texture coordinates.
 
     import authalic
     V, F = authalic.read_mesh("bunny.obj")          # float64 (nv, 3), int32 (nf, 3), 0-based
@@ -16,6 +17,7 @@ surface gets its fair share of the domain's area, with no triangle folded.
 Functions (each with its own manual: help(authalic.sphere)):
     read_mesh, write_mesh           files (.obj .off .ply .stl in; .obj .off .ply out)
     sphere, disk, annulus, square   the maps: (positions, info)
+    torus                           the flat torus: (VT, FT, info), per-corner coordinates
     map_mesh                        any target, everything au_map returns (a MapResult)
     metrics                         the distortion of any map, under param-eval's key names
     version, blas_threads           the library's version; OpenBLAS's thread count
@@ -61,7 +63,7 @@ recorded by `make python` (authalic/_config.py), else from ../../build of a sour
 through the dynamic linker's search. At import the size of every public C struct it lays out is
 compared with au_struct_size of the loaded library; a mismatch fails the import with ImportError.
 
-Command line: `python3 -m authalic sphere|disk|annulus|square IN OUT [options]` behaves like the
+Command line: `python3 -m authalic sphere|disk|annulus|square|torus IN OUT [options]` behaves like the
 `authalic` program (same options, exit status 0 ok, 2 bad usage or bad input, 1 other failures).
 """
 import os as _os
@@ -88,7 +90,7 @@ _L = _lib.load()
 
 __version__ = _L.au_version().decode()
 __all__ = ["Error", "BadInputError", "AuthalicWarning", "MapResult", "read_mesh", "write_mesh", "sphere", "disk",
-           "annulus", "square", "map_mesh", "metrics", "version", "blas_threads"]
+           "annulus", "square", "torus", "map_mesh", "metrics", "version", "blas_threads"]
 
 _INT_MIN, _INT_MAX = -2 ** 31, 2 ** 31 - 1
 
@@ -196,22 +198,22 @@ def _real_array(a, name, cols, n=None):
     return _np.ascontiguousarray(x, dtype=_np.float64)
 
 
-def _faces(F):
+def _faces(F, name="F"):
     """F as a C-ordered int32 (nf, 3) array; integer values that do not fit in 32 bits, and
     non-integer values, are refused rather than wrapped."""
     try:
         x = _np.asarray(F)
     except Exception as e:
-        _bad("F: cannot be read as an array (%s)" % e)
+        _bad("%s: cannot be read as an array (%s)" % (name, e))
     if x.ndim != 2 or x.shape[1] != 3:
-        _bad("F: expected an array of shape (nf, 3), got shape %s" % (x.shape,))
+        _bad("%s: expected an array of shape (nf, 3), got shape %s" % (name, x.shape))
     if x.shape[0] > _INT_MAX:
-        _bad("F: too many faces (%d)" % x.shape[0])
+        _bad("%s: too many faces (%d)" % (name, x.shape[0]))
     if x.dtype.kind == "f":
         if not _np.all(_np.isfinite(x)) or not _np.all(x == _np.floor(x)):
-            _bad("F: face indices must be whole numbers")
+            _bad("%s: face indices must be whole numbers" % name)
     elif x.dtype.kind not in "iu":
-        _bad("F: expected integer face indices, got dtype %s" % x.dtype)
+        _bad("%s: expected integer face indices, got dtype %s" % (name, x.dtype))
     if x.dtype != _np.intc and x.size:
         lo, hi = x.min(), x.max()
         if lo < _INT_MIN or hi > _INT_MAX:
@@ -263,7 +265,7 @@ def read_mesh(path):
         _L.au_mesh_free(_ct.byref(m))
 
 
-def write_mesh(path, V, F, uv=None, precision=17):
+def write_mesh(path, V, F, uv=None, precision=17, vt=None, Ft=None):
     """Write a triangle mesh file, atomically.
 
     path: .obj, .off or .ply (ASCII); the format follows the extension.
@@ -272,6 +274,9 @@ def write_mesh(path, V, F, uv=None, precision=17):
     uv: optional per-vertex texture coordinates, shape (nv, 2), written as OBJ `vt` lines (ignored
         by the other formats). The planar maps' texture coordinates in [0,1]^2 are
         MapResult.uv; for disk() and annulus() output they are (UV + 1) / 2.
+    vt, Ft: per-corner texture coordinates instead of uv (OBJ only), both or neither: vt float (nvt, 2)
+        written as `vt` lines, Ft integers (nf, 3), 0-based rows of vt, written as `f v/vt`; what
+        torus() returns.
     precision: significant digits, 1..17 (17, the default, reads back exactly).
     The file is written under a temporary name beside path and renamed over it when complete, so a
     failure leaves neither a partial file nor a clobbered old one.
@@ -285,10 +290,22 @@ def write_mesh(path, V, F, uv=None, precision=17):
     if not isinstance(precision, _numbers.Integral) or not 1 <= precision <= 17:
         _bad("precision %r: expected a whole number from 1 to 17" % (precision,))
     o.precision = int(precision)
-    ua = None
+    ua = vta = Fta = None
     if uv is not None:
         ua = _real_array(uv, "uv", (2,), Va.shape[0])
         o.uv = _pd(ua)
+    if (vt is None) != (Ft is None):
+        _bad("write_mesh: vt and Ft go together")
+    if vt is not None:
+        if uv is not None:
+            _bad("write_mesh: uv or vt/Ft, not both")
+        vta = _real_array(vt, "vt", (2,))
+        Fta = _faces(Ft, "Ft")
+        if Fta.shape[0] != Fa.shape[0]:
+            _bad("Ft: %d rows; F has %d" % (Fta.shape[0], Fa.shape[0]))
+        if Fta.size and (Fta.min() < 0 or Fta.max() >= vta.shape[0]):
+            _bad("Ft: an index is outside vt's %d rows" % vta.shape[0])
+        o.nvt, o.vt, o.Ft = vta.shape[0], _pd(vta), _pi(Fta)
     msg = _lib.Msg()
     st = _L.au_mesh_write(_os.fsencode(path), Va.shape[0], _pd(Va), Fa.shape[0], _pi(Fa), _ct.byref(o),
                           _ct.byref(msg))
@@ -384,7 +401,10 @@ class MapResult:
     X:        float64 (nv, 3): surface positions (the input's, then the square's split midpoints).
     F:        int32 (nf, 3): faces (the input's, then the square's split faces).
     uv:       planar targets: float64 (nv, 2) texture coordinates in [0,1]^2 ((u+1)/2, (v+1)/2 for
-              disk and annulus; (u, v) for the square); None on the sphere.
+              disk and annulus; (u, v) for the square); None on the sphere and the torus.
+    vt, Ft, lattice: the torus's: vt float64 (nvt, 2) per-corner coordinates in the plane, Ft int32
+              (nf, 3) each corner's row of vt, lattice float64 (2, 2) the basis a1 = lattice[0],
+              a2 = lattice[1] (determinant 1); None for the other targets.
     nv_in, nf_in: the input's counts: rows [0, nv_in) of P and X, [0, nf_in) of F are the input's.
     info:     the JSON report as a dict (see sphere()).
     status:   "AU_OK", "AU_W_NOT_CONVERGED" or "AU_W_UNREFERENCED".
@@ -397,7 +417,7 @@ class MapResult:
 
     __slots__ = ("target", "P", "P0", "X", "F", "uv", "nv_in", "nf_in", "info", "status", "warnings",
                  "inner_radius", "modulus_radius", "outer_loop_vertex", "corners", "nsplit", "boundary_dev",
-                 "init_method")
+                 "init_method", "vt", "Ft", "lattice")
 
     def __repr__(self):
         return "<authalic.MapResult %s nv=%d nf=%d status=%s steps=%s folds=%s>" % (
@@ -416,6 +436,10 @@ def _collect(res, target, extra):
     out.X = _copy(r.X, (nv, 3), _np.float64)
     out.F = _copy(r.F, (nf, 3), _np.int32)
     out.uv = _copy(r.uv, (nv, 2), _np.float64)
+    out.vt = _copy(r.vt, (r.nvt, 2), _np.float64) if target == "torus" else None
+    out.Ft = _copy(r.Ft, (nf, 3), _np.int32) if target == "torus" else None
+    out.lattice = _np.array([[r.lattice[0][0], r.lattice[0][1]], [r.lattice[1][0], r.lattice[1][1]]]) \
+        if target == "torus" else None
     out.nv_in, out.nf_in = r.nv_in, r.nf_in
     out.status = _L.au_status_name(r.status).decode()
     out.warnings = [r.warnings[k].value.decode("utf-8", "replace") for k in range(r.nwarnings)]
@@ -487,9 +511,9 @@ def _real_opt(name, v, lo, hi, lo_open=False, hi_open=False):
 
 
 _PLANAR_ONLY = {"boundary": "disk, annulus and square", "inner_radius": "annulus", "outer_loop": "annulus",
-                "corners": "square", "restore_shapes": "sphere", "balance": "sphere"}
+                "corners": "square", "restore_shapes": "sphere", "balance": "sphere", "lattice": "torus"}
 _APPLIES = {"boundary": ("disk", "annulus", "square"), "inner_radius": ("annulus",), "outer_loop": ("annulus",),
-            "corners": ("square",), "restore_shapes": ("sphere",), "balance": ("sphere",)}
+            "corners": ("square",), "restore_shapes": ("sphere",), "balance": ("sphere",), "lattice": ("torus",)}
 
 
 def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_only, extra):
@@ -555,6 +579,11 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
             o.outer_loop = int(v)
         else:
             _bad("outer_loop %r: expected 'longer', 'shorter' or a vertex index" % (v,))
+    v = extra.get("lattice")
+    if v is not None:
+        if v not in _lib.AU_LATTICES:
+            _bad("lattice %r: expected 'conformal' or 'square'" % (v,))
+        o.lattice = _lib.AU_LATTICES[v]
     v = extra.get("corners")
     if v is not None:
         c = list(v) if isinstance(v, (list, tuple, _np.ndarray)) else []
@@ -640,14 +669,14 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
              init_only=False, _report_extra=None, _stacklevel=2, **kwargs):
     """Map the mesh (V, F) onto target and return everything the library computed (a MapResult).
 
-    target: "sphere", "disk", "annulus" or "square". The other arguments are those of sphere(),
-    disk(), annulus() and square(), whose manuals say more; the target-specific keywords
-    (restore_shapes, balance; boundary; inner_radius, outer_loop; corners) are accepted for their
-    targets only. Use this rather than square() when the square may split edges (MapResult.F then
+    target: "sphere", "disk", "annulus", "square" or "torus". The other arguments are those of
+    sphere(), disk(), annulus(), square() and torus(), whose manuals say more; the target-specific
+    keywords (restore_shapes, balance; boundary; inner_radius, outer_loop; corners; lattice) are
+    accepted for their targets only. Use this rather than square() when the square may split edges (MapResult.F then
     has more faces than F, and MapResult.X the split midpoints).
     """
     if target not in _lib.TARGETS:
-        _bad("target %r: expected 'sphere', 'disk', 'annulus' or 'square'" % (target,))
+        _bad("target %r: expected 'sphere', 'disk', 'annulus', 'square' or 'torus'" % (target,))
     Va = _real_array(V, "V", (3,))
     Fa = _faces(F)
     o, dens = _options(target, Va.shape[0], Fa.shape[0], steps, tol, density, angles, refine_faces, init_only, kwargs)
@@ -804,3 +833,29 @@ square.__doc__ = """Map a triangle mesh with one boundary loop onto the unit squ
         others in the order they follow it along the boundary (None: the most corner-like vertices
         near the arc-length quarters).
 """ + _PLANAR_RETURNS
+
+
+def torus(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=False, progress=False, *,
+          lattice="conformal", init_only=False):
+    r = map_mesh(V, F, "torus", steps, tol, density, angles, refine_faces, progress, init_only, _stacklevel=3,
+                 lattice=None if lattice == "conformal" else lattice)
+    return r.vt, r.Ft, r.info
+
+
+torus.__doc__ = """Map a closed genus-1 triangle mesh onto a flat torus with equal area.
+
+    VT, FT, info = authalic.torus(V, F)
+    authalic.write_mesh("bob_torus.obj", V, F, vt=VT, Ft=FT)   # the surface, with seamless vt
+
+    The flat torus is the plane modulo a lattice of area 1 (info["lattice"]: [[a1x, a1y], [a2x,
+    a2y]]). The conformal start needs no cut (a tree-cotree homology basis, harmonic 1-forms, the
+    period lattice); the flow keeps every face's corners at their lattice translations, so nothing
+    drifts apart. A face across the fundamental domain's edge has its own corner copies: the two
+    faces of any edge place its ends at positions that differ by one lattice vector (seamless).
+""" + _COMMON_DOC + """
+    lattice: "conformal" (default): the conformal modulus's lattice, scaled to determinant 1;
+        "square": the unit square (the conformal map composed with a linear map onto it).
+
+    Returns (VT, FT, info): VT float64 (nvt, 2) per-corner texture coordinates in the plane (nvt >=
+    nv: row i < nv belongs to vertex i, the rows after it are copies shifted by lattice vectors),
+    FT int32 (nf, 3) each corner's row of VT.""" + _RETURNS_DOC

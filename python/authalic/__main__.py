@@ -1,6 +1,6 @@
 """python3 -m authalic - the `authalic` program's map commands, through the Python binding.
 
-    python3 -m authalic sphere|disk|annulus|square IN OUT [options]
+    python3 -m authalic sphere|disk|annulus|square|torus IN OUT [options]
     python3 -m authalic COMMAND --help | --version
 
 The same options, messages and exit statuses as the program (0 ok, also with warnings; 2 bad usage
@@ -20,7 +20,7 @@ import authalic
 from authalic import _lib
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
-COMMANDS = ("sphere", "disk", "annulus", "square")
+COMMANDS = ("sphere", "disk", "annulus", "square", "torus")
 
 # name -> (metavar or None for a flag, commands, help); the program's option table, in its order.
 OPTIONS = [
@@ -31,7 +31,7 @@ OPTIONS = [
                            "sphere, 0.003 on planar targets)"),
     ("density", "FILE", COMMANDS, "prescribed density: one positive number per vertex (or per face) of IN, in "
                                   "order, whitespace-separated; domain area is proportional to density x surface area"),
-    ("boundary", "MODE", COMMANDS[1:], "slide (default): boundary vertices slide along the domain's boundary "
+    ("boundary", "MODE", COMMANDS[1:4], "slide (default): boundary vertices slide along the domain's boundary "
                                        "(square: corners fixed); fixed: the initial map's boundary is kept"),
     ("inner-radius", "R", ("annulus",), "radius of the inner circle, 0 < R < 1 (default: the conformal modulus's)"),
     ("outer-loop", "WHICH", ("annulus",), "the loop mapped to the unit circle: longer (default), shorter, or the "
@@ -45,6 +45,8 @@ OPTIONS = [
     ("angles", "N", COMMANDS, "N steps (1..50) towards the map of least Dirichlet energy with the vertex cells held "
                               "at their areas"),
     ("no-balance", None, ("sphere",), "skip the Moebius balancing of the conformal start"),
+    ("lattice", "SHAPE", ("torus",), "conformal (default): the conformal modulus's lattice, area 1; square: the unit "
+                                     "square's"),
     ("init-only", None, COMMANDS, "stop after the initial (conformal or harmonic) map, for comparison"),
     ("quiet", None, COMMANDS, "no progress and no summary on stderr (errors and warnings remain)"),
     ("help", None, COMMANDS, "this text"),
@@ -62,6 +64,8 @@ class BadFile(Exception):
 
 def usage_text(cmd):
     lines = ["usage: python3 -m authalic %s IN OUT [options]" % cmd, "",
+             ("Maps the closed genus-1 mesh IN onto a flat torus with equal area and writes it to OUT (.obj: the "
+              "surface with seamless per-corner vt),") if cmd == "torus" else
              "Maps the triangle mesh IN onto the %s with equal area and writes the map to OUT (.obj .off or .ply),"
              % {"sphere": "unit sphere", "disk": "unit disk", "annulus": "annulus of outer radius 1",
                 "square": "unit square"}[cmd],
@@ -174,6 +178,10 @@ def map_kwargs(cmd, vals):
                 kw["outer_loop"] = whole("outer-loop", v, 0, 2 ** 31 - 1)
             except Usage:
                 raise Usage("--outer-loop '%s': expected longer, shorter or a vertex index" % v) from None
+    if "lattice" in vals:
+        if vals["lattice"] not in _lib.AU_LATTICES:
+            raise Usage("--lattice '%s': expected conformal or square" % vals["lattice"])
+        kw["lattice"] = vals["lattice"]
     if "corners" in vals:
         parts = vals["corners"].split(",")
         try:
@@ -277,6 +285,11 @@ def summary(cmd, r, seconds):
     head = "authalic: %s: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g" % (
         cmd, r.P.shape[0], r.F.shape[0], r.info["steps"], m["folds"], m["r_mean_abs_dev"] or math.nan,
         m["vertex_logr_mean_abs"] or math.nan)
+    if cmd == "torus":
+        (a, b), (c, d) = r.lattice
+        sys.stderr.write("%s lattice=(%.6g,%.6g),(%.6g,%.6g) vt=%d start=%s time=%.2fs\n" % (
+            head, a, b, c, d, r.vt.shape[0], r.init_method or "?", seconds))
+        return
     if cmd == "sphere":
         lr = r.info["convergence"].get("lantern_retry")
         tail = "" if not lr else " (lantern retry kept)" if lr["kept"] else " (lantern retry discarded)"
@@ -297,6 +310,8 @@ def run(cmd, src, out, vals):
     report = vals.get("report")
     kw = map_kwargs(cmd, vals)
     check_outputs(src, out, report)
+    if cmd == "torus" and not out.lower().endswith(".obj"):
+        raise Usage("%s: the torus map is written as .obj (its seamless `vt` need OBJ)" % out)
     t0 = time.monotonic()
     try:
         V, F = authalic.read_mesh(src)
@@ -336,7 +351,10 @@ def run(cmd, src, out, vals):
     try:
         t0 = time.monotonic()
         try:
-            authalic.write_mesh(tmp, r.P, r.F, uv=r.uv)
+            if cmd == "torus":  # the surface in `v`, the map in the per-corner `vt`
+                authalic.write_mesh(tmp, r.X, r.F, vt=r.vt, Ft=r.Ft)
+            else:
+                authalic.write_mesh(tmp, r.P, r.F, uv=r.uv)
         except authalic.Error as e:
             return fail(out, str(e), isinstance(e, authalic.BadInputError))
         try:

@@ -17,7 +17,8 @@ AU_MAX_STEPS = 512
 AU_MAX_ANGLE_STEPS = 50
 AU_OUTER_LONGER, AU_OUTER_SHORTER = -1, -2
 AU_E_ARG, AU_E_CANCELLED = -2, -7
-TARGETS = {"sphere": 0, "disk": 1, "annulus": 2, "square": 3}
+TARGETS = {"sphere": 0, "disk": 1, "annulus": 2, "square": 3, "torus": 4}
+AU_LATTICES = {"conformal": 0, "square": 1}
 DOMAINS = {"sphere": 0, "plane": 1}
 
 # int (*au_progress_fn)(void *user, int step, int max_steps, double err)

@@ -128,6 +128,28 @@ flow)
     fail "--angles 1 on torus_r2 did not converge"
   FACE_MAX=0.048 check "$IN" flow
   ;;
+preview)
+  # --preview: a PNG 1024 wide beside the map (its content: test_torus.preview); refused unless .png
+  # or when it is another input or output; nothing written when the input is refused.
+  IN=$(stage "$SRC/data/torus_r3.obj")
+  run torus "$IN" "$OUT" --preview "$T/o/p.png" --quiet
+  expect_status 0
+  [ -f "$OUT" ] && [ -f "$T/o/p.png" ] || fail "--preview: the map or the picture is missing"
+  $PY -c "
+import struct, sys
+b = open(sys.argv[1], 'rb').read(24)
+sys.exit(not (b[:8] == b'\x89PNG\r\n\x1a\n' and struct.unpack('>I', b[16:20])[0] == 1024))" "$T/o/p.png" ||
+    fail "--preview: not a PNG 1024 pixels wide"
+  rm -f "$OUT" "$T/o/p.png"
+  run torus "$IN" "$OUT" --preview "$T/o/p.jpg"
+  expect_rejected "--preview '.*p.jpg': use .png"
+  run torus "$IN" "$OUT" --report "$T/o/p.png" --preview "$T/o/p.png"
+  expect_rejected "--preview '.*' is also another input or output file"
+  IN=$(stage "$SRC/data/ellipsoid.obj")
+  run torus "$IN" "$OUT" --preview "$T/o/p.png"
+  expect_rejected "genus 0 .*the torus map needs a closed genus-1 surface"
+  [ ! -e "$T/o/p.png" ] || fail "--preview written for a refused input"
+  ;;
 genus0)
   IN=$(stage "$SRC/data/ellipsoid.obj")
   run torus "$IN" "$OUT"
