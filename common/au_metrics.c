@@ -304,12 +304,12 @@ done:
   return st;
 }
 
-au_status au_metrics_vertex_distortion(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
-                                       double *out, int *ndegenerate) {
-  if (!X || !P || !F || !out || nv <= 0 || nf <= 0) return AU_E_ARG;
-  if (domain != AU_DOMAIN_SPHERE && domain != AU_DOMAIN_PLANE) return AU_E_ARG;
-  for (size_t i = 0; i < 3 * (size_t)nf; i++)
-    if (F[i] < 0 || F[i] >= nv) return AU_E_ARG;
+/* The vertex distortion of both public forms: the domain triangle of face f has corners P[F[3f+k]]
+ * (vt NULL) or, per corner, vt[Ft[3f+k]] in the plane (a torus map, whose faces across the
+ * fundamental domain's edge have their own corner copies). The cells are the input's vertices' in
+ * both: a third of every incident face's area, on the domain and on the surface. */
+static au_status vertex_distortion(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
+                                   const double *vt, const int *Ft, double *out, int *ndegenerate) {
   size_t nvs = (size_t)nv;
   double *vs = calloc(nvs, sizeof *vs);
   if (!vs) return AU_E_NOMEM;
@@ -318,7 +318,12 @@ au_status au_metrics_vertex_distortion(int nv, int nf, const double *X, const do
   double sd = 0, ss = 0, q[3][3], x[3][3], e1[3], e2[3], c[3];
   for (size_t f = 0; f < (size_t)nf; f++) {
     for (int k = 0; k < 3; k++) {
-      domain_corner(P, F, f, k, domain, q[k]);
+      if (vt) {
+        const double *t = vt + 2 * (size_t)Ft[3 * f + k];
+        q[k][0] = t[0], q[k][1] = t[1], q[k][2] = 0;
+      } else {
+        domain_corner(P, F, f, k, domain, q[k]);
+      }
       memcpy(x[k], X + 3 * (size_t)F[3 * f + k], sizeof x[k]);
     }
     sub3(q[1], q[0], e1), sub3(q[2], q[0], e2), cross3(e1, e2, c);
@@ -344,4 +349,21 @@ au_status au_metrics_vertex_distortion(int nv, int nf, const double *X, const do
   free(vs);
   if (ndegenerate) *ndegenerate = ndeg;
   return AU_OK;
+}
+
+au_status au_metrics_vertex_distortion(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
+                                       double *out, int *ndegenerate) {
+  if (!X || !P || !F || !out || nv <= 0 || nf <= 0) return AU_E_ARG;
+  if (domain != AU_DOMAIN_SPHERE && domain != AU_DOMAIN_PLANE) return AU_E_ARG;
+  for (size_t i = 0; i < 3 * (size_t)nf; i++)
+    if (F[i] < 0 || F[i] >= nv) return AU_E_ARG;
+  return vertex_distortion(nv, nf, X, P, F, domain, NULL, NULL, out, ndegenerate);
+}
+
+au_status au_metrics_vertex_distortion_vt(int nv, int nf, const double *X, const int *F, int nvt, const double *vt,
+                                          const int *Ft, double *out, int *ndegenerate) {
+  if (!X || !F || !vt || !Ft || !out || nv <= 0 || nf <= 0 || nvt <= 0) return AU_E_ARG;
+  for (size_t i = 0; i < 3 * (size_t)nf; i++)
+    if (F[i] < 0 || F[i] >= nv || Ft[i] < 0 || Ft[i] >= nvt) return AU_E_ARG;
+  return vertex_distortion(nv, nf, X, NULL, F, AU_DOMAIN_PLANE, vt, Ft, out, ndegenerate);
 }

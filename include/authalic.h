@@ -487,6 +487,12 @@ AU_API au_status au_metrics_compute(int nv, int nf, const double *X, const doubl
  * AU_E_NOMEM. */
 AU_API au_status au_metrics_vertex_distortion(int nv, int nf, const double *X, const double *P, const int *F, au_domain domain,
                                        double *out, int *ndegenerate);
+/* The same for a map given by per-corner texture coordinates (a torus result's vt, Ft): face f's
+ * domain triangle has corners vt[Ft[3f+k]]; the cells are still the nv vertices of F (a vertex on
+ * the fundamental domain's edge gathers the areas of all its copies), so out has nv values.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
+AU_API au_status au_metrics_vertex_distortion_vt(int nv, int nf, const double *X, const int *F, int nvt, const double *vt,
+                                                 const int *Ft, double *out, int *ndegenerate);
 
 /* The per-step log of a map's flow. */
 typedef struct au_convergence {

@@ -7,6 +7,6 @@ au_test_module(test_torus test_torus.c
   corner_shifts flow_tori flow_square_lattice flow_meshes flow_cancel preview)
 
 # `authalic torus` end to end (tests/cli/torus_runs.sh).
-foreach(c data shared flow preview genus0 open not_obj bad_lattice)
+foreach(c data shared flow preview distortion genus0 open not_obj bad_lattice)
   au_cli_test(torus.${c} torus_runs.sh ${c})
 endforeach()

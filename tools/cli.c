@@ -325,12 +325,13 @@ int cli_output_format(const char *help, const char *out, au_io_format forced, co
   return 0;
 }
 
-int cli_write_distortion(const char *path, const au_mesh *m, const double *P, au_domain domain,
-                         const au_io_meta *meta) {
+int cli_write_distortion(const char *path, const au_mesh *m, const double *P, au_domain domain, int nvt,
+                         const double *vt, const int *Ft, const au_io_meta *meta) {
   au_msg msg = {{0}};
   double *d = malloc((size_t)m->nv * sizeof *d);
   if (!d) return cli_fail(path, AU_E_NOMEM, NULL);
-  au_status st = au_metrics_vertex_distortion(m->nv, m->nf, m->X, P, m->F, domain, d, NULL);
+  au_status st = vt ? au_metrics_vertex_distortion_vt(m->nv, m->nf, m->X, m->F, nvt, vt, Ft, d, NULL)
+                    : au_metrics_vertex_distortion(m->nv, m->nf, m->X, P, m->F, domain, d, NULL);
   if (st == AU_OK) st = au_io_write_scalars(path, m->nv, d, m->nf, meta, &msg);
   free(d);
   return st == AU_OK ? -1 : cli_fail(path, st, &msg);

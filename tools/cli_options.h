@@ -82,7 +82,7 @@ enum {
   X(OPT_RADIUS, "radius", "R", CLI_VALUE, CLI_SPHERE,                                                                \
     "write the sphere with radius R > 0 (FreeSurfer and HCP spheres: 100); the metrics and the report are those "   \
     "of the unit sphere (default 1)")                                                                                \
-  X(OPT_DISTORTION, "distortion", "FILE", CLI_FILE, CLI_SPHERE | CLI_PLANAR | CLI_TEXTURE,                           \
+  X(OPT_DISTORTION, "distortion", "FILE", CLI_FILE, CLI_SPHERE | CLI_PLANAR | CLI_TEXTURE | CLI_TORUS,               \
     "per-vertex areal distortion log2(map area share / surface area share) of the barycentric vertex cells "         \
     "(HCP's convention): a FreeSurfer curv file, or GIfTI when FILE ends in .gii (e.g. .shape.gii)")                \
   X(OPT_PROJECTION, "projection", "P", CLI_VALUE, CLI_TEXTURE,                                                       \

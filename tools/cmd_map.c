@@ -139,7 +139,7 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
   const char *pv = a->val[OPT_PREVIEW];
   if (!rc && pv && !cli_has_ext(pv, ".png")) return cli_usage_error(a->help, "--preview '%s': use .png", pv);
   if (!rc && pv && (cli_same_file(pv, a->pos[0]) || cli_same_file(pv, a->pos[1]) ||
-                    (a->val[OPT_REPORT] && cli_same_file(pv, a->val[OPT_REPORT]))))
+                    (a->val[OPT_REPORT] && cli_same_file(pv, a->val[OPT_REPORT])) || (d && cli_same_file(pv, d))))
     return cli_usage_error(a->help, "--preview '%s' is also another input or output file", pv);
   if (!rc && pv) rc = cli_check_writable_path(a->help, pv, "--preview");
   return rc ? rc : -1;
@@ -288,7 +288,8 @@ static int run_map(const cli_args *a, au_options *o) {
   /* The distortion file first (its own atomic write), removed again if OUT cannot be published. */
   if (distortion) {
     au_mesh mm = {r->nv, r->nf, r->X, r->F};
-    rc = cli_write_distortion(distortion, &mm, r->P, t == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE, meta);
+    rc = cli_write_distortion(distortion, &mm, r->P, t == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE, r->nvt,
+                              t == AU_TARGET_TORUS ? r->vt : NULL, r->Ft, meta);
     if (rc >= 0) goto done;
   }
   /* The preview likewise first: a picture of a map that was not published is removed again. */

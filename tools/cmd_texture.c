@@ -392,7 +392,7 @@ static int run_texture(const tex_args *a) {
     if (rc >= 0) goto done;
   }
   if (a->distortion) {
-    rc = cli_write_distortion(a->distortion, m, P, AU_DOMAIN_SPHERE, meta);
+    rc = cli_write_distortion(a->distortion, m, P, AU_DOMAIN_SPHERE, 0, NULL, NULL, meta);
     if (rc >= 0) {
       for (int k = 0; k < w.n; k++) unlink(w.path[k]);
       goto done;

@@ -150,6 +150,46 @@ sys.exit(not (b[:8] == b'\x89PNG\r\n\x1a\n' and struct.unpack('>I', b[16:20])[0]
   expect_rejected "genus 0 .*the torus map needs a closed genus-1 surface"
   [ ! -e "$T/o/p.png" ] || fail "--preview written for a refused input"
   ;;
+distortion)
+  # --distortion: one value per input vertex (FreeSurfer curv, float32), log2 of the vertex cell's
+  # share on the torus (a third of every incident vt triangle, all copies of a seam vertex together)
+  # over its share on the surface, recomputed here from the written map.
+  IN=$(stage "$SRC/data/torus_r3.obj")
+  run torus "$IN" "$OUT" --distortion "$T/o/d.curv" --quiet
+  expect_status 0
+  $PY - "$OUT" "$T/o/d.curv" <<'PYEOF' || fail "--distortion disagrees with the map"
+import math, struct, sys
+V, VT, F, FT = [], [], [], []
+for line in open(sys.argv[1]):
+    t = line.split()
+    if not t: continue
+    if t[0] == 'v': V.append(tuple(map(float, t[1:4])))
+    elif t[0] == 'vt': VT.append(tuple(map(float, t[1:3])))
+    elif t[0] == 'f':
+        F.append([int(c.split('/')[0]) - 1 for c in t[1:4]])
+        FT.append([int(c.split('/')[1]) - 1 for c in t[1:4]])
+b = open(sys.argv[2], 'rb').read()
+assert b[:3] == b'\xff\xff\xff', "not a curv file"
+nv, nf, per = struct.unpack('>iii', b[3:15])
+vals = struct.unpack('>%df' % nv, b[15:15 + 4 * nv])
+assert nv == len(V) and nf == len(F) and per == 1, (nv, nf, per)
+cd, cs = [0.0] * nv, [0.0] * nv
+for f, ft in zip(F, FT):
+    p, q, r = (VT[k] for k in ft)
+    ad = 0.5 * abs((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]))
+    x, y, z = (V[k] for k in f)
+    u = [y[i] - x[i] for i in range(3)]; w = [z[i] - x[i] for i in range(3)]
+    c = (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+    As = 0.5 * math.sqrt(sum(e * e for e in c))
+    for k in f:
+        cd[k] += ad / 3; cs[k] += As / 3
+SD, SS = sum(cd), sum(cs)
+worst = max(abs(v - math.log2((cd[i] / SD) / (cs[i] / SS))) for i, v in enumerate(vals))
+spread = max(abs(v) for v in vals)
+print("distortion: max |value| %.4g, largest difference %.3g" % (spread, worst), file=sys.stderr)
+sys.exit(0 if worst <= 1e-6 and spread > 0 else 1)
+PYEOF
+  ;;
 genus0)
   IN=$(stage "$SRC/data/ellipsoid.obj")
   run torus "$IN" "$OUT"

@@ -26,21 +26,23 @@ command -v snakemake >/dev/null 2>&1 || skip "no snakemake (scripts/setup-debian
 $PY -c 'import numpy, matplotlib' 2>/dev/null || skip "no numpy or matplotlib for $PY (scripts/setup-debian.sh)"
 [ -x "$PROG" ] || fail "no program at $PROG"
 
-# make_cohort DIR: copies six meshes (../shared/meshes when present, data/ otherwise) and one file
+# make_cohort DIR: copies seven meshes (../shared/meshes when present, data/ otherwise) and one file
 # of the bad-input corpus into DIR/in and writes DIR/manifest.tsv (absolute paths, and one row with
 # a relative path, which the manifest's folder anchors). Every command appears; one row has options;
-# the first (sphere) row has a density file and an attribute file, the fourth (disk) an attribute,
-# the sixth one of the wrong length.
+# the first (sphere) row has a density file and an attribute file, the fourth (disk) and the seventh
+# (torus) an attribute, the sixth one of the wrong length.
 make_cohort() {
   local d=$1 rows
   mkdir -p "$d/in" || fail "cannot make $d/in"
   if [ -d "$SHARED/meshes" ]; then
     rows="spot_lowres:spot_lowres.obj:sphere: cow:cow.off:sphere:--steps_30 hippocampus:hippocampus.obj:sphere:
-          hand_disk:hand_lowres.obj:disk: hand_square:hand_lowres.obj:square: amoeba:amoeba_annulus.obj:annulus:"
+          hand_disk:hand_lowres.obj:disk: hand_square:hand_lowres.obj:square: amoeba:amoeba_annulus.obj:annulus:
+          bob:bob.obj:torus:"
     MESHDIR=$SHARED/meshes
   else
     rows="ellipsoid:ellipsoid.obj:sphere: spiky:spiky_ico.obj:sphere:--steps_30 dumbbell:dumbbell.obj:sphere:
-          disk_bump:disk_bump.obj:disk: holed_square:holed_sphere.obj:square: annulus_bump:annulus_bump.obj:annulus:"
+          disk_bump:disk_bump.obj:disk: holed_square:holed_sphere.obj:square: annulus_bump:annulus_bump.obj:annulus:
+          torus_r3:torus_r3.obj:torus:"
     MESHDIR=$SRC/data
   fi
   printf 'id\tinput\tcommand\toptions\tdensity\tattribute\n' > "$d/manifest.tsv"
@@ -52,7 +54,7 @@ make_cohort() {
     # The first row names its input relative to the manifest's folder; the others absolutely.
     if [ $n = 1 ]; then path=in/$file; else path=$d/in/$file; fi
     dens= attr=
-    if [ $n = 1 ] || [ $n = 4 ]; then
+    if [ $n = 1 ] || [ $n = 4 ] || [ $n = 7 ]; then
       # Per-vertex files: attribute = height z; density = 2 on the upper half, 1 below.
       $PY - "$d/in/$file" "$d/in/$id" <<'PYEOF' || fail "cannot write the per-vertex files of $file"
 import os, sys

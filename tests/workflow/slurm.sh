@@ -26,11 +26,11 @@ snakemake -s "$SNAKEFILE" --profile "$SRC/workflow/profiles/slurm" --directory o
   --config manifest=manifest.tsv authalic="$PROG" >"$d/run1.log" 2>&1 ||
   { tail -40 "$d/run1.log" >&2; fail "snakemake --profile workflow/profiles/slurm exited $?"; }
 n=$(grep -c "has been submitted with SLURM jobid" "$d/run1.log")
-# 7 rows x (map, preview) + 3 attribute pictures, and 7 distortion jobs where authalic has no
+# 8 rows x (map, preview) + 4 attribute pictures, and 8 distortion jobs where authalic has no
 # --distortion (the map job writes it otherwise); the cohort summary runs locally.
-want=17
-"$PROG" sphere --help 2>&1 | grep -q -- '--distortion' || want=24
-[ "$n" -eq "$want" ] || fail "$n jobs submitted to Slurm, expected $want (7 rows x map, preview[, distortion]; 3 attributes)"
+want=20
+"$PROG" sphere --help 2>&1 | grep -q -- '--distortion' || want=28
+[ "$n" -eq "$want" ] || fail "$n jobs submitted to Slurm, expected $want (8 rows x map, preview[, distortion]; 4 attributes)"
 $PY "$CHECK" "$d/out" "$d/manifest.tsv" "$PROG" --slurm "$d/daemons/jobcomp.log" || fail "the cohort's outputs (above)"
 # A second run through Slurm has nothing to submit.
 snakemake -s "$SNAKEFILE" --profile "$SRC/workflow/profiles/slurm" --directory out \

@@ -1,13 +1,14 @@
 """attribute.py - a per-vertex attribute of the surface drawn through its map (the manifest's
 `attribute` column: a text file with one number per vertex of the input, in order).
 
-    attribute.py IN MAP.obj ATTR.txt OUT.png --command sphere|disk|annulus|square
+    attribute.py IN MAP.obj ATTR.txt OUT.png --command sphere|disk|annulus|square|torus
                  [--authalic PROG] [--status S.json] [--title TEXT]
 
 Sphere maps: the equal-area texture `authalic texture IN --map MAP T.obj --bake ATTR --image OUT.png`
 bakes (Lambert cylindrical equal-area, 1024x512, viridis): every texel stands for the same surface
 area. Planar maps: the attribute interpolated over the map's triangles (viridis), the square's
-split-edge midpoints taking the mean of their edge's ends. With --status S.json of a failed row
+split-edge midpoints taking the mean of their edge's ends. Torus maps: the same over the per-corner
+vt triangles (each copy of a seam vertex takes its vertex's value). With --status S.json of a failed row
 (status != 0) it writes an empty OUT.png, like the map rule's placeholders.
 """
 import argparse
@@ -37,7 +38,7 @@ def main():
     ap.add_argument("map")
     ap.add_argument("attribute")
     ap.add_argument("out")
-    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square"])
+    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square", "torus"])
     ap.add_argument("--authalic", default="authalic")
     ap.add_argument("--status", default="")
     ap.add_argument("--title", default="")
@@ -68,9 +69,15 @@ def work(a):
     val = np.loadtxt(a.attribute, dtype=np.float64).reshape(-1)
     if len(val) != len(X):
         raise ValueError(f"{a.attribute} has {len(val)} values for {len(X)} vertices of {a.input}")
-    full = np.concatenate([val, np.zeros(len(P) - len(X))])
-    for k, (u, v) in meshio_np.split_ends(X, F, P, G).items():
-        full[k] = 0.5 * (val[u] + val[v])
+    if a.command == "torus":
+        VT, FT = meshio_np.read_obj_vt(a.map)
+        full = np.zeros(len(VT))
+        full[FT.reshape(-1)] = val[G.reshape(-1)]
+        P, G = VT, FT
+    else:
+        full = np.concatenate([val, np.zeros(len(P) - len(X))])
+        for k, (u, v) in meshio_np.split_ends(X, F, P, G).items():
+            full[k] = 0.5 * (val[u] + val[v])
     fig, ax = plt.subplots(figsize=(6.5, 5.5))
     tc = ax.tripcolor(mtri.Triangulation(P[:, 0], P[:, 1], G), full, shading="gouraud", cmap="viridis")
     fig.colorbar(tc, ax=ax, shrink=0.8, label=os.path.basename(a.attribute))

@@ -3,7 +3,8 @@
 Only what the workflow needs: vertex positions (#V by 3, float64) and triangles (#F by 3, int64,
 0-based). The inputs have already passed `authalic`'s own reader (these scripts only run on rows
 whose map succeeded), so the readers are lenient and raise ValueError on anything they do not
-understand rather than guessing. Also: per-face areas, the face count from a file's header (cheap,
+understand rather than guessing. Also: an OBJ's per-corner texture coordinates (the torus map's
+seamless vt), per-face areas, the face count from a file's header (cheap,
 for the scheduler's resource estimates), and the surface positions of the vertices that the square
 map appends when it splits an edge.
 """
@@ -176,6 +177,25 @@ def _read_stl(data):
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
     return uniq[order].astype(np.float64), rank[inverse.reshape(-1)].reshape(-1, 3).astype(np.int64)
+
+
+def read_obj_vt(path):
+    """Return (VT, FT) of an OBJ file written with per-corner texture coordinates (`f v/vt`, the torus
+    map): VT #vt by 2, FT #F by 3 (0-based rows of VT, in the order of the faces)."""
+    VT, FT = [], []
+    with open(path, "rb") as fh:
+        for line in fh.read().decode("utf-8", "replace").splitlines():
+            t = line.split()
+            if not t:
+                continue
+            if t[0] == "vt":
+                VT.append([float(t[1]), float(t[2])])
+            elif t[0] == "f":
+                try:
+                    FT.append([int(c.split("/")[1]) - 1 for c in t[1:4]])
+                except (IndexError, ValueError):
+                    raise ValueError(f"{path}: a face without texture coordinates: {line.strip()!r}") from None
+    return np.array(VT, dtype=np.float64).reshape(-1, 2), _triangles(FT)
 
 
 def face_areas(X, F):

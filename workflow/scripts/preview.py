@@ -1,13 +1,15 @@
 """preview.py - the preview picture of one map of the workflow.
 
-    preview.py IN MAP.obj OUT.png --command sphere|disk|annulus|square [--authalic PROG]
-               [--status S.json] [--title TEXT]
+    preview.py IN MAP.obj OUT.png --command sphere|disk|annulus|square|torus [--authalic PROG]
+               [--status S.json] [--report R.json] [--title TEXT]
 
 Sphere maps: `authalic texture IN --map MAP T.obj --preview OUT.png` draws the map from +z and -z
 coloured by Upsilon with its histograms (T.obj goes to a temporary folder). Planar maps (disk,
 annulus, square; the CLI has no preview for them): the map's triangles coloured by
 Upsilon = ln(surface area share / map area share) on the same scale (-0.5 blue .. +0.5 red), with
-the histogram of Upsilon beside it (matplotlib). With --status S.json of a failed row
+the histogram of Upsilon beside it (matplotlib). Torus maps: the same for the map's per-corner vt
+triangles, tiled 3 x 3 by the report's lattice (seamless maps tile with no gap), the fundamental
+domain outlined. With --status S.json of a failed row
 (status != 0) it writes an empty OUT.png, like the map rule's placeholders.
 """
 import argparse
@@ -43,7 +45,8 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--status", default="")
     ap.add_argument("--title", default="")
-    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square"])
+    ap.add_argument("--report", default="", help="the map's report (the torus's lattice)")
+    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square", "torus"])
     ap.add_argument("--authalic", default="authalic")
     a = ap.parse_args()
     return product.guarded(lambda: work(a), a.out)
@@ -64,19 +67,35 @@ def work(a):
         return
     X, F = meshio_np.read_mesh(a.input)
     P, G = meshio_np.read_mesh(a.map)
-    Y = meshio_np.surface_for_map(X, F, P, G)
-    As, Am = meshio_np.face_areas(Y, G), meshio_np.face_areas(P[:, :2], G)
+    tiles = [(0.0, 0.0)]
+    L = None
+    if a.command == "torus":
+        # The map is in the vt: its triangles, the surface's own (P is the surface), tiled by the lattice.
+        VT, FT = meshio_np.read_obj_vt(a.map)
+        L = np.array(json.load(open(a.report))["lattice"], dtype=np.float64)
+        tiles = [tuple(i * L[0] + j * L[1]) for i in (-1, 0, 1) for j in (-1, 0, 1)]
+        Y, P, G = P, VT, FT
+        As, Am = meshio_np.face_areas(Y, F), meshio_np.face_areas(P, G)
+    else:
+        Y = meshio_np.surface_for_map(X, F, P, G)
+        As, Am = meshio_np.face_areas(Y, G), meshio_np.face_areas(P[:, :2], G)
     with np.errstate(divide="ignore", invalid="ignore"):
         ups = np.log((As / As.sum()) / (Am / Am.sum()))
     fig, (ax, hx) = plt.subplots(1, 2, figsize=(10, 5), gridspec_kw={"width_ratios": [1.3, 1]})
     # Edges help on small meshes; from 20000 faces they would only darken the picture.
-    edges = dict(edgecolors=(0, 0, 0, 0.25), linewidths=0.2) if len(G) < 20000 else dict(edgecolors="none")
-    pc = PolyCollection(P[G][:, :, :2], array=np.clip(ups, -0.5, 0.5), cmap="coolwarm",
-                        antialiaseds=False, **edges)
+    edges = dict(edgecolors=(0, 0, 0, 0.25), linewidths=0.2) if len(G) * len(tiles) < 20000 else dict(edgecolors="none")
+    tri = P[G][:, :, :2]
+    pc = PolyCollection(np.concatenate([tri + np.array(t) for t in tiles]), array=np.tile(np.clip(ups, -0.5, 0.5),
+                        len(tiles)), cmap="coolwarm", antialiaseds=False, **edges)
     pc.set_clim(-0.5, 0.5)
     ax.add_collection(pc)
-    ax.set_xlim(P[:, 0].min() - 0.02, P[:, 0].max() + 0.02)
-    ax.set_ylim(P[:, 1].min() - 0.02, P[:, 1].max() + 0.02)
+    lo = np.min([P[:, :2].min(axis=0) + t for t in tiles], axis=0)
+    hi = np.max([P[:, :2].max(axis=0) + t for t in tiles], axis=0)
+    ax.set_xlim(lo[0] - 0.02, hi[0] + 0.02)
+    ax.set_ylim(lo[1] - 0.02, hi[1] + 0.02)
+    if L is not None:
+        c = np.array([[0, 0], L[0], L[0] + L[1], L[1], [0, 0]])
+        ax.plot(c[:, 0], c[:, 1], color="black", linewidth=1.5)
     ax.set_aspect("equal")
     ax.set_axis_off()
     fig.colorbar(pc, ax=ax, shrink=0.7, label="Upsilon = ln(surface share / map share)")
