@@ -66,8 +66,9 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
 /* Refine a sphere map where the chord floor binds (sphere/au_sphere_refine.c): the longest edge of each
  * face whose least chord area (au_dec_sphere_chord_floor) exceeds half its share is split at its
  * midpoint (on the surface: the average of its ends; on the sphere: the great arc's midpoint), and the
- * flow runs again on the refined mesh from there; up to three rounds, while the faces stay within
- * max_faces x m->nf.
+ * flow runs again on the refined mesh from there, at the shear weight's floor; up to three rounds,
+ * while the faces stay within max_faces x m->nf. A second refinement does the same for every face
+ * whose floor exceeds a tenth of its share, and the refined map with the lower vertex error is kept.
  * m: the input mesh (validated, closed, genus 0); P: its map (nv x 3, fold-free, e.g. au_sphere_map's).
  * opts: the flow's options (may be NULL); max_faces >= 1 (2: at most twice the faces).
  * out, Pout: the refined mesh and its map, library-allocated (au_mesh_free, free): the input's vertices
@@ -75,7 +76,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
  * pieces come after the input's faces. parent [0..2*nnew-1], param [0..nnew-1] (free): new vertex
  * m->nv + k lies at (1 - param[k]) X[parent[2k]] + param[k] X[parent[2k+1]] (a parent may itself be
  * new, with a smaller number), on the surface. With nothing to split, out is a copy and nnew is 0.
- * rep (may be NULL) gets the last flow's report in rep->flow.
+ * rep (may be NULL) gets the kept refinement's last flow's report in rep->flow.
  * Returns AU_OK, AU_W_NOT_CONVERGED (the last flow missed its tolerance; the map is fold-free),
  * AU_E_ARG, AU_E_NOMEM, or an error of au_advect_run. */
 au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,

@@ -6,17 +6,25 @@
  * average of two points of one surface triangle) and on the sphere at the midpoint of the great arc,
  * which splits each spherical triangle into spherical sub-triangles, so the refined map is as fold-free
  * as the map it came from. Then the flow runs again on the refined mesh from there. Rounds repeat
- * while faces still sit on the floor and the face budget allows. */
+ * while faces still sit on the floor and the face budget allows.
+ *
+ * Which faces to split is a trade the measurements do not settle one way (docs/hard-meshes.md,
+ * session 11): splitting only the faces on the floor leaves the rest of a limb's band as the next
+ * floor (cow), while splitting the whole band spends the budget where the re-flow gains nothing and
+ * leaves more vertices to settle (cheburashka). So both are made, from the same map, and the map
+ * whose vertex cells are nearer their shares is kept. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "au_dec.h"
+#include "au_metrics.h"
 #include "au_sphere.h"
 
 /* A face counts as held by the floor when its chord floor exceeds this fraction of its share: from
- * there the polish's steps shrink towards nothing at it (docs/hard-meshes.md). */
-#define AU_REFINE_FLOOR_SHARE 0.5
+ * there the polish's steps shrink towards nothing at it (docs/hard-meshes.md). The second candidate
+ * also splits the band around such faces, whose floors are a tenth of their share and up. */
+static const double refine_floor_share[] = {0.5, 0.1};
 
 /* Rounds of split and re-flow at most. */
 #define AU_REFINE_ROUNDS 3
@@ -36,10 +44,11 @@ static double dist3(const double *a, const double *b) {
   return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-/* The edges to split: of each face held by the floor, its longest chord edge; the most held first,
- * while each split's two new faces fit the budget. mark [0..ne-1] out (1: split). Returns their count. */
-static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, int budget, unsigned char *mark,
-                      split_cand *cand) {
+/* The edges to split: of each face whose chord floor exceeds floor_share of its share, its longest
+ * chord edge; the most held first, while each split's two new faces fit the budget. mark [0..ne-1]
+ * out (1: split). Returns their count. */
+static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, double floor_share, int budget,
+                      unsigned char *mark, split_cand *cand) {
   const int nf = m->nf;
   double *As = malloc(sizeof(double) * (size_t)nf);
   if (!As) return -1;
@@ -51,7 +60,7 @@ static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, int b
     const int *v = m->F + 3 * f;
     const double *a = P + 3 * v[0], *b = P + 3 * v[1], *c = P + 3 * v[2];
     double share = 4 * M_PI * As[f] / sAs, floor_area = au_dec_sphere_chord_floor(a, b, c);
-    if (!(floor_area > AU_REFINE_FLOOR_SHARE * share)) continue;
+    if (!(floor_area > floor_share * share)) continue;
     int kbest = 0;
     double lbest = -1;
     for (int k = 0; k < 3; k++) {
@@ -154,13 +163,10 @@ static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const 
   return AU_OK;
 }
 
-au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,
-                           au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
-                           au_sphere_report *rep, au_msg *msg) {
-  if (!m || !P || !out || !Pout || !parent || !param || !nnew || !(max_faces >= 1))
-    return au_msg_set(msg, AU_E_ARG, "refine: bad arguments");
-  *out = NULL, *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0;
-  au_sphere_opts o = opts ? *opts : au_sphere_opts_default();
+/* One candidate: rounds of splits by floor_share and re-flows, from the map (m, P). */
+static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_opts *o, double max_faces,
+                             double floor_share, au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
+                             au_advect_report *ar, au_msg *msg) {
   au_mesh *mr = NULL;
   au_status st = au_mesh_copy(m, &mr);
   double *Pr = malloc(sizeof(double) * 3 * (size_t)m->nv);
@@ -171,6 +177,11 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   memcpy(Pr, P, sizeof(double) * 3 * (size_t)m->nv);
   const long cap = (long)(max_faces * m->nf);
   au_advect_domain dom = au_sphere_domain();
+  /* The map is already near equal area where it is not held: the re-flow starts at the shear weight
+   * the first flow ended with, not the schedule's 1, which re-stretched the bands it had split (cow:
+   * vertex error 0.0159 from shear 1, 0.0134 from the tail; docs/hard-meshes.md). */
+  au_advect_opts fo = o->flow;
+  fo.shear = fo.shear_tail;
   for (int round = 0; round < AU_REFINE_ROUNDS && st >= 0; round++) {
     au_topo *t = NULL;
     au_status s2 = au_mesh_topology(mr, &t, msg);
@@ -180,7 +191,7 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     if (s2 == AU_OK && !cand) s2 = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
     if (s2 == AU_OK) {
       long budget = cap - mr->nf;
-      n = pick_edges(mr, t, Pr, budget > 0x3fffffff ? 0x3fffffff : (int)budget, mark, cand);
+      n = pick_edges(mr, t, Pr, floor_share, budget > 0x3fffffff ? 0x3fffffff : (int)budget, mark, cand);
       if (n < 0) s2 = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
     }
     if (s2 == AU_OK && n > 0) s2 = split_round(&mr, t, &Pr, mark, n, parent, param, nnew, msg);
@@ -192,10 +203,7 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     }
     if (n == 0) break;
     /* The flow again on the refined mesh, from the split map (fold-free: spherical sub-triangles). */
-    if ((s2 = au_mesh_topology(mr, &t, msg)) == AU_OK) {
-      au_advect_report *ar = rep ? &rep->flow : NULL;
-      s2 = au_advect_run(mr, t, &dom, &o.flow, Pr, ar, msg);
-    }
+    if ((s2 = au_mesh_topology(mr, &t, msg)) == AU_OK) s2 = au_advect_run(mr, t, &dom, &fo, Pr, ar, msg);
     au_topo_free(&t);
     if (s2 < 0) {
       st = s2;
@@ -204,10 +212,64 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     st = s2;
   }
   if (st < 0) {
-    au_mesh_free(&mr), free(Pr), free(*parent), free(*param);
-    *parent = NULL, *param = NULL, *nnew = 0;
+    au_mesh_free(&mr), free(Pr);
     return st;
   }
   *out = mr, *Pout = Pr;
+  return st;
+}
+
+/* The vertex cells' mean |ln(domain share / surface share)| of a sphere map (what the reports give as
+ * vertex_logr_mean_abs); +inf when it cannot be measured. */
+static double vertex_error(const au_mesh *m, const double *P) {
+  double *d = malloc(sizeof(double) * (size_t)m->nv), s = 0;
+  if (!d || au_metrics_vertex_distortion(m->nv, m->nf, m->X, P, m->F, AU_DOMAIN_SPHERE, d, NULL) != AU_OK) {
+    free(d);
+    return INFINITY;
+  }
+  for (int i = 0; i < m->nv; i++) s += fabs(d[i]);
+  free(d);
+  return s / m->nv * M_LN2;
+}
+
+au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,
+                           au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
+                           au_sphere_report *rep, au_msg *msg) {
+  if (!m || !P || !out || !Pout || !parent || !param || !nnew || !(max_faces >= 1))
+    return au_msg_set(msg, AU_E_ARG, "refine: bad arguments");
+  *out = NULL, *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0;
+  au_sphere_opts o = opts ? *opts : au_sphere_opts_default();
+  au_advect_report *ar = malloc(sizeof *ar);
+  if (!ar) return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  au_status st = AU_OK;
+  double best = INFINITY;
+  const int ncand = (int)(sizeof refine_floor_share / sizeof *refine_floor_share);
+  for (int c = 0; c < ncand; c++) {
+    au_mesh *mr = NULL;
+    double *Pr = NULL, *prm = NULL;
+    int *par = NULL, nn = 0;
+    memset(ar, 0, sizeof *ar);
+    au_status s2 = refine_with(m, P, &o, max_faces, refine_floor_share[c], &mr, &Pr, &par, &prm, &nn, ar, msg);
+    if (s2 < 0) {
+      free(par), free(prm);
+      if (c > 0 && s2 != AU_E_NOMEM) continue; /* the first candidate's map stands */
+      st = s2;
+      break;
+    }
+    double e = vertex_error(mr, Pr);
+    if (c == 0 || e < best) {
+      au_mesh_free(out), free(*Pout), free(*parent), free(*param);
+      *out = mr, *Pout = Pr, *parent = par, *param = prm, *nnew = nn, best = e, st = s2;
+      /* A candidate that split nothing ran no flow: the report keeps the first map's. */
+      if (rep && nn > 0) rep->flow = *ar;
+    } else {
+      au_mesh_free(&mr), free(Pr), free(par), free(prm);
+    }
+  }
+  free(ar);
+  if (st < 0) {
+    au_mesh_free(out), free(*Pout), free(*parent), free(*param);
+    *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0;
+  }
   return st;
 }

@@ -152,6 +152,8 @@ foreach(mesh spiky_ico bumpy_star)
   au_cli_test(param_eval.${mesh} param_eval.sh data/${mesh}.obj)
 endforeach()
 au_cli_test(init_only.spiky_ico quality.sh init_only data/spiky_ico.obj)
+# --refine-mesh (issue 21) where it meets the issue's bounds for a refined map: cheburashka.
+au_cli_test(refine_mesh.cheburashka refine_mesh.sh cheburashka.off)
 
 # --density FILE (issue 6): per-face density 4 on half the ellipsoid, and bad density files.
 foreach(c half count negative missing)

@@ -648,8 +648,9 @@ static int compressed_start_limbs8(void) {
 
 /* Refinement where the chord floor binds (au_sphere_refine) on limbs4: the input's vertices stay first
  * and unmoved on the surface, every new vertex is exactly at its parents' stated parameter (so on the
- * surface), at most twice the faces, the refined map fold-free on the unit sphere. Measured 2026-12-03:
- * 789 edges split, 3902 faces, vertex 0.215 (the equal-area bounds of issue 21 are not reached). */
+ * surface), at most twice the faces, the refined map fold-free on the unit sphere. Measured 2026-12-03
+ * (session 11, two candidates): 1162 edges split, 4648 faces, per-face 0.220, vertex 0.125 (the
+ * equal-area bounds of issue 21 are not reached on limbs4; cli.refine_mesh.cheburashka checks them). */
 static int refine_mesh_limbs4(void) {
   loaded L;
   if (load("limbs4.obj", 1, &L)) return 1;
