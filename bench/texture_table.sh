@@ -13,8 +13,10 @@
 # BUILD_DIR defaults to build, OUT_DIR to /tmp/au_texture_table. Sphere maps are kept in
 # OUT_DIR/maps and reused when present (the texture step is what is measured). Meshes are names in
 # ../shared/meshes without extension (default: all 14 genus-0 ones). Projections: $PROJ (default
-# "cea laea oct"); extra texture options: $TEXOPTS (e.g. "--axis auto"). Prints one Markdown row per
-# mesh and projection.
+# "cea laea oct"); extra texture options: $TEXOPTS (e.g. "--axis auto"); MAPS=spherical makes the
+# missing maps with BUILD_DIR/au_sphere_areas_map (spherical areas only, the map `authalic texture`
+# computes without --map) instead of `authalic sphere`. Prints one Markdown row per mesh and
+# projection.
 set -eu
 HERE=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${1:-build}
@@ -38,7 +40,10 @@ for m in $MESHES; do
   IN=$(ls "$SHARED/meshes/$m".* 2>/dev/null | head -1)
   [ -n "$IN" ] || { echo "texture_table.sh: no mesh $m" >&2; continue; }
   MAP=$OUT/maps/$m.obj
-  [ -f "$MAP" ] || "$BUILD/authalic" sphere "$IN" "$MAP" --quiet
+  if [ ! -f "$MAP" ]; then
+    if [ "${MAPS:-}" = spherical ]; then "$BUILD/au_sphere_areas_map" "$IN" "$MAP" >/dev/null
+    else "$BUILD/authalic" sphere "$IN" "$MAP" --quiet; fi
+  fi
   "$EVAL" "$IN" "$MAP" --json >"$OUT/$m.map.json"
   rmap=$(key "$OUT/$m.map.json" r_mean_abs_dev)
   area_in=$(key "$OUT/$m.map.json" surface_area)
