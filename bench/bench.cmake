@@ -7,3 +7,7 @@ target_link_libraries(au_mkbig PRIVATE ${MATH_LIBRARY})
 # au_texture_patches: the acceptance measure of equal-area textures and sampling (issue 4).
 add_executable(au_texture_patches ${CMAKE_CURRENT_LIST_DIR}/texture_patches.c)
 target_link_libraries(au_texture_patches PRIVATE authalic_core)
+
+# au_sphere_areas_map: the spherical-areas sphere map that `authalic texture` computes without --map.
+add_executable(au_sphere_areas_map ${CMAKE_CURRENT_LIST_DIR}/sphere_areas_map.c)
+target_link_libraries(au_sphere_areas_map PRIVATE authalic_core)

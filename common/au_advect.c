@@ -696,7 +696,9 @@ static int least_shear_stalled(flow_state *s) {
  * steps, if any; else the end. */
 static flow_verdict least_shear_done(flow_state *s) {
   const au_advect_opts *o = s->o;
-  if (s->phase == FLOW_SPHERICAL) {
+  /* sphere_areas 2 keeps the spherical map: a texture's straight triangles tend to the spherical
+   * ones, so the polish's gain in chord terms is a loss there. */
+  if (s->phase == FLOW_SPHERICAL && o->sphere_areas != 2) {
     double cferr = 0, cerr = 0;
     chord_errors(s->nv, s->nf, s->F, s->t->vused, s->P, s->As, s->fw, s->AM, s->SM, s->af, s->AO, &cferr, &cerr);
     if (cerr > o->tol || cferr > (1 + o->polish_gap) * s->ferr) {

@@ -416,7 +416,8 @@ struct au_expert {
   double face_gain;       /* refinement goes on while it gains this fraction in 4 steps (0.1;
                              refine_faces 0.02) */
   int sphere_areas;       /* sphere: 1 drive the spherical triangles' areas first, then polish the
-                             chord triangles' (1) */
+                             chord triangles' (1); 2 the spherical ones only (no polish); 0 chord
+                             triangles' throughout */
   double polish_gap;      /* sphere: polish only if the chord error exceeds the spherical one by more
                              than this fraction (0.1; refine_faces 0) */
   double restore;         /* sphere: shape restoring (0.1), as au_options.restore_shapes */

@@ -34,7 +34,7 @@ enum {
 #define CLI_OPTIONS(X)                                                                                                 \
   X(OPT_MAP, "map", "SPHERE_MAP", CLI_FILE, CLI_TEXTURE | CLI_SAMPLE,                                                 \
     "the sphere map of IN (same vertices and faces, positions on a sphere about the origin of any radius); "       \
-    "computed on the fly when absent")                                                                                \
+    "computed on the fly when absent, then driving the spherical triangles' areas only (no chord polish)")          \
   X(OPT_GRID, "grid", "WxH", CLI_VALUE, CLI_SAMPLE, "grid size, W and H from 1 to 16384 (required)")                \
   X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "write a JSON report: metrics of the result and of the initial map, per-step errors, stage times, warnings")    \

@@ -24,7 +24,8 @@ static const char *const usage_texture =
     "Writes the closed genus-0 mesh IN as OUT.obj with texture coordinates (`vt`) in an equal-area\n"
     "projection of its sphere map, so every texel of a texture stands for the same surface area.\n"
     "The sphere map is read from SPHERE_MAP (the output of `authalic sphere IN SPHERE_MAP`) or\n"
-    "computed on the fly. Faces across the projection's seam get their own copies of `vt`; with\n"
+    "computed on the fly, then with equal spherical triangle areas (no chord polish: closer\n"
+    "texture areas). Faces across the projection's seam get their own copies of `vt`; with\n"
     "cea, the faces holding a pole are split there (the pole vertices are appended after IN's).\n\n";
 
 static const char *const usage_sample =
@@ -193,6 +194,14 @@ static int get_map(const tex_args *a, const au_mesh *m, double *P, cli_warnings 
     cli_progress_state prog;
     cli_progress_init(&prog, a->quiet);
     au_options opts = au_options_default();
+    /* The map's spherical triangles, not its chord triangles, are what this command uses: texels and
+     * grid cells are located on the sphere, and a straight texture triangle's area tends to its
+     * spherical triangle's. So the flow drives the spherical areas only and skips the chord polish,
+     * which trades spherical error for chordal (spot_lowres: spherical per-face 0.0401 with the
+     * polish, 0.0089 without; docs/textures.md). `authalic sphere`'s maps are unchanged. */
+    au_expert ex = au_expert_default(AU_TARGET_SPHERE, 0);
+    ex.sphere_areas = 2;
+    opts.expert = &ex;
     if (!a->quiet) opts.progress = cli_progress, opts.user = &prog;
     au_result *r = NULL;
     st = au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &opts, &r, &msg);
@@ -408,10 +417,10 @@ static int run_texture(const tex_args *a) {
   if (!a->quiet) {
     const double *R = t->layout.R;
     fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d edge splits=%d "
-            "(split for folding=%d for area=%d, tol %.3g) out V=%d F=%d mean|r-1|=%.3g axis=%.6f,%.6f,%.6f",
+            "(split for folding=%d for area=%d, tol %.3g) out V=%d F=%d mean|r-1|=%.3g sph|r-1|=%.4g axis=%.6f,%.6f,%.6f",
             m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : a->proj == AU_TEX_LAEA ? "laea" : "oct", t->nvt, t->seam_faces,
             t->pole_splits, t->edge_splits, t->fold_splits, t->area_splits, t->area_tol, t->nv, t->nf, met.r_mean_abs_dev,
-            R[6], R[7], R[8]);
+            met.sph_r_mean_abs_dev, R[6], R[7], R[8]);
     if (a->bake) fprintf(stderr, " baked=%s %dx%d", a->bake, a->W, a->H);
     if (range[1] > range[0]) fprintf(stderr, " range=[%g, %g]", range[0], range[1]);
     fprintf(stderr, " time=%.2fs\n", cli_now() - t_start);
