@@ -82,8 +82,9 @@ typedef struct au_advect_opts {
   int sphere_areas;     /* 1: the flow drives the areas of the spherical triangles, then polishes those of
                            the chord triangles (the ones param-eval measures); 0: chord areas throughout
                            (1); 2: spherical areas only, no polish (for textures, whose straight
-                           triangles tend to the spherical ones). A chord triangle keeps a sizeable area when its corners come onto one great
-                           circle, so a chord-area flow cannot see that sliver forming and jams on it */
+                           triangles tend to the spherical ones). A chord triangle keeps a sizeable
+                           area when its corners come onto one great circle, so a chord-area flow
+                           cannot see that sliver forming and jams on it */
   double polish_gap;    /* the chord polish runs only if the chord triangles' per-face error exceeds the
                            spherical ones' by more than this fraction (0.1; 0: whenever it is larger):
                            elsewhere it costs steps for nothing */

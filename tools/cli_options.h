@@ -70,6 +70,9 @@ enum {
     "SURF.parents.txt one line per new vertex: its number, its parents' numbers (0-based) and t, the vertex being " \
     "(1 - t) parent1 + t parent2")                                                                                   \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
+  X(OPT_SPHERICAL_AREAS, "spherical-areas", NULL, CLI_FLAG, CLI_SPHERE,                                              \
+    "equalize the spherical triangles' areas and skip the chord polish: the map `texture` and `sample` make "      \
+    "for themselves (closer texture areas; param-eval's chord figures are higher)")                                 \
   X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_MAPS | CLI_TORUS,                                                \
     "stop after the initial (conformal or harmonic) map, for comparison")                                            \
   X(OPT_LATTICE, "lattice", "SHAPE", CLI_VALUE, CLI_TORUS,                                                           \
@@ -126,7 +129,7 @@ enum {
 /* The ids, each once. */
 typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
-  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_NO_BALANCE, OPT_INIT_ONLY, OPT_LATTICE,
+  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
   OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
   OPT_COUNT

@@ -115,11 +115,12 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
   *o = au_options_default();
   if ((rc = map_options(a, o)) >= 0) return rc;
   if (o->init_only) {
-    static const cli_opt_id flow_only[] = {OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_REFINE_FACES, OPT_RESTORE, OPT_ANGLES, OPT_BOUNDARY};
+    static const cli_opt_id flow_only[] = {OPT_STEPS,  OPT_TOL,    OPT_DENSITY,         OPT_REFINE_FACES,
+                                           OPT_RESTORE, OPT_ANGLES, OPT_SPHERICAL_AREAS, OPT_BOUNDARY};
     for (size_t k = 0; k < sizeof flow_only / sizeof flow_only[0]; k++)
       if (a->val[flow_only[k]])
         return cli_usage_error(a->help, "--init-only runs no advection: --steps, --tol, --density, --boundary, "
-                                        "--refine-faces, --restore-shapes and --angles do not apply");
+                                        "--refine-faces, --restore-shapes, --angles and --spherical-areas do not apply");
   }
   const char *v = a->val[OPT_FORMAT];
   if (v && au_io_format_parse(v) == AU_IO_FORMAT_AUTO)
@@ -258,6 +259,13 @@ static int run_map(const cli_args *a, au_options *o) {
     if (rc >= 0) goto done;
     if (nval == m->nv) o->vertex_density = density;
     else o->face_density = density;
+  }
+  /* --spherical-areas: the map the texture command computes for itself (cmd_texture.c, get_map). */
+  au_expert ex;
+  if (a->val[OPT_SPHERICAL_AREAS]) {
+    ex = au_expert_default(AU_TARGET_SPHERE, o->refine_faces);
+    ex.sphere_areas = 2;
+    o->expert = &ex;
   }
   if (!quiet) o->progress = cli_progress, o->user = &prog;
   o->measure_start = report != NULL; /* only the report shows the start's metrics */

@@ -204,6 +204,28 @@ on_the_fly_spherical)
   [ -n "$a" ] && [ -n "$b" ] || fail "no sph|r-1| in the summary"
   awk -v a="$a" -v b="$b" 'BEGIN { exit !(b < a) }' || fail "on the fly sph|r-1|=$b, with the sphere map $a"
   expect_faces_compact "$T/o/b.obj"
+  # `authalic sphere --spherical-areas` makes that map for --map: the texture from it is the
+  # on-the-fly one (the map read back from its 17-digit OBJ: to 1e-12), faces and all.
+  run sphere "$IN" "$T/o/s.obj" --spherical-areas --quiet
+  expect_status 0
+  run texture "$IN" --map "$T/o/s.obj" "$T/o/c.obj" --quiet
+  expect_status 0
+  $PY - "$T/o/b.obj" "$T/o/c.obj" <<'PYEOF' || fail "the texture from --spherical-areas differs from the on-the-fly one"
+import sys
+def rows(p):
+    out = {}
+    for line in open(p):
+        t = line.split()
+        if t and t[0] in ("v", "vt", "f"):
+            out.setdefault(t[0], []).append(t[1:])
+    return out
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+ok = a["f"] == b["f"] and len(a["v"]) == len(b["v"]) and len(a["vt"]) == len(b["vt"])
+for key in ("v", "vt"):
+    for x, y in zip(a[key], b[key]):
+        ok = ok and max(abs(float(p) - float(q)) for p, q in zip(x, y)) <= 1e-12
+sys.exit(0 if ok else 1)
+PYEOF
   ;;
 *)
   fail "unknown case $1"
