@@ -11,3 +11,7 @@ target_link_libraries(au_texture_patches PRIVATE authalic_core)
 # au_sphere_areas_map: the spherical-areas sphere map that `authalic texture` computes without --map.
 add_executable(au_sphere_areas_map ${CMAKE_CURRENT_LIST_DIR}/sphere_areas_map.c)
 target_link_libraries(au_sphere_areas_map PRIVATE authalic_core)
+
+# au_texture_split_diag: a texture's per-face area error split into the map's and the projection's.
+add_executable(au_texture_split_diag ${CMAKE_CURRENT_LIST_DIR}/texture_split_diag.c)
+target_link_libraries(au_texture_split_diag PRIVATE authalic_core)

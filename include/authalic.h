@@ -694,6 +694,11 @@ typedef struct au_tex_mesh {
   double area_err_mean, area_err_max; /* |straight texture area / spherical area - 1| over the final
                          faces (cea: faces with a pole corner left out) */
   int folds_left;     /* faces turned over in the texture: 0 on success */
+  int area_worst_first; /* with area splitting: 1 if the kept coordinates split the worst faces first
+                           by longest-edge propagation, 0 if every face above the tolerance each
+                           round (both are made; the one of lower per-face texture error is kept) */
+  double vt_err_mean;   /* per-face mean |vt share / surface share - 1| of the result (what param-eval
+                           measures with --coords vt --domain plane) */
 } au_tex_mesh;
 
 /* Options of au_tex_coords_opts. */
@@ -718,6 +723,10 @@ typedef struct au_tex_opts {
                           mean |r - 1| (spherical areas), at least 0.001 */
   int max_rounds;      /* rounds of splitting for area, 0..64 (16); splitting for folds always goes
                           on until none is left */
+  int area_rule;       /* with area splitting: 0 (default) both rules below, the result of lower
+                          per-face texture error kept (au_tex_mesh.vt_err_mean); 1 every face above
+                          the tolerance each round; 2 the worst faces first, by longest-edge
+                          propagation (docs/textures.md) */
 } au_tex_opts;
 
 /* The defaults above. */

@@ -291,12 +291,83 @@ static double map_sign(const au__tex_work *w) {
   return s < 0 ? -1.0 : 1.0;
 }
 
+/* The worst-first area splitting (au__tex_refine's worst_first): per round the faces whose straight
+ * area misses their spherical one the most are split first, until a 1/AU_AREA_SHARE of the remaining
+ * growth budget is spent. The per-face mean counts a face at 0.3 like a hundred at 0.003, and
+ * rounds over every face above the tolerance spent the 8x budget with the worst ones (caps whose apex
+ * lies near their long edge) still whole: spot, spherical-areas map, laea with --area-tol auto, 1385
+ * of 47308 faces above 0.1 held half the projection's error (bench/texture_split_diag.c). Each split
+ * follows the longest-edge propagation path (Rivara): splitting a face's longest edge together with
+ * whatever edge that is of its neighbour made needles and slivers that no later split mends (oct:
+ * 0.0196 -> 0.0423 without it). Neither rule wins everywhere (the splits concentrate where the
+ * projection bends, and the per-face mean then weights the map's error there more), so
+ * au_tex_coords_opts makes both and keeps the better (docs/textures.md). */
+#define AU_AREA_SHARE 4
+
+typedef struct err_idx {
+  double e;
+  int i;
+} err_idx;
+
+static int cmp_err_desc(const void *a, const void *b) {
+  const err_idx *x = a, *y = b;
+  if (x->e != y->e) return x->e < y->e ? 1 : -1;
+  return (x->i > y->i) - (x->i < y->i);
+}
+
+/* ord [0..n-1] (indices into err) sorted by err, largest first (ties by index: the same order on
+ * every run). Returns 0, or -1 when out of memory. */
+static int sort_by_error(int *ord, int n, const double *err) {
+  err_idx *p = malloc((size_t)(n > 0 ? n : 1) * sizeof *p);
+  if (!p) return -1;
+  for (int k = 0; k < n; k++) p[k].e = err[ord[k]], p[k].i = ord[k];
+  qsort(p, (size_t)n, sizeof *p, cmp_err_desc);
+  for (int k = 0; k < n; k++) ord[k] = p[k].i;
+  free(p);
+  return 0;
+}
+
+/* Is (a, b) the longest edge of face f (by its chord)? */
+static int is_longest(const au__tex_work *w, int f, int a, int b) {
+  const int *c = w->t->F + 3 * (size_t)f;
+  int k = longest_edge(w, f);
+  return (c[k] == a && c[(k + 1) % 3] == b) || (c[k] == b && c[(k + 1) % 3] == a);
+}
+
+/* Split the edge (a0, b0) by longest-edge propagation (Rivara): walk from its face across longest
+ * edges until two faces share their longest edge, split that at the middle, and repeat until
+ * (a0, b0) itself is split. Keeps the pieces' angles bounded, where splitting a face's longest edge
+ * together with whatever edge of its neighbour that is makes needles. Returns 1, 0 (the edge is
+ * gone), -1 (out of memory). */
+static int lepp_split(au__tex_work *w, he_table *h, int a0, int b0, int *count) {
+  for (int guard = 0; guard < 64; guard++) {
+    int *fp = he_find(h, a0, b0);
+    if (!fp || *fp < 0) return guard > 0;
+    int a = a0, b = b0;
+    for (int depth = 0; depth < 64; depth++) {
+      int *gp = he_find(h, b, a);
+      if (!gp || *gp < 0) break;
+      int g = *gp;
+      if (is_longest(w, g, a, b)) break;
+      const int *c = w->t->F + 3 * (size_t)g;
+      int k = longest_edge(w, g);
+      a = c[k], b = c[(k + 1) % 3];
+    }
+    int r = split_edge(w, h, a, b, 0.5);
+    if (r < 0) return -1;
+    if (r == 0) return guard > 0;
+    (*count)++;
+  }
+  return 1;
+}
+
 static const char *pname(au_tex_proj p) { return p == AU_TEX_CEA ? "cea" : p == AU_TEX_LAEA ? "laea" : "oct"; }
 
-au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, au_msg *msg) {
+au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, int worst_first, au_msg *msg) {
   au_tex_mesh *t = w->t;
   he_table h = {NULL, NULL, 0};
   int *bad = NULL, nbad = 0, badcap = 0;
+  double *berr = NULL; /* [badcap]: an area-bad face's |straight / spherical area - 1|; a fold's inf */
   au_status st = AU_OK;
   double sigma = map_sign(w);
   int nf0 = t->nf;
@@ -321,13 +392,16 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, a
       if (nbad == badcap) {
         badcap = 2 * badcap + 64;
         int *b = realloc(bad, 3 * (size_t)badcap * sizeof *b);
-        if (!b) {
+        double *be = realloc(berr, (size_t)badcap * sizeof *be);
+        if (be) berr = be;
+        if (b) bad = b;
+        if (!b || !be) {
           st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
           goto done;
         }
         bad = b;
       }
-      bad[3 * nbad] = f, bad[3 * nbad + 1] = s;
+      bad[3 * nbad] = f, bad[3 * nbad + 1] = s, berr[nbad] = s == 2 ? INFINITY : e;
       nbad++;
     }
     t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
@@ -364,25 +438,58 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, a
       break;
     }
     /* Folds first, so that an edge asked for by a fold is split at its foot point. */
-    for (int i = 0; i < 2 * nbad; i++) {
-      int j = i % nbad, fold = bad[3 * j + 2];
-      if (fold != (i < nbad)) continue;
+    for (int j = 0; j < nbad; j++) {
+      if (!bad[3 * j + 2]) continue;
       int r = split_edge(w, &h, bad[3 * j], bad[3 * j + 1], sp[j]);
       if (r < 0) {
         free(sp);
         st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
         goto done;
       }
-      if (r) {
-        if (fold) t->fold_splits++;
-        else t->area_splits++;
-      }
+      t->fold_splits += r;
     }
     free(sp);
+    if (worst_first) {
+      /* Area: worst first, each by longest-edge propagation, within the round's budget. */
+      int *ord = malloc((size_t)nbad * sizeof *ord);
+      if (!ord) {
+        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+        goto done;
+      }
+      int na = 0;
+      for (int j = 0; j < nbad; j++)
+        if (!bad[3 * j + 2]) ord[na++] = j;
+      if (sort_by_error(ord, na, berr)) {
+        free(ord);
+        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+        goto done;
+      }
+      int stop = t->nf + (AU_AREA_GROWTH * nf0 - t->nf) / AU_AREA_SHARE;
+      for (int i = 0; i < na && t->nf < stop; i++) {
+        int j = ord[i];
+        int r = lepp_split(w, &h, bad[3 * j], bad[3 * j + 1], &t->area_splits);
+        if (r < 0) {
+          free(ord);
+          st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+          goto done;
+        }
+      }
+      free(ord);
+    } else {
+      for (int j = 0; j < nbad; j++) {
+        if (bad[3 * j + 2]) continue;
+        int r = split_edge(w, &h, bad[3 * j], bad[3 * j + 1], 0.5);
+        if (r < 0) {
+          st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+          goto done;
+        }
+        t->area_splits += r;
+      }
+    }
   }
 done:
   t->edge_splits = t->fold_splits + t->area_splits;
-  free(h.key), free(h.face), free(bad);
+  free(h.key), free(h.face), free(bad), free(berr);
   return st;
 }
 

@@ -520,32 +520,41 @@ static au_status tex_finish(au__tex_work *w, au_tex_proj proj, const double *P, 
   return AU_OK;
 }
 
-au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opts *opts_in, au_tex_mesh **out,
-                             au_msg *msg) {
-  if (!out) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: out is NULL");
-  *out = NULL;
-  au_tex_opts opts = opts_in ? *opts_in : au_tex_opts_default();
-  if (!m || !P || m->nv < 3 || m->nf < 1 || !m->X || !m->F ||
-      (opts.proj != AU_TEX_CEA && opts.proj != AU_TEX_LAEA && opts.proj != AU_TEX_OCT) ||
-      (opts.axis != AU_TEX_AXIS_Z && opts.axis != AU_TEX_AXIS_AUTO && opts.axis != AU_TEX_AXIS_VECTOR) ||
-      !(opts.area_tol == opts.area_tol) || opts.max_rounds < 0 || opts.max_rounds > 64)
-    return au_msg_set(msg, AU_E_ARG, "au_tex_coords: bad arguments");
+/* The per-face mean |vt share / surface share - 1| of t (param-eval's r_mean_abs_dev of the texture
+ * measured against itself). */
+static double vt_error(const au_tex_mesh *t) {
+  double ss = 0, st = 0, e = 0;
+  double *a = malloc(2 * (size_t)t->nf * sizeof *a);
+  if (!a) return INFINITY;
+  for (int f = 0; f < t->nf; f++) {
+    const int *c = t->F + 3 * (size_t)f, *ct = t->Ft + 3 * (size_t)f;
+    const double *x = t->X + 3 * (size_t)c[0], *y = t->X + 3 * (size_t)c[1], *z = t->X + 3 * (size_t)c[2];
+    double u[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, v[3] = {z[0] - x[0], z[1] - x[1], z[2] - x[2]};
+    double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    const double *p = t->vt + 2 * (size_t)ct[0], *q = t->vt + 2 * (size_t)ct[1], *r = t->vt + 2 * (size_t)ct[2];
+    a[2 * f] = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    a[2 * f + 1] = 0.5 * fabs((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+    ss += a[2 * f], st += a[2 * f + 1];
+  }
+  for (int f = 0; f < t->nf; f++) e += fabs((a[2 * f + 1] / st) / (a[2 * f] / ss) - 1);
+  free(a);
+  return t->nf ? e / t->nf : 0;
+}
+
+/* The texture coordinates with one rule for the area splits (au__tex_refine's worst_first). */
+static au_status tex_build(const au_mesh *m, const double *P, const au_tex_opts *opts, int worst_first,
+                           au_tex_mesh **out, au_msg *msg) {
   int nv = m->nv, nf = m->nf;
-  for (long i = 0; i < 3L * nf; i++)
-    if (m->F[i] < 0 || m->F[i] >= nv) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: face index out of range");
-  for (int i = 0; i < nv; i++)
-    if (!(isfinite(P[3 * i]) && isfinite(P[3 * i + 1]) && isfinite(P[3 * i + 2])))
-      return au_msg_set(msg, AU_E_ARG, "vertex %d of the sphere map is not finite", i);
   au__tex_work w;
   memset(&w, 0, sizeof w);
   au_locator *loc = NULL;
   w.t = calloc(1, sizeof *w.t);
   if (!w.t) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
   au_tex_mesh *t = w.t;
-  t->layout = au_tex_layout_default(opts.proj);
-  au_status st = au__tex_axis(&opts, nv, P, nf, m->F, t->layout.R, msg);
+  t->layout = au_tex_layout_default(opts->proj);
+  au_status st = au__tex_axis(opts, nv, P, nf, m->F, t->layout.R, msg);
   if (st == AU_OK) st = work_init(&w, m, P, t->layout.R, msg);
-  if (st == AU_OK && opts.proj == AU_TEX_CEA) {
+  if (st == AU_OK && opts->proj == AU_TEX_CEA) {
     /* Poles: locate both before splitting either (the locator holds the input faces). */
     st = au_locator_build(nv, w.Q, nf, t->F, &loc, msg);
     if (st == AU_OK) st = split_pole(&w, loc, 1.0, msg);
@@ -555,18 +564,59 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
   double sigma = 1;
   if (st == AU_OK) {
     double e = map_face_error(m, w.Q);
-    t->area_tol = opts.area_tol >= 0 ? opts.area_tol : fmax(0.001, 0.25 * e); /* 0: no area splits */
-    st = au__tex_refine(&w, &opts, t->area_tol, msg);
+    t->area_tol = opts->area_tol >= 0 ? opts->area_tol : fmax(0.001, 0.25 * e); /* 0: no area splits */
+    st = au__tex_refine(&w, opts, t->area_tol, worst_first, msg);
     double s = 0;
     for (int f = 0; f < nf; f++)
       s += au__sph_tri_area(w.Q + 3 * (size_t)m->F[3 * f], w.Q + 3 * (size_t)m->F[3 * f + 1], w.Q + 3 * (size_t)m->F[3 * f + 2]);
     sigma = s < 0 ? -1 : 1;
   }
-  if (st == AU_OK) st = tex_finish(&w, opts.proj, P, sigma, msg);
-  if (st == AU_OK) *out = t, w.t = NULL;
+  if (st == AU_OK) st = tex_finish(&w, opts->proj, P, sigma, msg);
+  if (st == AU_OK) {
+    t->area_worst_first = worst_first;
+    t->vt_err_mean = vt_error(t);
+    *out = t, w.t = NULL;
+  }
   au_tex_mesh_free(&w.t);
   au_locator_free(&loc);
   free(w.C), free(w.Q), free(w.is_pole), free(w.raw);
+  return st;
+}
+
+au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opts *opts_in, au_tex_mesh **out,
+                             au_msg *msg) {
+  if (!out) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: out is NULL");
+  *out = NULL;
+  au_tex_opts opts = opts_in ? *opts_in : au_tex_opts_default();
+  if (!m || !P || m->nv < 3 || m->nf < 1 || !m->X || !m->F ||
+      (opts.proj != AU_TEX_CEA && opts.proj != AU_TEX_LAEA && opts.proj != AU_TEX_OCT) ||
+      (opts.axis != AU_TEX_AXIS_Z && opts.axis != AU_TEX_AXIS_AUTO && opts.axis != AU_TEX_AXIS_VECTOR) ||
+      !(opts.area_tol == opts.area_tol) || opts.max_rounds < 0 || opts.max_rounds > 64 || opts.area_rule < 0 ||
+      opts.area_rule > 2)
+    return au_msg_set(msg, AU_E_ARG, "au_tex_coords: bad arguments");
+  int nv = m->nv, nf = m->nf;
+  for (long i = 0; i < 3L * nf; i++)
+    if (m->F[i] < 0 || m->F[i] >= nv) return au_msg_set(msg, AU_E_ARG, "au_tex_coords: face index out of range");
+  for (int i = 0; i < nv; i++)
+    if (!(isfinite(P[3 * i]) && isfinite(P[3 * i + 1]) && isfinite(P[3 * i + 2])))
+      return au_msg_set(msg, AU_E_ARG, "vertex %d of the sphere map is not finite", i);
+  au_status st = tex_build(m, P, &opts, opts.area_tol != 0 && opts.area_rule == 2, out, msg);
+  if (opts.area_tol == 0 || opts.area_rule != 0 || st == AU_E_NOMEM || st == AU_E_ARG) return st;
+  /* With area splitting, the worst-first rule too (au_texsplit.c, AU_AREA_SHARE); the lower per-face
+   * texture error is kept, and the other rule's failure (folds it could not mend) only loses its try. */
+  au_msg msg2 = {{0}};
+  au_tex_mesh *b = NULL;
+  au_status st2 = tex_build(m, P, &opts, 1, &b, &msg2);
+  if (st2 == AU_E_NOMEM) {
+    au_tex_mesh_free(out);
+    if (msg) *msg = msg2;
+    return st2;
+  }
+  if (st2 == AU_OK && (st != AU_OK || b->vt_err_mean < (*out)->vt_err_mean)) {
+    au_tex_mesh_free(out);
+    *out = b, b = NULL, st = AU_OK;
+  }
+  au_tex_mesh_free(&b);
   return st;
 }
 

@@ -47,9 +47,10 @@ au_status au__tex_raw_update(au__tex_work *w, au_tex_proj proj, au_msg *msg);
 int au__tex_face_raw(const au__tex_work *w, au_tex_proj proj, int f, double xy[6], int *which);
 
 /* Split faces until none is turned over in its chart and (while rounds last) every face's straight
- * texture area is within opts->area_tol of its spherical area (au_texsplit.c, rule there).
+ * texture area is within opts->area_tol of its spherical area (au_texsplit.c, rule there);
+ * worst_first: the area splits go to the worst faces first, by longest-edge propagation.
  * Returns AU_OK, AU_E_NOMEM, AU_E_NUMERIC (folds left after the rounds). */
-au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, au_msg *msg);
+au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, int worst_first, au_msg *msg);
 
 /* The rotation R (row-major 3x3, texture point = R p) asked for by opts for the map P (nv x 3,
  * unit) with faces F (nf x 3). Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
