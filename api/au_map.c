@@ -356,20 +356,9 @@ static au_status run_torus(map_run *x, au_msg *msg) {
   return st;
 }
 
-/* The torus's metrics: of the mesh cut along the seams, one vertex per vt row (as param-eval measures
- * a map given by vt), so that every face is measured by its own lifted triangle. */
+/* The torus's metrics: of the mesh cut along the seams (au__metrics_vt). */
 static au_status torus_metrics_of(const au_result *r, int nvt, const double *vt, const int *Ft, au_metrics *out) {
-  double *Xc = malloc(3 * (size_t)nvt * sizeof *Xc), *Pc = calloc(3 * (size_t)nvt, sizeof *Pc);
-  au_status st = Xc && Pc ? AU_OK : AU_E_NOMEM;
-  for (size_t c = 0; st == AU_OK && c < 3 * (size_t)r->nf; c++)
-    memcpy(Xc + 3 * (size_t)Ft[c], r->X + 3 * (size_t)r->F[c], 3 * sizeof *Xc);
-  for (int i = 0; st == AU_OK && i < nvt; i++) {
-    if (i < r->nv) memcpy(Xc + 3 * (size_t)i, r->X + 3 * (size_t)i, 3 * sizeof *Xc);
-    Pc[3 * (size_t)i] = vt[2 * (size_t)i], Pc[3 * (size_t)i + 1] = vt[2 * (size_t)i + 1];
-  }
-  if (st == AU_OK) st = au_metrics_compute(nvt, r->nf, Xc, Pc, Ft, AU_DOMAIN_PLANE, out, NULL, NULL);
-  free(Xc), free(Pc);
-  return st;
+  return au__metrics_vt(r->nv, r->nf, r->X, r->F, nvt, vt, Ft, out, NULL, NULL);
 }
 
 static au_status torus_metrics(au_result *r, au_metrics *out) { return torus_metrics_of(r, r->nvt, r->vt, r->Ft, out); }

@@ -19,6 +19,14 @@ extern "C" {
 
 /* au_metrics_vertex_distortion is public (include/authalic.h). */
 
+/* au_metrics_compute of a map given by per-corner plane coordinates (a torus map's vt, Ft): the
+ * mesh (X, F, nv vertices) cut along the seams, one vertex per vt row (row i < nv is vertex i's, the
+ * others copies), so every face is measured by its own lifted triangle, as param-eval measures a
+ * map given by vt. ups, lam: as au_metrics_compute (may be NULL). Returns AU_OK, AU_E_ARG,
+ * AU_E_NOMEM. */
+au_status au__metrics_vt(int nv, int nf, const double *X, const int *F, int nvt, const double *vt, const int *Ft,
+                         au_metrics *out, double *ups, double *lam);
+
 #ifdef __cplusplus
 }
 #endif

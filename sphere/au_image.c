@@ -348,29 +348,17 @@ au_status au_torus_preview(const char *path, const au_result *r, int size, doubl
   const double(*L)[2] = r->lattice;
   double det = L[0][0] * L[1][1] - L[0][1] * L[1][0];
   if (!(fabs(det) > 1e-12)) return au_msg_set(msg, AU_E_ARG, "au_torus_preview: the result's lattice is degenerate");
-  int nf = r->nf, nvt = r->nvt;
-  /* Distortion per face of the surface cut along the seams (one vertex per vt row), as the result's
-   * metrics measure it: every face by its own lifted triangle. */
+  int nf = r->nf;
+  /* Distortion per face of the surface cut along the seams, as the result's metrics measure it:
+   * every face by its own lifted triangle. */
   double *ups = malloc(3 * (size_t)nf * sizeof *ups);
-  double *Xc = malloc(3 * (size_t)nvt * sizeof *Xc), *Pc = calloc(3 * (size_t)nvt, sizeof *Pc);
-  au_status st = AU_OK;
-  if (!ups || !Xc || !Pc) st = au_msg_set(msg, AU_E_NOMEM, "out of memory drawing '%s'", path);
-  for (int k = 0; st == AU_OK && k < 3 * nf; k++) {
-    if (r->Ft[k] < 0 || r->Ft[k] >= nvt || r->F[k] < 0 || r->F[k] >= r->nv) {
-      st = au_msg_set(msg, AU_E_ARG, "au_torus_preview: corner %d's index out of range", k);
-      break;
-    }
-    memcpy(Xc + 3 * (size_t)r->Ft[k], r->X + 3 * (size_t)r->F[k], 3 * sizeof *Xc);
-  }
-  for (int i = 0; st == AU_OK && i < nvt; i++) Pc[3 * (size_t)i] = r->vt[2 * (size_t)i], Pc[3 * (size_t)i + 1] = r->vt[2 * (size_t)i + 1];
-  double *lam = ups ? ups + nf : NULL, *tmp = ups ? ups + 2 * (size_t)nf : NULL;
+  if (!ups) return au_msg_set(msg, AU_E_NOMEM, "out of memory drawing '%s'", path);
+  double *lam = ups + nf, *tmp = ups + 2 * (size_t)nf;
   au_metrics met;
-  if (st == AU_OK && (st = au_metrics_compute(nvt, nf, Xc, Pc, r->Ft, AU_DOMAIN_PLANE, &met, ups, lam)) != AU_OK)
-    au_msg_set(msg, st, "cannot measure the map for '%s'", path);
-  free(Xc), free(Pc);
+  au_status st = au__metrics_vt(r->nv, nf, r->X, r->F, r->nvt, r->vt, r->Ft, &met, ups, lam);
   if (st != AU_OK) {
     free(ups);
-    return st;
+    return au_msg_set(msg, st, "cannot measure the map for '%s'", path);
   }
   if (!(range > 0)) range = 0.5;
   /* The 3 x 3 tiles: the parallelogram spanned by 3 a1 and 3 a2 from -a1 - a2, fitted into a square

@@ -361,6 +361,33 @@ static int lepp_split(au__tex_work *w, he_table *h, int a0, int b0, int *count) 
   return 1;
 }
 
+/* The area splits of one round, of the bad faces that are not folds (bad [3 per face]: the edge's
+ * ends, fold flag; berr: their errors): every one at its edge's middle, or (worst_first) the worst
+ * first by longest-edge propagation within the round's budget. Returns 0, or -1 when out of memory. */
+static int area_splits(au__tex_work *w, he_table *h, const int *bad, const double *berr, int nbad, int worst_first,
+                       int nf0) {
+  au_tex_mesh *t = w->t;
+  if (!worst_first) {
+    for (int j = 0; j < nbad; j++) {
+      if (bad[3 * j + 2]) continue;
+      int r = split_edge(w, h, bad[3 * j], bad[3 * j + 1], 0.5);
+      if (r < 0) return -1;
+      t->area_splits += r;
+    }
+    return 0;
+  }
+  int *ord = malloc((size_t)(nbad > 0 ? nbad : 1) * sizeof *ord), na = 0;
+  if (!ord) return -1;
+  for (int j = 0; j < nbad; j++)
+    if (!bad[3 * j + 2]) ord[na++] = j;
+  int rc = sort_by_error(ord, na, berr);
+  const int stop = t->nf + (AU_AREA_GROWTH * nf0 - t->nf) / AU_AREA_SHARE;
+  for (int i = 0; rc == 0 && i < na && t->nf < stop; i++)
+    if (lepp_split(w, h, bad[3 * ord[i]], bad[3 * ord[i] + 1], &t->area_splits) < 0) rc = -1;
+  free(ord);
+  return rc;
+}
+
 static const char *pname(au_tex_proj p) { return p == AU_TEX_CEA ? "cea" : p == AU_TEX_LAEA ? "laea" : "oct"; }
 
 au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, int worst_first, au_msg *msg) {
@@ -449,42 +476,9 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, i
       t->fold_splits += r;
     }
     free(sp);
-    if (worst_first) {
-      /* Area: worst first, each by longest-edge propagation, within the round's budget. */
-      int *ord = malloc((size_t)nbad * sizeof *ord);
-      if (!ord) {
-        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-        goto done;
-      }
-      int na = 0;
-      for (int j = 0; j < nbad; j++)
-        if (!bad[3 * j + 2]) ord[na++] = j;
-      if (sort_by_error(ord, na, berr)) {
-        free(ord);
-        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-        goto done;
-      }
-      int stop = t->nf + (AU_AREA_GROWTH * nf0 - t->nf) / AU_AREA_SHARE;
-      for (int i = 0; i < na && t->nf < stop; i++) {
-        int j = ord[i];
-        int r = lepp_split(w, &h, bad[3 * j], bad[3 * j + 1], &t->area_splits);
-        if (r < 0) {
-          free(ord);
-          st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-          goto done;
-        }
-      }
-      free(ord);
-    } else {
-      for (int j = 0; j < nbad; j++) {
-        if (bad[3 * j + 2]) continue;
-        int r = split_edge(w, &h, bad[3 * j], bad[3 * j + 1], 0.5);
-        if (r < 0) {
-          st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-          goto done;
-        }
-        t->area_splits += r;
-      }
+    if (area_splits(w, &h, bad, berr, nbad, worst_first, nf0)) {
+      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+      break;
     }
   }
 done:
