@@ -25,6 +25,10 @@ typedef struct au_sphere_opts {
                            2; 0: off). It helps the meshes whose long chord edges keep faces from
                            shrinking; where it does worse, the first map stays (docs/tuning-history.md) */
   double retry_above;   /* see lantern_retry (default 2) */
+  double twist_retry;   /* > 0: if the map (after the lantern retry) still misses retry_above x its
+                           tolerance and its chord floor's excess (au_metrics.chord_floor_excess) is
+                           above this, it is made again from the twisted start (au_sphere_twisted) and
+                           the map with the lower chord vertex error kept (default 0.02; 0 off) */
 } au_sphere_opts;
 
 au_sphere_opts au_sphere_opts_default(void);
@@ -37,6 +41,9 @@ typedef struct au_sphere_report {
   int retry;              /* 0: no lantern retry; 1: it ran and its map was discarded; 2: its map was kept */
   double retry_err[2];    /* with a retry: the vertex mean |log ratio| of the chord triangles of the first
                              map and of the retry's */
+  int twist;              /* 0: no twisted retry; 1: it ran and its map was discarded; 2: its map was kept */
+  int twist_faces;        /* with a twisted retry: the faces its start sheared */
+  double twist_err;       /* with a twisted retry: its map's chord vertex error */
 } au_sphere_report;
 
 /* Fold-free spherical conformal map of a closed genus-0 mesh.
@@ -45,6 +52,15 @@ typedef struct au_sphere_report {
  * Unreferenced vertices get (0,0,1). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD,
  * AU_E_NUMERIC, AU_E_FOLD (the map folded: msg says how many triangles). */
 au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_msg *msg);
+
+/* The twisted start: as au_sphere_conformal, with the triangles of the protrusions (where the flat
+ * log scale jumps by more than 0.3 across a triangle, in the squeezed half) sheared along their girth
+ * so that each stands over an end of its edge across the limb, the handedness the same everywhere: a
+ * band of triangles turned half a step per ring (an antiprism band) becomes a prism band, which the
+ * flow can stretch along the girth without the chord triangles folding to and fro beneath the sphere
+ * (au_sphere_init.c, tube_weights). *nsheared: the number of faces sheared; 0: no protrusion, P not
+ * written. Returns as au_sphere_conformal. */
+au_status au_sphere_twisted(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg);
 
 /* Moebius-normalize a sphere map in place so the surface-area-weighted centroid of the image
  * is the origin (the conformal map stays conformal). P: nv x 3 unit vectors, in/out.

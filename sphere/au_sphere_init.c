@@ -184,14 +184,25 @@ static au_status flat_log_scale(const au_mesh *m, const au_topo *t, au_solver *s
   return au_solver_solve(solver, 1, b, u, msg);
 }
 
-/* Cotan weights of the surface compressed, face by face, along the gradient of the flat log scale u
- * where u jumps by more than jmax across a triangle: by the factor jmax / jump there. A protrusion of
- * length L and girth C is squeezed by the conformal map like e^(-2 pi L / C) in length; compressed along
- * its length by beta it is squeezed like e^(-2 pi beta L / C), so its triangles stay representable and
- * the flow has a share near the limb's area to start from. The map stays a harmonic map with positive
- * (after clamping) weights, only not conformal. w [0..ne-1] out. */
-static void compressed_weights(const au_mesh *m, const au_topo *t, const double *u, double umid, double jmax, double *G, double *w) {
+/* Cotan weights of the surface changed face by face where the flat log scale u jumps across a triangle
+ * in the squeezed half (below umid, the median of u): the protrusions, which the conformal map squeezes
+ * along their length.
+ * - compress > 0: where u jumps by more than compress, the face is compressed along grad u by the factor
+ *   compress / jump. A protrusion of length L and girth C is squeezed like e^(-2 pi L / C); compressed
+ *   along its length by beta, like e^(-2 pi beta L / C), so its triangles stay representable.
+ * - twist > 0: where u jumps by more than twist, the face is sheared along J grad u (the girth
+ *   direction, one handedness everywhere) until its corner off the edge most across grad u stands over
+ *   an end of that edge. An antiprism band (each ring turned half a step, the usual tube) becomes a prism
+ *   band. The flow later stretches a limb's girth many times over; a band whose corners stand over the
+ *   middle of the stretched edges folds to and fro beneath the sphere (a Schwarz lantern, whose chord
+ *   area no flow can bring down), and the flow cannot turn a ring against the next one (its velocity
+ *   is a gradient, whose circulation around a ring is zero). So the turn is made in the start.
+ * The map stays a harmonic map with positive (after clamping) weights, only not conformal.
+ * w [0..ne-1] out; returns the number of faces sheared. */
+static int tube_weights(const au_mesh *m, const au_topo *t, const double *u, double umid, double compress, double twist,
+                        double *G, double *w) {
   const int nf = m->nf;
+  int nsheared = 0;
   au_dec_face_grad(nf, m->F, m->X, u, G);
   memset(w, 0, sizeof(double) * (size_t)t->ne);
   for (int f = 0; f < nf; f++) {
@@ -201,16 +212,41 @@ static void compressed_weights(const au_mesh *m, const au_topo *t, const double 
     double e1[3], e2[3], cr[3];
     for (int d = 0; d < 3; d++) e1[d] = x[1][d] - x[0][d], e2[d] = x[2][d] - x[0][d];
     cr[0] = e1[1] * e2[2] - e1[2] * e2[1], cr[1] = e1[2] * e2[0] - e1[0] * e2[2], cr[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    double area = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-    double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), h = sqrt(4 * area / sqrt(3.0));
-    /* Only in the squeezed half (below the median of u): near the puncture u also jumps, but there the
-     * map expands. */
-    double jump = gn * h, beta = jump > jmax && u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid ? jmax / jump : 1;
-    if (beta < 1)
+    double cn = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), h = sqrt(2 * cn / sqrt(3.0));
+    /* Only in the squeezed half: near the puncture u also jumps, but there the map expands. */
+    double jump = gn * h;
+    int squeezed = gn > 0 && cn > 0 && u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid;
+    if (squeezed && compress > 0 && jump > compress) {
+      double beta = compress / jump;
       for (int k = 0; k < 3; k++) {
         double s = (x[k][0] * g[0] + x[k][1] * g[1] + x[k][2] * g[2]) / (gn * gn);
         for (int d = 0; d < 3; d++) x[k][d] -= (1 - beta) * s * g[d];
       }
+    }
+    if (squeezed && twist > 0 && jump > twist) {
+      /* Frame: gy along grad u, gx = n x gy (the girth direction); X, Y the corners' coordinates. */
+      double gy[3] = {g[0] / gn, g[1] / gn, g[2] / gn}, gx[3], X[3], Y[3];
+      gx[0] = (cr[1] * gy[2] - cr[2] * gy[1]) / cn, gx[1] = (cr[2] * gy[0] - cr[0] * gy[2]) / cn;
+      gx[2] = (cr[0] * gy[1] - cr[1] * gy[0]) / cn;
+      for (int k = 0; k < 3; k++) {
+        X[k] = x[k][0] * gx[0] + x[k][1] * gx[1] + x[k][2] * gx[2];
+        Y[k] = x[k][0] * gy[0] + x[k][1] * gy[1] + x[k][2] * gy[2];
+      }
+      int a = 0;
+      for (int k = 1; k < 3; k++)
+        if (fabs(Y[(k + 1) % 3] - Y[(k + 2) % 3]) < fabs(Y[(a + 1) % 3] - Y[(a + 2) % 3])) a = k;
+      int p = (a + 1) % 3, q = (a + 2) % 3;
+      double xl = fmin(X[p], X[q]), xr = fmax(X[p], X[q]), ye = 0.5 * (Y[p] + Y[q]), dy = Y[a] - ye;
+      /* Corner above the edge: to its right end; below: to its left end (the same shear for both kinds
+       * of triangle of an antiprism band). */
+      double k = dy > 0 ? (xr - X[a]) / dy : dy < 0 ? (X[a] - xl) / -dy : 0;
+      if (k > 0) {
+        nsheared++;
+        for (int j = 0; j < 3; j++)
+          for (int d = 0; d < 3; d++) x[j][d] += k * (Y[j] - ye) * gx[d];
+      }
+    }
     for (int k = 0; k < 3; k++) {
       const double *p = x[k], *q = x[(k + 1) % 3], *r = x[(k + 2) % 3];
       double a1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, a2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
@@ -219,9 +255,26 @@ static void compressed_weights(const au_mesh *m, const au_topo *t, const double 
       if (sn > 0) w[t->FE[3 * f + k]] += 0.5 * (a1[0] * a2[0] + a1[1] * a2[1] + a1[2] * a2[2]) / sn;
     }
   }
+  return nsheared;
 }
 
-au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_msg *msg) {
+/* The flat log scale u (into ul) and its median over the used vertices. solver: created with the pin
+ * fixed; factored here with the cotan weights w0. */
+static au_status log_scale(const au_mesh *m, const au_topo *t, au_solver *solver, const double *w0, const int *c,
+                           double *ul, double *b, double *work, double *umid, au_msg *msg) {
+  au_status st = au_solver_factor(solver, w0, NULL, msg);
+  if (st == AU_OK) st = flat_log_scale(m, t, solver, c, ul, b, msg);
+  if (st != AU_OK) return st;
+  int n = 0;
+  for (int i = 0; i < m->nv; i++)
+    if (t->vused[i]) work[n++] = ul[i];
+  qsort(work, (size_t)n, sizeof(double), cmp_dbl);
+  *umid = work[n / 2];
+  return AU_OK;
+}
+
+/* twist 0: the conformal start (au_sphere_conformal); 1: the twisted start (au_sphere_twisted). */
+static au_status conformal(const au_mesh *m, const au_topo *t, int twist, double *P, int *nsheared, au_msg *msg) {
   if (!m || !t || !P || m->nv < 4 || m->nf < 4 || t->nv != m->nv) return au_msg_set(msg, AU_E_ARG, "sphere: bad arguments");
   const int nv = m->nv, nf = m->nf;
   au_status st = AU_OK;
@@ -230,9 +283,11 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
   double *w0 = malloc(sizeof(double) * (t->ne ? t->ne : 1));
   double *b = malloc(sizeof(double) * 2 * nv), *z = malloc(sizeof(double) * 2 * nv), *work = malloc(sizeof(double) * nv);
   double *r = malloc(sizeof(double) * 3 * (size_t)(nv > nf ? nv : nf)), *dz = malloc(sizeof(double) * 2 * nv);
+  double *ul = malloc(sizeof(double) * nv), umid = 0;
   xreal *zx = malloc(sizeof(xreal) * 2 * nv);
   unsigned char *fixed = calloc((size_t)nv, 1);
-  if (!area || !w || !w0 || !b || !z || !work || !fixed || !r || !dz || !zx) {
+  if (nsheared) *nsheared = 0;
+  if (!area || !w || !w0 || !b || !z || !work || !fixed || !r || !dz || !zx || !ul) {
     st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
     goto done;
   }
@@ -265,18 +320,23 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
   }
   fixed[pin] = 1;
 
+  if (twist) {
+    /* The twisted start: the protrusions' bands turned into prism bands (tube_weights). Nothing to turn:
+     * nothing to map (*nsheared 0). */
+    st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &solver, msg);
+    if (st == AU_OK) st = log_scale(m, t, solver, w0, c, ul, b, work, &umid, msg);
+    if (st != AU_OK) goto done;
+    int ns = tube_weights(m, t, ul, umid, 0, AU_SQUEEZE_JUMP, r, w);
+    if (nsheared) *nsheared = ns;
+    if (ns == 0) goto done;
+  }
   for (int attempt = 0; attempt < 4; attempt++) {
     if (attempt == 2) {
       /* Cotan and clamped weights both folded: the protrusions are squeezed past what coordinates hold.
-       * Compress them along their length (compressed_weights), from the cotan solve's log scale. */
-      st = au_solver_factor(solver, w0, NULL, msg);
-      if (st == AU_OK) st = flat_log_scale(m, t, solver, c, z, b, msg);
+       * Compress them along their length (tube_weights), from the cotan solve's log scale. */
+      if (!twist) st = log_scale(m, t, solver, w0, c, ul, b, work, &umid, msg);
       if (st != AU_OK) goto done;
-      int n = 0;
-      for (int i = 0; i < nv; i++)
-        if (t->vused[i]) work[n++] = z[i];
-      qsort(work, (size_t)n, sizeof(double), cmp_dbl);
-      compressed_weights(m, t, z, work[n / 2], AU_SQUEEZE_JUMP, r, w);
+      tube_weights(m, t, ul, umid, AU_SQUEEZE_JUMP, twist ? AU_SQUEEZE_JUMP : 0, r, w);
     }
     if (attempt == 1 || attempt == 2) {
       /* Obtuse triangles folded the map: clamp the weights positive (a small fraction of the mean). */
@@ -323,8 +383,16 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
   }
 done:
   au_solver_free(&solver);
-  free(area), free(w), free(w0), free(b), free(z), free(work), free(fixed), free(r), free(dz), free(zx);
+  free(area), free(w), free(w0), free(b), free(z), free(work), free(fixed), free(r), free(dz), free(zx), free(ul);
   return st;
+}
+
+au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_msg *msg) {
+  return conformal(m, t, 0, P, NULL, msg);
+}
+
+au_status au_sphere_twisted(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg) {
+  return conformal(m, t, 1, P, nsheared, msg);
 }
 
 au_status au_sphere_balance(const au_mesh *m, const au_topo *t, double *P, au_msg *msg) {

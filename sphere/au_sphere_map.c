@@ -15,6 +15,7 @@ au_sphere_opts au_sphere_opts_default(void) {
   o.balance = 1;
   o.lantern_retry = 2;
   o.retry_above = 2;
+  o.twist_retry = 0.02;
   return o;
 }
 
@@ -75,6 +76,25 @@ static double chord_vertex_error(const au_mesh *m, const au_topo *t, const au_ad
   return err;
 }
 
+/* The chord floor's excess (au_metrics.chord_floor_excess): the area by which faces' least chord areas
+ * (au_dec_sphere_chord_floor) exceed their shares, as a fraction of the chord triangles' total. */
+static double chord_floor_excess(const au_mesh *m, const double *P) {
+  const int nf = m->nf, *F = m->F;
+  double *as = malloc(sizeof(double) * (size_t)nf), *ad = malloc(sizeof(double) * (size_t)nf), excess = 0;
+  if (as && ad) {
+    au_dec_face_areas(nf, F, m->X, as);
+    au_dec_face_areas(nf, F, P, ad);
+    double ss = 0, sd = 0;
+    for (int f = 0; f < nf; f++) ss += as[f], sd += ad[f];
+    for (int f = 0; f < nf; f++) {
+      double over = au_dec_sphere_chord_floor(P + 3 * F[3 * f], P + 3 * F[3 * f + 1], P + 3 * F[3 * f + 2]) - as[f] / ss * sd;
+      if (over > 0) excess += over / sd;
+    }
+  }
+  free(as), free(ad);
+  return excess;
+}
+
 au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P, double *P0,
                         au_sphere_report *rep, au_msg *msg) {
   if (!m || !t || !P) return au_msg_set(msg, AU_E_ARG, "sphere: bad arguments");
@@ -123,6 +143,34 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
         }
       }
       free(r2), free(P2);
+    }
+    /* The twisted retry (au_sphere_opts.twist_retry): from the twisted start, for a map that still misses
+     * its tolerance well with much of its chord area on the floor, on a mesh with protrusions to turn. */
+    double ek = rep->retry == 2 ? rep->retry_err[1] : e0;
+    if (st == AU_W_NOT_CONVERGED && o.twist_retry > 0 && ek > o.retry_above * o.flow.tol &&
+        chord_floor_excess(m, P) > o.twist_retry) {
+      au_advect_report *r3 = malloc(sizeof *r3);
+      double *P3 = malloc(sizeof(double) * 3 * (size_t)m->nv);
+      au_msg msg3 = {0};
+      int nsheared = 0;
+      au_status st3 = r3 && P3 ? au_sphere_twisted(m, t, P3, &nsheared, &msg3) : AU_E_NOMEM;
+      if (st3 == AU_OK && nsheared > 0) {
+        if (o.balance) st3 = au_sphere_balance(m, t, P3, &msg3);
+        if (st3 == AU_OK) st3 = au_advect_run_plan(plan, &dom, &o.flow, P3, r3, &msg3);
+        double e3 = st3 == AU_OK || st3 == AU_W_NOT_CONVERGED ? chord_vertex_error(m, t, &o.flow, P3) : INFINITY;
+        rep->twist = 1, rep->twist_faces = nsheared, rep->twist_err = e3;
+        if (st3 == AU_E_CANCELLED) {
+          st = st3;
+          if (msg) *msg = msg3;
+        } else if (e3 < ek) {
+          rep->twist = 2;
+          memcpy(P, P3, sizeof(double) * 3 * (size_t)m->nv);
+          rep->flow = *r3;
+          st = st3;
+          if (msg) *msg = msg3;
+        }
+      }
+      free(r3), free(P3);
     }
     free(Pstart);
     rep->t_flow = now_s() - t0;
