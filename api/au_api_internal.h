@@ -11,9 +11,9 @@
 au_mesh_expect au__target_expect(au_target t);
 
 /* The flow's options for target t (the sphere's or the planar defaults), with refine_faces applied;
- * lantern_retry and retry_above are the sphere's retry (0 elsewhere). */
+ * lantern_retry, retry_above and twist_retry are the sphere's retries (0 elsewhere). */
 void au__flow_defaults(au_target t, int refine_faces, au_advect_opts *flow, double *lantern_retry,
-                       double *retry_above);
+                       double *retry_above, double *twist_retry);
 
 /* Copy the tuning fields of e over f (the rest of f is left as it is). */
 void au__flow_from_expert(const au_expert *e, au_advect_opts *f);

@@ -95,11 +95,12 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
 
 /* The flow's options from the user's. */
 static void flow_options(au_target t, const au_options *o, progress_ctx *pc, au_advect_opts *f, double *lantern_retry,
-                         double *retry_above) {
-  au__flow_defaults(t, o->refine_faces, f, lantern_retry, retry_above);
+                         double *retry_above, double *twist_retry) {
+  au__flow_defaults(t, o->refine_faces, f, lantern_retry, retry_above, twist_retry);
   if (o->expert) {
     au__flow_from_expert(o->expert, f);
     *lantern_retry = o->expert->lantern_retry, *retry_above = o->expert->retry_above;
+    *twist_retry = o->expert->twist_retry;
   }
   if (o->max_steps > 0) f->max_steps = o->max_steps;
   if (o->tol >= 0) f->tol = o->tol;
@@ -151,7 +152,7 @@ typedef struct map_run {
   const au_mesh *mm; /* the mesh that is mapped: m, or ms for the square */
   const au_topo *tt;
   au_advect_opts flow;
-  double lantern_retry, retry_above;
+  double lantern_retry, retry_above, twist_retry;
   progress_ctx pc;
   au_result *r;
   int outer; /* annulus: the loop index on the unit circle */
@@ -222,6 +223,8 @@ static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_r
   au_mesh_free(&mr);
   if (nnew) warn(r, "refined: %d edges split, %d faces (the input has %d); vertices %d..%d are new", nnew, r->nf, x->m->nf,
                  x->m->nv, r->nv - 1);
+  else
+    warn(r, "refined: nothing split (no refinement lowered the vertex error); the input's mesh and map are written");
   return st;
 }
 
@@ -238,7 +241,7 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
   }
   au_sphere_opts so = au_sphere_opts_default();
   so.flow = x->flow, so.balance = x->o->balance != 0;
-  so.lantern_retry = x->lantern_retry, so.retry_above = x->retry_above;
+  so.lantern_retry = x->lantern_retry, so.retry_above = x->retry_above, so.twist_retry = x->twist_retry;
   au_sphere_report *rep = calloc(1, sizeof *rep);
   if (!rep) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
   st = au_sphere_map(x->m, x->t, &so, r->P, r->P0, rep, msg);
@@ -247,6 +250,7 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
   if (st >= 0) {
     au_status s2 = keep_log(r, &rep->flow, msg);
     r->conv.lantern_retry = rep->retry, r->conv.retry_err[0] = rep->retry_err[0], r->conv.retry_err[1] = rep->retry_err[1];
+    r->conv.twist_retry = rep->twist, r->conv.twist_faces = rep->twist_faces, r->conv.twist_err = rep->twist_err;
     if (s2 != AU_OK) st = s2;
   }
   free(rep);
@@ -484,7 +488,7 @@ au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, con
   if (!(x.r = calloc(1, sizeof *x.r))) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
   x.r->target = t, x.r->init_only = o->init_only != 0;
   memcpy(x.r->corners, (int[4]){-1, -1, -1, -1}, sizeof x.r->corners);
-  flow_options(t, o, &x.pc, &x.flow, &x.lantern_retry, &x.retry_above);
+  flow_options(t, o, &x.pc, &x.flow, &x.lantern_retry, &x.retry_above, &x.twist_retry);
 
   au_status check = AU_OK;
   st = prepare(&x, V, nv, F, nf, &check, msg);
@@ -546,6 +550,7 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.polish_from = flow ? r->conv.polish_from : 0, info.undone = flow ? r->conv.undone : 0;
   info.has_schedule = flow, info.start_jump = r->conv.start_jump, info.resolved = r->conv.resolved;
   info.retry = r->conv.lantern_retry, info.retry_err[0] = r->conv.retry_err[0], info.retry_err[1] = r->conv.retry_err[1];
+  info.twist = r->conv.twist_retry, info.twist_faces = r->conv.twist_faces, info.twist_err = r->conv.twist_err;
   info.angle_from = flow ? r->conv.angle_from : 0;
   if (r->target == AU_TARGET_TORUS)
     info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;

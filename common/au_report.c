@@ -120,6 +120,11 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
     ok = put(conv, "lantern_retry", lr) && put(lr, "kept", cJSON_CreateBool(info->retry == 2)) &&
          put(lr, "vertex_err_first", num(info->retry_err[0])) && put(lr, "vertex_err_retry", num(info->retry_err[1]));
   }
+  if (ok && info->twist > 0) {
+    cJSON *tw = cJSON_CreateObject();
+    ok = put(conv, "twisted_start", tw) && put(tw, "kept", cJSON_CreateBool(info->twist == 2)) &&
+         put(tw, "faces_sheared", num(info->twist_faces)) && put(tw, "vertex_err", num(info->twist_err));
+  }
   for (int i = 0; ok && i < info->nwarnings; i++) ok &= put(warn, NULL, str(info->warnings[i]));
 
   ok = ok && put(root, "tool", str("authalic")) && put(root, "version", str(info->tool_version)) &&

@@ -39,6 +39,10 @@ typedef struct au_report_info {
   int retry;                   /* sphere's lantern retry (au_sphere_report.retry): 0 none (nothing written);
                                   1 ran, discarded; 2 ran, kept. Written as convergence.lantern_retry */
   double retry_err[2];         /* the vertex errors of the first map and of the retry's */
+  int twist;                   /* sphere's twisted retry (au_sphere_report.twist): 0 none (nothing written);
+                                  1 ran, discarded; 2 ran, kept. Written as convergence.twisted_start */
+  int twist_faces;             /* the faces the twisted start sheared */
+  double twist_err;            /* the twisted retry's vertex error */
   int angle_from;              /* > 0: the step at which the angle steps began (au_advect_report);
                                   written as convergence.angle_from */
   const double (*lattice)[2];  /* torus: the lattice's basis (rows a1, a2), written as "lattice": [[a1x, a1y],

@@ -425,6 +425,9 @@ struct au_expert {
   double lantern_retry;   /* sphere: a map missing tol by more than retry_above x is mapped again with
                              lantern = this, the better map kept (2; 0 off) */
   double retry_above;     /* see lantern_retry (2) */
+  double twist_retry;     /* sphere: a map still missing tol by more than retry_above x, with a chord
+                             floor excess above this, is mapped again from the twisted start, the better
+                             map kept (0.02; 0 off; docs/hard-meshes.md) */
   double resolved_jump;   /* a start whose mean jump of log r across edges is at most this runs the
                              resolved schedule (0.1; refine_faces 0: never) */
   double resolved_shear;  /* resolved schedule: first shear weight (0.1) */
@@ -510,6 +513,9 @@ typedef struct au_convergence {
   double start_jump; /* the start's mean jump of log r across interior edges */
   int lantern_retry; /* sphere: 0 none; 1 the retry ran and was discarded; 2 its map was kept */
   double retry_err[2]; /* the first map's and the retry's chord vertex error */
+  int twist_retry;   /* sphere: 0 none; 1 the twisted retry ran and was discarded; 2 its map was kept */
+  int twist_faces;   /* with a twisted retry: the faces its start sheared */
+  double twist_err;  /* with a twisted retry: its map's chord vertex error */
 } au_convergence;
 
 #define AU_MAX_WARNINGS 8

@@ -53,13 +53,13 @@ typedef struct au_sphere_report {
  * AU_E_NUMERIC, AU_E_FOLD (the map folded: msg says how many triangles). */
 au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_msg *msg);
 
-/* The twisted start: as au_sphere_conformal, with the triangles of the protrusions (where the flat
- * log scale jumps by more than 0.3 across a triangle, in the squeezed half) sheared along their girth
- * so that each stands over an end of its edge across the limb, the handedness the same everywhere: a
- * band of triangles turned half a step per ring (an antiprism band) becomes a prism band, which the
- * flow can stretch along the girth without the chord triangles folding to and fro beneath the sphere
- * (au_sphere_init.c, tube_weights). *nsheared: the number of faces sheared; 0: no protrusion, P not
- * written. Returns as au_sphere_conformal. */
+/* The twisted start: as au_sphere_conformal, with the triangles across which the flat log scale jumps
+ * by more than 0.3 (the protrusions, and the puncture's neighbourhood) sheared along their girth so that
+ * each stands over an end of its edge across the limb, the handedness the same everywhere: a band of
+ * triangles turned half a step per ring (an antiprism band) becomes a prism band, which the flow can
+ * stretch along the girth without the chord triangles folding to and fro beneath the sphere
+ * (au_sphere_init.c, tube_weights). *nsheared: the number of faces sheared; 0: none, P not written.
+ * Returns as au_sphere_conformal. */
 au_status au_sphere_twisted(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg);
 
 /* Moebius-normalize a sphere map in place so the surface-area-weighted centroid of the image

@@ -184,10 +184,10 @@ static au_status flat_log_scale(const au_mesh *m, const au_topo *t, au_solver *s
   return au_solver_solve(solver, 1, b, u, msg);
 }
 
-/* Cotan weights of the surface changed face by face where the flat log scale u jumps across a triangle
- * in the squeezed half (below umid, the median of u): the protrusions, which the conformal map squeezes
- * along their length.
- * - compress > 0: where u jumps by more than compress, the face is compressed along grad u by the factor
+/* Cotan weights of the surface changed face by face where the flat log scale u jumps across a triangle:
+ * the protrusions, which the conformal map squeezes along their length.
+ * - compress > 0: where u jumps by more than compress in the squeezed half (below umid, the median of u;
+ *   near the puncture u also jumps, but there the map expands), the face is compressed along grad u by the factor
  *   compress / jump. A protrusion of length L and girth C is squeezed like e^(-2 pi L / C); compressed
  *   along its length by beta, like e^(-2 pi beta L / C), so its triangles stay representable.
  * - twist > 0: where u jumps by more than twist, the face is sheared along J grad u (the girth
@@ -196,7 +196,8 @@ static au_status flat_log_scale(const au_mesh *m, const au_topo *t, au_solver *s
  *   band. The flow later stretches a limb's girth many times over; a band whose corners stand over the
  *   middle of the stretched edges folds to and fro beneath the sphere (a Schwarz lantern, whose chord
  *   area no flow can bring down), and the flow cannot turn a ring against the next one (its velocity
- *   is a gradient, whose circulation around a ring is zero). So the turn is made in the start.
+ *   is a gradient, whose circulation around a ring is zero). So the turn is made in the start, in both
+ *   halves (a limb near the puncture is stretched along its girth by the flow as well).
  * The map stays a harmonic map with positive (after clamping) weights, only not conformal.
  * w [0..ne-1] out; returns the number of faces sheared. */
 static int tube_weights(const au_mesh *m, const au_topo *t, const double *u, double umid, double compress, double twist,
@@ -214,7 +215,6 @@ static int tube_weights(const au_mesh *m, const au_topo *t, const double *u, dou
     cr[0] = e1[1] * e2[2] - e1[2] * e2[1], cr[1] = e1[2] * e2[0] - e1[0] * e2[2], cr[2] = e1[0] * e2[1] - e1[1] * e2[0];
     double cn = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
     double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), h = sqrt(2 * cn / sqrt(3.0));
-    /* Only in the squeezed half: near the puncture u also jumps, but there the map expands. */
     double jump = gn * h;
     int squeezed = gn > 0 && cn > 0 && u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid;
     if (squeezed && compress > 0 && jump > compress) {
@@ -224,7 +224,7 @@ static int tube_weights(const au_mesh *m, const au_topo *t, const double *u, dou
         for (int d = 0; d < 3; d++) x[k][d] -= (1 - beta) * s * g[d];
       }
     }
-    if (squeezed && twist > 0 && jump > twist) {
+    if (gn > 0 && cn > 0 && twist > 0 && jump > twist) {
       /* Frame: gy along grad u, gx = n x gy (the girth direction); X, Y the corners' coordinates. */
       double gy[3] = {g[0] / gn, g[1] / gn, g[2] / gn}, gx[3], X[3], Y[3];
       gx[0] = (cr[1] * gy[2] - cr[2] * gy[1]) / cn, gx[1] = (cr[2] * gy[0] - cr[0] * gy[2]) / cn;

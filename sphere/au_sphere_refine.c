@@ -242,7 +242,9 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   au_advect_report *ar = malloc(sizeof *ar);
   if (!ar) return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
   au_status st = AU_OK;
-  double best = INFINITY;
+  double best = INFINITY, e_in = vertex_error(m, P);
+  au_advect_report flow_in;
+  if (rep) flow_in = rep->flow;
   const int ncand = (int)(sizeof refine_floor_share / sizeof *refine_floor_share);
   for (int c = 0; c < ncand; c++) {
     au_mesh *mr = NULL;
@@ -267,6 +269,21 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     }
   }
   free(ar);
+  /* Neither refinement beat the input's map (a refined band can hold the flow back more than the
+   * floor it lifts): the input's mesh and map stand, nothing split. */
+  if (st >= 0 && *out && e_in < best) {
+    au_mesh *mc = NULL;
+    double *Pc = malloc(sizeof(double) * 3 * (size_t)m->nv);
+    if (Pc && au_mesh_copy(m, &mc) == AU_OK) {
+      memcpy(Pc, P, sizeof(double) * 3 * (size_t)m->nv);
+      au_mesh_free(out), free(*Pout), free(*parent), free(*param);
+      *out = mc, *Pout = Pc, *parent = NULL, *param = NULL, *nnew = 0;
+      st = e_in > o.flow.tol ? AU_W_NOT_CONVERGED : AU_OK;
+      if (rep) rep->flow = flow_in;
+    } else {
+      free(Pc);
+    }
+  }
   if (st < 0) {
     au_mesh_free(out), free(*Pout), free(*parent), free(*param);
     *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0;

@@ -180,9 +180,13 @@ static int read_density(const char *path, int nv, int nf, double **out, int *cou
 static void summary(int cmd, const au_result *r, double seconds) {
   const au_metrics *f = &r->metrics;
   if (cmd == CLI_SPHERE) {
+    /* The retries that ran: " (lantern retry discarded; twisted start kept)". */
+    const char *lr = r->conv.lantern_retry == 2 ? "lantern retry kept" : r->conv.lantern_retry == 1 ? "lantern retry discarded" : "";
+    const char *tw = r->conv.twist_retry == 2 ? "twisted start kept" : r->conv.twist_retry == 1 ? "twisted start discarded" : "";
+    char tail[80] = "";
+    if (*lr || *tw) snprintf(tail, sizeof tail, " (%s%s%s)", lr, *lr && *tw ? "; " : "", tw);
     fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs%s\n", r->nv,
-            r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs, seconds,
-            r->conv.lantern_retry == 2 ? " (lantern retry kept)" : r->conv.lantern_retry == 1 ? " (lantern retry discarded)" : "");
+            r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs, seconds, tail);
     return;
   }
   char extra[160] = "";

@@ -291,8 +291,11 @@ def summary(cmd, r, seconds):
             head, a, b, c, d, r.vt.shape[0], r.init_method or "?", seconds))
         return
     if cmd == "sphere":
-        lr = r.info["convergence"].get("lantern_retry")
-        tail = "" if not lr else " (lantern retry kept)" if lr["kept"] else " (lantern retry discarded)"
+        conv = r.info["convergence"]
+        lr, tw = conv.get("lantern_retry"), conv.get("twisted_start")
+        parts = ([("lantern retry kept" if lr["kept"] else "lantern retry discarded")] if lr else []) + \
+            ([("twisted start kept" if tw["kept"] else "twisted start discarded")] if tw else [])
+        tail = " (%s)" % "; ".join(parts) if parts else ""
         sys.stderr.write("%s time=%.2fs%s\n" % (head, seconds, tail))
         return
     extra = ""

@@ -76,7 +76,8 @@ class Convergence(ctypes.Structure):
     _fields_ = [("steps", c_int), ("converged", c_int), ("undone", c_int), ("err", P_double),
                 ("face_err", P_double), ("frac", P_double), ("polish_from", c_int), ("angle_from", c_int),
                 ("resolved", c_int), ("start_jump", c_double), ("lantern_retry", c_int),
-                ("retry_err", c_double * 2)]
+                ("retry_err", c_double * 2), ("twist_retry", c_int), ("twist_faces", c_int),
+                ("twist_err", c_double)]
 
 
 class Result(ctypes.Structure):
