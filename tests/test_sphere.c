@@ -626,7 +626,8 @@ static int folded_start_refused(void) {
 /* limbs8 (data/mklimbs.c): eight legs up to 20 diameters long, squeezed by the conformal start past any
  * coordinate's resolution, so cotan and clamped weights fold; the start compressed along the legs
  * (au_sphere_init.c, attempt 2) is fold-free and the flow keeps it so. Measured 2026-12-03: vertex 0.566,
- * per-face 0.806 (docs/hard-meshes.md; the equal-area bounds of issue 21 are not reached). */
+ * per-face 0.806; with the twisted retry (kept) 0.224 / 0.321 (docs/hard-meshes.md; the equal-area
+ * bounds of issue 21 are not reached). */
 static int compressed_start_limbs8(void) {
   loaded L;
   if (load("limbs8.obj", 1, &L)) return 1;
@@ -649,7 +650,7 @@ static int compressed_start_limbs8(void) {
 /* Refinement where the chord floor binds (au_sphere_refine) on limbs4: the input's vertices stay first
  * and unmoved on the surface, every new vertex is exactly at its parents' stated parameter (so on the
  * surface), at most twice the faces, the refined map fold-free on the unit sphere. Measured 2026-12-03
- * (session 11, two candidates): 1162 edges split, 4648 faces, per-face 0.220, vertex 0.125 (the
+ * (session 12, from the twisted map): 1162 edges split, 4648 faces, per-face 0.0810, vertex 0.0452 (the
  * equal-area bounds of issue 21 are not reached on limbs4; cli.refine_mesh.cheburashka checks them). */
 static int refine_mesh_limbs4(void) {
   loaded L;
