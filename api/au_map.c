@@ -223,8 +223,10 @@ static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_r
   au_mesh_free(&mr);
   if (nnew) warn(r, "refined: %d edges split, %d faces (the input has %d); vertices %d..%d are new", nnew, r->nf, x->m->nf,
                  x->m->nv, r->nv - 1);
-  else
+  else if (rep->refine_kept_input)
     warn(r, "refined: nothing split (no refinement lowered the vertex error); the input's mesh and map are written");
+  else
+    warn(r, "refined: nothing to split (no chord triangle is held by the floor); the input's mesh and map are written");
   return st;
 }
 

@@ -384,8 +384,9 @@ typedef struct au_options {
                              triangle cannot shrink to its share (the chord floor), with new vertices on
                              the input surface, and flow again; up to three rounds, at most twice the
                              input's faces. The result's mesh is then the refined one (nv > nv_in) and
-                             au_result.parent tells where each new vertex lies. 0 (default): the
-                             input's mesh */
+                             au_result.parent tells where each new vertex lies; when no refinement
+                             lowers the vertex error, the input's mesh and map (nrefined 0, a warning
+                             says so). 0 (default): the input's mesh */
   int measure_start;      /* 1 (default): also measure the initial map (au_result.init_metrics);
                              0: skip it, a tenth of a second on 100k faces (au_result_json then
                              measures it itself) */

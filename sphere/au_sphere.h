@@ -41,9 +41,11 @@ typedef struct au_sphere_report {
   int retry;              /* 0: no lantern retry; 1: it ran and its map was discarded; 2: its map was kept */
   double retry_err[2];    /* with a retry: the vertex mean |log ratio| of the chord triangles of the first
                              map and of the retry's */
-  int twist;              /* 0: no twisted retry; 1: it ran and its map was discarded; 2: its map was kept */
+  int twist;              /* 0: no twisted retry; 1: it ran and its map was discarded; 2: its map was kept
+                             (P0 stays the conformal start; the twisted start's time is in t_flow) */
   int twist_faces;        /* with a twisted retry: the faces its start sheared */
   double twist_err;       /* with a twisted retry: its map's chord vertex error */
+  int refine_kept_input;  /* au_sphere_refine: 1 if neither refinement beat the input's map */
 } au_sphere_report;
 
 /* Fold-free spherical conformal map of a closed genus-0 mesh.
@@ -91,8 +93,10 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
  * first, in order, then the new ones; face f of the input keeps index f for its first piece, the other
  * pieces come after the input's faces. parent [0..2*nnew-1], param [0..nnew-1] (free): new vertex
  * m->nv + k lies at (1 - param[k]) X[parent[2k]] + param[k] X[parent[2k+1]] (a parent may itself be
- * new, with a smaller number), on the surface. With nothing to split, out is a copy and nnew is 0.
- * rep (may be NULL) gets the kept refinement's last flow's report in rep->flow.
+ * new, with a smaller number), on the surface. With nothing to split, or when neither refinement
+ * lowers the input map's vertex error, out is a copy of m, Pout of P and nnew is 0 (rep->refine_kept_input
+ * 1 in the second case). rep (may be NULL): the input map's report in, the kept refinement's last
+ * flow's report in rep->flow out (unchanged when the input's map is kept).
  * Returns AU_OK, AU_W_NOT_CONVERGED (the last flow missed its tolerance; the map is fold-free),
  * AU_E_ARG, AU_E_NOMEM, or an error of au_advect_run. */
 au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,

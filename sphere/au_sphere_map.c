@@ -145,7 +145,8 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
       free(r2), free(P2);
     }
     /* The twisted retry (au_sphere_opts.twist_retry): from the twisted start, for a map that still misses
-     * its tolerance well with much of its chord area on the floor, on a mesh with protrusions to turn. */
+     * its tolerance well with much of its chord area on the floor (the floor excess is the gate: nearly
+     * every mesh has faces to shear, near the puncture if nowhere else). */
     double ek = rep->retry == 2 ? rep->retry_err[1] : e0;
     if (st == AU_W_NOT_CONVERGED && o.twist_retry > 0 && ek > o.retry_above * o.flow.tol &&
         chord_floor_excess(m, P) > o.twist_retry) {

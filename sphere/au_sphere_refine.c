@@ -244,7 +244,8 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   au_status st = AU_OK;
   double best = INFINITY, e_in = vertex_error(m, P);
   au_advect_report flow_in;
-  if (rep) flow_in = rep->flow;
+  memset(&flow_in, 0, sizeof flow_in);
+  if (rep) flow_in = rep->flow, rep->refine_kept_input = 0;
   const int ncand = (int)(sizeof refine_floor_share / sizeof *refine_floor_share);
   for (int c = 0; c < ncand; c++) {
     au_mesh *mr = NULL;
@@ -278,8 +279,9 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
       memcpy(Pc, P, sizeof(double) * 3 * (size_t)m->nv);
       au_mesh_free(out), free(*Pout), free(*parent), free(*param);
       *out = mc, *Pout = Pc, *parent = NULL, *param = NULL, *nnew = 0;
-      st = e_in > o.flow.tol ? AU_W_NOT_CONVERGED : AU_OK;
-      if (rep) rep->flow = flow_in;
+      /* The input map's own status: its flow's, when the caller passed its report. */
+      st = rep ? (flow_in.converged ? AU_OK : AU_W_NOT_CONVERGED) : e_in > o.flow.tol ? AU_W_NOT_CONVERGED : AU_OK;
+      if (rep) rep->flow = flow_in, rep->refine_kept_input = 1;
     } else {
       free(Pc);
     }

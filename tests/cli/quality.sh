@@ -23,9 +23,14 @@ expect_err "^authalic: sphere: V=$(obj_nv "$IN") F=$(wc -l <"$T/f.in" | tr -d ' 
 [ "$(ls -A "$T/o" | tr '\n' ' ')" = "map.obj report.json " ] || fail "unexpected files: $(ls -A "$T/o")"
 # The summary says whether the lantern retry ran (and which map was kept) exactly when the report does.
 if grep -q '"lantern_retry"' "$REP"; then
-  expect_err "^authalic: sphere: .* \(lantern retry (kept|discarded)\)$"
+  expect_err "^authalic: sphere: .* \(lantern retry (kept|discarded)(; twisted start (kept|discarded))?\)$"
 else
   ! grep -q "lantern retry" "$T/log/stderr" || fail "the summary names a lantern retry the report lacks"
+fi
+if grep -q '"twisted_start"' "$REP"; then
+  expect_err "^authalic: sphere: .*; twisted start (kept|discarded)\)$"
+else
+  ! grep -q "twisted start" "$T/log/stderr" || fail "the summary names a twisted start the report lacks"
 fi
 
 case $1 in
@@ -57,8 +62,14 @@ check((lr is not None) == (m["vertex_logr_mean_abs"] > 4e-3 or (lr is not None a
       "lantern retry %s with vertex error %g" % (lr, m["vertex_logr_mean_abs"]))
 if lr is not None:
     best = min(lr["vertex_err_first"], lr["vertex_err_retry"])
-    check(abs(m["vertex_logr_mean_abs"] - best) <= 1e-9 and lr["kept"] == (lr["vertex_err_retry"] < lr["vertex_err_first"]),
-          "lantern retry %s, written map's vertex error %g" % (lr, m["vertex_logr_mean_abs"]))
+    check(lr["kept"] == (lr["vertex_err_retry"] < lr["vertex_err_first"]), "lantern retry %s" % lr)
+    # The twisted retry follows only a lantern retry, and is kept only when it does better still.
+    tw = r["convergence"].get("twisted_start")
+    if tw is not None:
+        check(tw["kept"] == (tw["vertex_err"] < best), "twisted start %s after %s" % (tw, lr))
+        best = min(best, tw["vertex_err"])
+    check(abs(m["vertex_logr_mean_abs"] - best) <= 1e-9,
+          "retries %s, written map's vertex error %g" % (r["convergence"], m["vertex_logr_mean_abs"]))
 PYEOF
   ;;
 init_only)
