@@ -122,8 +122,9 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
   }
   if (ok && info->twist > 0) {
     cJSON *tw = cJSON_CreateObject();
-    ok = put(conv, "twisted_start", tw) && put(tw, "kept", cJSON_CreateBool(info->twist == 2)) &&
-         put(tw, "faces_sheared", num(info->twist_faces)) && put(tw, "vertex_err", num(info->twist_err));
+    ok = put(conv, "twisted_start", tw) && put(tw, "kept", cJSON_CreateBool(info->twist >= 2)) &&
+         put(tw, "faces_sheared", num(info->twist_faces)) && put(tw, "vertex_err", num(info->twist_err)) &&
+         put(tw, "conformal_start_folded", cJSON_CreateBool(info->twist == 3));
   }
   for (int i = 0; ok && i < info->nwarnings; i++) ok &= put(warn, NULL, str(info->warnings[i]));
 

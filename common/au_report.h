@@ -40,7 +40,8 @@ typedef struct au_report_info {
                                   1 ran, discarded; 2 ran, kept. Written as convergence.lantern_retry */
   double retry_err[2];         /* the vertex errors of the first map and of the retry's */
   int twist;                   /* sphere's twisted retry (au_sphere_report.twist): 0 none (nothing written);
-                                  1 ran, discarded; 2 ran, kept. Written as convergence.twisted_start */
+                                  1 ran, discarded; 2 ran, kept; 3 the start (the conformal one folded).
+                                  Written as convergence.twisted_start */
   int twist_faces;             /* the faces the twisted start sheared */
   double twist_err;            /* the twisted retry's vertex error */
   int angle_from;              /* > 0: the step at which the angle steps began (au_advect_report);

@@ -42,7 +42,9 @@ typedef struct au_sphere_report {
   double retry_err[2];    /* with a retry: the vertex mean |log ratio| of the chord triangles of the first
                              map and of the retry's */
   int twist;              /* 0: no twisted retry; 1: it ran and its map was discarded; 2: its map was kept
-                             (P0 stays the conformal start; the twisted start's time is in t_flow) */
+                             (P0 stays the conformal start; the twisted start's time is in t_flow);
+                             3: every conformal start folded and the map was made from the strong
+                             twisted start (au_sphere_twisted_strong; P0 is that start) */
   int twist_faces;        /* with a twisted retry: the faces its start sheared */
   double twist_err;       /* with a twisted retry: its map's chord vertex error */
   int refine_kept_input;  /* au_sphere_refine: 1 if neither refinement beat the input's map */
@@ -63,6 +65,12 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
  * (au_sphere_init.c, tube_weights). *nsheared: the number of faces sheared; 0: none, P not written.
  * Returns as au_sphere_conformal. */
 au_status au_sphere_twisted(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg);
+
+/* The strong twisted start: as au_sphere_twisted down to a jump of 0.1 instead of 0.3, and its
+ * compressed attempt compresses both halves of u (also the part the puncture expands). For meshes whose
+ * conformal start folds even compressed (nested protrusions: data/tpose.obj); au_sphere_map falls back
+ * to it. Returns as au_sphere_twisted. */
+au_status au_sphere_twisted_strong(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg);
 
 /* Moebius-normalize a sphere map in place so the surface-area-weighted centroid of the image
  * is the origin (the conformal map stays conformal). P: nv x 3 unit vectors, in/out.

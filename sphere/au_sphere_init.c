@@ -49,6 +49,9 @@ typedef long double xreal;
 /* The compressed start (attempt 2): the largest jump of the flat log scale across a triangle left where
  * protrusions are compressed (docs/hard-meshes.md). */
 #define AU_SQUEEZE_JUMP 0.3
+/* The strong twisted start (a start for meshes whose every other start folds, tpose): compressed and
+ * sheared down to this jump, in both halves of u. */
+#define AU_STRONG_JUMP 0.1
 
 /* Inverse stereographic projection of the plane points (x[i], y[i]) scaled by s onto the unit sphere. */
 static void inverse_stereo(int nv, const unsigned char *used, const xreal *x, const xreal *y, xreal s, double *P) {
@@ -187,7 +190,8 @@ static au_status flat_log_scale(const au_mesh *m, const au_topo *t, au_solver *s
 /* Cotan weights of the surface changed face by face where the flat log scale u jumps across a triangle:
  * the protrusions, which the conformal map squeezes along their length.
  * - compress > 0: where u jumps by more than compress in the squeezed half (below umid, the median of u;
- *   near the puncture u also jumps, but there the map expands), the face is compressed along grad u by the factor
+ *   near the puncture u also jumps, but there the map expands; both halves when both is 1), the face
+ *   is compressed along grad u by the factor
  *   compress / jump. A protrusion of length L and girth C is squeezed like e^(-2 pi L / C); compressed
  *   along its length by beta, like e^(-2 pi beta L / C), so its triangles stay representable.
  * - twist > 0: where u jumps by more than twist, the face is sheared along J grad u (the girth
@@ -200,8 +204,8 @@ static au_status flat_log_scale(const au_mesh *m, const au_topo *t, au_solver *s
  *   halves (a limb near the puncture is stretched along its girth by the flow as well).
  * The map stays a harmonic map with positive (after clamping) weights, only not conformal.
  * w [0..ne-1] out; returns the number of faces sheared. */
-static int tube_weights(const au_mesh *m, const au_topo *t, const double *u, double umid, double compress, double twist,
-                        double *G, double *w) {
+static int tube_weights(const au_mesh *m, const au_topo *t, const double *u, double umid, double compress, int both,
+                        double twist, double *G, double *w) {
   const int nf = m->nf;
   int nsheared = 0;
   au_dec_face_grad(nf, m->F, m->X, u, G);
@@ -216,7 +220,7 @@ static int tube_weights(const au_mesh *m, const au_topo *t, const double *u, dou
     double cn = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
     double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), h = sqrt(2 * cn / sqrt(3.0));
     double jump = gn * h;
-    int squeezed = gn > 0 && cn > 0 && u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid;
+    int squeezed = gn > 0 && cn > 0 && (both || u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid);
     if (squeezed && compress > 0 && jump > compress) {
       double beta = compress / jump;
       for (int k = 0; k < 3; k++) {
@@ -273,7 +277,8 @@ static au_status log_scale(const au_mesh *m, const au_topo *t, au_solver *solver
   return AU_OK;
 }
 
-/* twist 0: the conformal start (au_sphere_conformal); 1: the twisted start (au_sphere_twisted). */
+/* twist 0: the conformal start (au_sphere_conformal); 1: the twisted start (au_sphere_twisted); 2: the
+ * strong twisted start (au_sphere_twisted_strong). */
 static au_status conformal(const au_mesh *m, const au_topo *t, int twist, double *P, int *nsheared, au_msg *msg) {
   if (!m || !t || !P || m->nv < 4 || m->nf < 4 || t->nv != m->nv) return au_msg_set(msg, AU_E_ARG, "sphere: bad arguments");
   const int nv = m->nv, nf = m->nf;
@@ -326,7 +331,7 @@ static au_status conformal(const au_mesh *m, const au_topo *t, int twist, double
     st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &solver, msg);
     if (st == AU_OK) st = log_scale(m, t, solver, w0, c, ul, b, work, &umid, msg);
     if (st != AU_OK) goto done;
-    int ns = tube_weights(m, t, ul, umid, 0, AU_SQUEEZE_JUMP, r, w);
+    int ns = tube_weights(m, t, ul, umid, 0, 0, twist == 2 ? AU_STRONG_JUMP : AU_SQUEEZE_JUMP, r, w);
     if (nsheared) *nsheared = ns;
     if (ns == 0) goto done;
   }
@@ -336,7 +341,8 @@ static au_status conformal(const au_mesh *m, const au_topo *t, int twist, double
        * Compress them along their length (tube_weights), from the cotan solve's log scale. */
       if (!twist) st = log_scale(m, t, solver, w0, c, ul, b, work, &umid, msg);
       if (st != AU_OK) goto done;
-      tube_weights(m, t, ul, umid, AU_SQUEEZE_JUMP, twist ? AU_SQUEEZE_JUMP : 0, r, w);
+      double jump = twist == 2 ? AU_STRONG_JUMP : AU_SQUEEZE_JUMP;
+      tube_weights(m, t, ul, umid, jump, twist == 2, twist ? jump : 0, r, w);
     }
     if (attempt == 1 || attempt == 2) {
       /* Obtuse triangles folded the map: clamp the weights positive (a small fraction of the mean). */
@@ -393,6 +399,10 @@ au_status au_sphere_conformal(const au_mesh *m, const au_topo *t, double *P, au_
 
 au_status au_sphere_twisted(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg) {
   return conformal(m, t, 1, P, nsheared, msg);
+}
+
+au_status au_sphere_twisted_strong(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg) {
+  return conformal(m, t, 2, P, nsheared, msg);
 }
 
 au_status au_sphere_balance(const au_mesh *m, const au_topo *t, double *P, au_msg *msg) {

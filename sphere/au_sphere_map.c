@@ -107,6 +107,15 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
   au_advect_plan *plan = NULL;
   au_status st = au_advect_plan_start(m, t, &o.flow, &plan, msg);
   if (st == AU_OK) st = au_sphere_conformal(m, t, P, msg);
+  int strong = 0;
+  if (st == AU_E_FOLD && o.twist_retry > 0) {
+    /* Every conformal attempt folded (nested protrusions squeezed past any coordinate): the strong
+     * twisted start, if it does not fold, is the start. */
+    au_msg msg1 = {0};
+    int nsheared = 0;
+    if (au_sphere_twisted_strong(m, t, P, &nsheared, &msg1) == AU_OK && nsheared > 0)
+      st = AU_OK, strong = nsheared;
+  }
   if (st == AU_OK && o.balance) st = au_sphere_balance(m, t, P, msg);
   rep->t_init = now_s() - t0;
   if (st == AU_OK) {
@@ -148,7 +157,9 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
      * its tolerance well with much of its chord area on the floor (the floor excess is the gate: nearly
      * every mesh has faces to shear, near the puncture if nowhere else). */
     double ek = rep->retry == 2 ? rep->retry_err[1] : e0;
-    if (st == AU_W_NOT_CONVERGED && o.twist_retry > 0 && ek > o.retry_above * o.flow.tol &&
+    if (strong && (st == AU_OK || st == AU_W_NOT_CONVERGED))
+      rep->twist = 3, rep->twist_faces = strong, rep->twist_err = ek;
+    if (st == AU_W_NOT_CONVERGED && !strong && o.twist_retry > 0 && ek > o.retry_above * o.flow.tol &&
         chord_floor_excess(m, P) > o.twist_retry) {
       au_advect_report *r3 = malloc(sizeof *r3);
       double *P3 = malloc(sizeof(double) * 3 * (size_t)m->nv);

@@ -182,7 +182,10 @@ static void summary(int cmd, const au_result *r, double seconds) {
   if (cmd == CLI_SPHERE) {
     /* The retries that ran: " (lantern retry discarded; twisted start kept)". */
     const char *lr = r->conv.lantern_retry == 2 ? "lantern retry kept" : r->conv.lantern_retry == 1 ? "lantern retry discarded" : "";
-    const char *tw = r->conv.twist_retry == 2 ? "twisted start kept" : r->conv.twist_retry == 1 ? "twisted start discarded" : "";
+    const char *tw = r->conv.twist_retry == 3   ? "twisted start: the conformal one folded"
+                     : r->conv.twist_retry == 2 ? "twisted start kept"
+                     : r->conv.twist_retry == 1 ? "twisted start discarded"
+                                                : "";
     char tail[80] = "";
     if (*lr || *tw) snprintf(tail, sizeof tail, " (%s%s%s)", lr, *lr && *tw ? "; " : "", tw);
     fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs%s\n", r->nv,

@@ -294,7 +294,8 @@ def summary(cmd, r, seconds):
         conv = r.info["convergence"]
         lr, tw = conv.get("lantern_retry"), conv.get("twisted_start")
         parts = ([("lantern retry kept" if lr["kept"] else "lantern retry discarded")] if lr else []) + \
-            ([("twisted start kept" if tw["kept"] else "twisted start discarded")] if tw else [])
+            ([("twisted start: the conformal one folded" if tw.get("conformal_start_folded")
+               else "twisted start kept" if tw["kept"] else "twisted start discarded")] if tw else [])
         tail = " (%s)" % "; ".join(parts) if parts else ""
         sys.stderr.write("%s time=%.2fs%s\n" % (head, seconds, tail))
         return
