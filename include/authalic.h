@@ -707,6 +707,9 @@ typedef struct au_tex_mesh {
                            round (both are made; the one of lower per-face texture error is kept) */
   double vt_err_mean;   /* per-face mean |vt share / surface share - 1| of the result (what param-eval
                            measures with --coords vt --domain plane) */
+  int area_dropped;     /* with area_rule 0: 1 if neither rule's area splits gave a lower per-face texture
+                           error than none, so the coordinates without them were kept (area_splits 0,
+                           area_tol the tolerance tried) */
 } au_tex_mesh;
 
 /* Options of au_tex_coords_opts. */
@@ -731,8 +734,9 @@ typedef struct au_tex_opts {
                           mean |r - 1| (spherical areas), at least 0.001 */
   int max_rounds;      /* rounds of splitting for area, 0..64 (16); splitting for folds always goes
                           on until none is left */
-  int area_rule;       /* with area splitting: 0 (default) both rules below, the result of lower
-                          per-face texture error kept (au_tex_mesh.vt_err_mean); 1 every face above
+  int area_rule;       /* with area splitting: 0 (default) both rules below and no area splits at all,
+                          the result of lowest per-face texture error kept (au_tex_mesh.vt_err_mean,
+                          area_dropped); 1 every face above
                           the tolerance each round; 2 the worst faces first, by longest-edge
                           propagation (docs/textures.md) */
 } au_tex_opts;

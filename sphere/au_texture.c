@@ -617,6 +617,24 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
     *out = b, b = NULL, st = AU_OK;
   }
   au_tex_mesh_free(&b);
+  if (st != AU_OK) return st;
+  /* And none: where the projection hardly bends, the splits gather where it does and the per-face mean
+   * then counts the map's own error there more often (bunny laea: 0.0085 unsplit, 0.0097 split). */
+  au_tex_opts none = opts;
+  none.area_tol = 0;
+  au_msg msg3 = {{0}};
+  st2 = tex_build(m, P, &none, 0, &b, &msg3);
+  if (st2 == AU_E_NOMEM) {
+    au_tex_mesh_free(out);
+    if (msg) *msg = msg3;
+    return st2;
+  }
+  if (st2 == AU_OK && b->vt_err_mean < (*out)->vt_err_mean) {
+    b->area_tol = (*out)->area_tol, b->area_dropped = 1;
+    au_tex_mesh_free(out);
+    *out = b, b = NULL;
+  }
+  au_tex_mesh_free(&b);
   return st;
 }
 

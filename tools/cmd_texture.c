@@ -417,11 +417,11 @@ static int run_texture(const tex_args *a) {
   if (!a->quiet) {
     const double *R = t->layout.R;
     fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d edge splits=%d "
-            "(split for folding=%d for area=%d%s, tol %.3g) out V=%d F=%d mean|r-1|=%.3g sph|r-1|=%.4g vt|r-1|=%.4g "
+            "(split for folding=%d for area=%d%s, tol %.3g%s) out V=%d F=%d mean|r-1|=%.3g sph|r-1|=%.4g vt|r-1|=%.4g "
             "axis=%.6f,%.6f,%.6f",
             m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : a->proj == AU_TEX_LAEA ? "laea" : "oct", t->nvt, t->seam_faces,
             t->pole_splits, t->edge_splits, t->fold_splits, t->area_splits, t->area_worst_first ? " worst first" : "",
-            t->area_tol, t->nv, t->nf, met.r_mean_abs_dev, met.sph_r_mean_abs_dev, t->vt_err_mean, R[6], R[7], R[8]);
+            t->area_tol, t->area_dropped ? ", dropped: no lower error" : "", t->nv, t->nf, met.r_mean_abs_dev, met.sph_r_mean_abs_dev, t->vt_err_mean, R[6], R[7], R[8]);
     if (a->bake) fprintf(stderr, " baked=%s %dx%d", a->bake, a->W, a->H);
     if (range[1] > range[0]) fprintf(stderr, " range=[%g, %g]", range[0], range[1]);
     fprintf(stderr, " time=%.2fs\n", cli_now() - t_start);
