@@ -160,6 +160,19 @@ void au_dec_sphere_face_areas(int nf, const int *F, const double *V, double *are
     area[f] = au_dec_sphere_area(V + 3 * F[3 * f], V + 3 * F[3 * f + 1], V + 3 * F[3 * f + 2], NULL);
 }
 
+double au_dec_sphere_floor_excess(size_t nf, const int *F, const double *P, const double *As, double sAs, double sAd,
+                                  int *nfaces) {
+  double excess = 0;
+  int n = 0;
+  for (size_t f = 0; f < nf; f++) {
+    const double *a = P + 3 * (size_t)F[3 * f], *b = P + 3 * (size_t)F[3 * f + 1], *c = P + 3 * (size_t)F[3 * f + 2];
+    double over = au_dec_sphere_chord_floor(a, b, c) - As[f] / sAs * sAd;
+    if (over > 0) n++, excess += over / sAd;
+  }
+  if (nfaces) *nfaces = n;
+  return excess;
+}
+
 double au_dec_sphere_chord_floor(const double *a, const double *b, const double *c) {
   const double *q[3] = {a, b, c};
   double l2 = 0;

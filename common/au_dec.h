@@ -56,6 +56,12 @@ double au_dec_sphere_area(const double *a, const double *b, const double *c, dou
  * that edge. 0 for a degenerate edge. */
 double au_dec_sphere_chord_floor(const double *a, const double *b, const double *c);
 
+/* The chord floor's excess of a sphere map P (au_metrics.chord_floor_excess): the area by which the
+ * faces' least chord areas (au_dec_sphere_chord_floor) exceed their shares As[f] / sAs x sAd, as a
+ * fraction of sAd, the chord triangles' total. *nfaces (may be NULL): how many faces exceed it. */
+double au_dec_sphere_floor_excess(size_t nf, const int *F, const double *P, const double *As, double sAs, double sAd,
+                                  int *nfaces);
+
 /* au_dec_sphere_area of every face: area [0..nf-1]. */
 void au_dec_sphere_face_areas(int nf, const int *F, const double *V, double *area);
 

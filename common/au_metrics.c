@@ -180,11 +180,7 @@ static void sphere_stats(size_t n, size_t nvs, const int *F, const double *P, co
   for (size_t f = 0; f < n; f++) ok[f] = As[f] > AU_DEGEN_REL * sAs && Ao[f] > AU_DEGEN_REL * sAo;
   ratio_stats(n, Ao, As, ok, W, NULL, NULL, &out->sph_r_mean_abs_dev, &out->sph_r_cv, NULL);
   vertex_stats(nvs, n, F, Ao, As, vd, vs, &out->sph_vertex_logr_mean_abs, NULL);
-  for (size_t f = 0; f < n; f++) {
-    const double *a = P + 3 * (size_t)F[3 * f], *b = P + 3 * (size_t)F[3 * f + 1], *c = P + 3 * (size_t)F[3 * f + 2];
-    double over = au_dec_sphere_chord_floor(a, b, c) - As[f] / sAs * sAd;
-    if (over > 0) out->chord_floor_faces++, out->chord_floor_excess += over / sAd;
-  }
+  out->chord_floor_excess = au_dec_sphere_floor_excess(n, F, P, As, sAs, sAd, &out->chord_floor_faces);
   for (size_t v = 0; v < nvs; v++) {
     if (!used[v]) continue;
     double dev = fabs(norm3(P + 3 * v) - 1);

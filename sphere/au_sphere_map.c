@@ -86,13 +86,28 @@ static double chord_floor_excess(const au_mesh *m, const double *P) {
     au_dec_face_areas(nf, F, P, ad);
     double ss = 0, sd = 0;
     for (int f = 0; f < nf; f++) ss += as[f], sd += ad[f];
-    for (int f = 0; f < nf; f++) {
-      double over = au_dec_sphere_chord_floor(P + 3 * F[3 * f], P + 3 * F[3 * f + 1], P + 3 * F[3 * f + 2]) - as[f] / ss * sd;
-      if (over > 0) excess += over / sd;
-    }
+    excess = au_dec_sphere_floor_excess((size_t)nf, F, P, as, ss, sd, NULL);
   }
   free(as), free(ad);
   return excess;
+}
+
+/* A retry's outcome against the map kept so far (P, its chord vertex error e, *st): a cancelled retry
+ * ends the map with its status; one whose map P2 has the lower error e2 replaces P, the report's flow
+ * (r2) and the status. Returns 1 if it replaced. */
+static int keep_better(int nv, au_status st2, double e2, const double *P2, const au_advect_report *r2, const au_msg *msg2,
+                       double e, double *P, au_sphere_report *rep, au_status *st, au_msg *msg) {
+  if (st2 == AU_E_CANCELLED) {
+    *st = st2;
+    if (msg) *msg = *msg2;
+    return 0;
+  }
+  if (!(e2 < e)) return 0;
+  memcpy(P, P2, sizeof(double) * 3 * (size_t)nv);
+  rep->flow = *r2;
+  *st = st2;
+  if (msg) *msg = *msg2;
+  return 1;
 }
 
 au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P, double *P0,
@@ -139,17 +154,8 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
         memcpy(P2, Pstart, sizeof(double) * 3 * (size_t)m->nv);
         au_status st2 = au_advect_run_plan(plan, &dom, &o2, P2, r2, &msg2);
         double e1 = st2 == AU_OK || st2 == AU_W_NOT_CONVERGED ? chord_vertex_error(m, t, &o.flow, P2) : INFINITY;
-        rep->retry = 1, rep->retry_err[0] = e0, rep->retry_err[1] = e1;
-        if (st2 == AU_E_CANCELLED) {
-          st = st2;
-          if (msg) *msg = msg2;
-        } else if (e1 < e0) {
-          rep->retry = 2;
-          memcpy(P, P2, sizeof(double) * 3 * (size_t)m->nv);
-          rep->flow = *r2;
-          st = st2;
-          if (msg) *msg = msg2;
-        }
+        rep->retry_err[0] = e0, rep->retry_err[1] = e1;
+        rep->retry = 1 + keep_better(m->nv, st2, e1, P2, r2, &msg2, e0, P, rep, &st, msg);
       }
       free(r2), free(P2);
     }
@@ -170,17 +176,8 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
         if (o.balance) st3 = au_sphere_balance(m, t, P3, &msg3);
         if (st3 == AU_OK) st3 = au_advect_run_plan(plan, &dom, &o.flow, P3, r3, &msg3);
         double e3 = st3 == AU_OK || st3 == AU_W_NOT_CONVERGED ? chord_vertex_error(m, t, &o.flow, P3) : INFINITY;
-        rep->twist = 1, rep->twist_faces = nsheared, rep->twist_err = e3;
-        if (st3 == AU_E_CANCELLED) {
-          st = st3;
-          if (msg) *msg = msg3;
-        } else if (e3 < ek) {
-          rep->twist = 2;
-          memcpy(P, P3, sizeof(double) * 3 * (size_t)m->nv);
-          rep->flow = *r3;
-          st = st3;
-          if (msg) *msg = msg3;
-        }
+        rep->twist_faces = nsheared, rep->twist_err = e3;
+        rep->twist = 1 + keep_better(m->nv, st3, e3, P3, r3, &msg3, ek, P, rep, &st, msg);
       }
       free(r3), free(P3);
     }
