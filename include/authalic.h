@@ -707,9 +707,14 @@ typedef struct au_tex_mesh {
                            round (both are made; the one of lower per-face texture error is kept) */
   double vt_err_mean;   /* per-face mean |vt share / surface share - 1| of the result (what param-eval
                            measures with --coords vt --domain plane) */
-  int area_dropped;     /* with area_rule 0: 1 if neither rule's area splits gave a lower per-face texture
-                           error than none, so the coordinates without them were kept (area_splits 0,
-                           area_tol the tolerance tried) */
+  int area_dropped;     /* with area_rule 0: 1 if the coordinates without area splits were kept
+                           (area_splits 0, area_tol the tolerance tried): with a target, because they
+                           met it; without, because neither rule gave a lower per-face texture error */
+  double area_target;   /* the per-face texture error the area splitting stopped at (the option, or the
+                           automatic one); 0: none */
+  int area_target_met;  /* 1 if vt_err_mean <= area_target */
+  int area_tries_failed; /* with area_rule 0: how many of the two rules' tries left a face turned over
+                           (refused; 2: the result has no area splits) */
 } au_tex_mesh;
 
 /* Options of au_tex_coords_opts. */
@@ -735,10 +740,16 @@ typedef struct au_tex_opts {
   int max_rounds;      /* rounds of splitting for area, 0..64 (16); splitting for folds always goes
                           on until none is left */
   int area_rule;       /* with area splitting: 0 (default) both rules below and no area splits at all,
-                          the result of lowest per-face texture error kept (au_tex_mesh.vt_err_mean,
-                          area_dropped); 1 every face above
-                          the tolerance each round; 2 the worst faces first, by longest-edge
-                          propagation (docs/textures.md) */
+                          the best kept (au_tex_mesh.vt_err_mean, area_dropped): with a target, the
+                          fewest faces among those that meet it, else the lowest per-face texture
+                          error; 1 every face above the tolerance each round; 2 the worst faces
+                          first, by longest-edge propagation (docs/textures.md) */
+  double area_target;  /* with area splitting: stop splitting for area once the texture's per-face mean
+                          |vt share / surface share - 1| is at most this (> 0); < 0 (default): the
+                          sphere map's own error, 1.25 x its per-face mean |r - 1| (chord triangles,
+                          what param-eval IN MAP measures) + 0.002; 0: no target */
+  int area_growth;     /* area splitting stops once the faces have grown this many times, 1..64;
+                          0 (default): 8, or 32 with a target */
 } au_tex_opts;
 
 /* The defaults above. */

@@ -33,8 +33,11 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#define AU_FOLD_ROUNDS 64 /* rounds before giving up on a fold (the shared meshes need at most 12) */
-#define AU_AREA_GROWTH 8  /* area splitting stops once the faces have grown this many times */
+#define AU_FOLD_ROUNDS 64 /* rounds before giving up on a fold (the shared meshes need at most 12); with
+                             a target, after the last round of area splits */
+#define AU_TARGET_STALL 4 /* growth of the faces without a lower error after which a target is given up */
+#define AU_TARGET_STEP 4  /* with a target, a worst-first round grows the faces by at most 1/4, so the
+                             splitting stops within a quarter of the faces the target needs */
 #define AU_FOLD_GROWTH 64 /* and fold splitting gives up at this many (a safeguard: none needs it) */
 
 double au__sph_tri_area(const double *a, const double *b, const double *c) {
@@ -364,8 +367,9 @@ static int lepp_split(au__tex_work *w, he_table *h, int a0, int b0, int *count) 
 /* The area splits of one round, of the bad faces that are not folds (bad [3 per face]: the edge's
  * ends, fold flag; berr: their errors): every one at its edge's middle, or (worst_first) the worst
  * first by longest-edge propagation within the round's budget. Returns 0, or -1 when out of memory. */
-static int area_splits(au__tex_work *w, he_table *h, const int *bad, const double *berr, int nbad, int worst_first,
-                       int nf0) {
+static int area_splits(au__tex_work *w, he_table *h, const int *bad, const double *berr, int nbad,
+                       const au__tex_area *plan, int nf0) {
+  int worst_first = plan->worst_first;
   au_tex_mesh *t = w->t;
   if (!worst_first) {
     for (int j = 0; j < nbad; j++) {
@@ -381,7 +385,8 @@ static int area_splits(au__tex_work *w, he_table *h, const int *bad, const doubl
   for (int j = 0; j < nbad; j++)
     if (!bad[3 * j + 2]) ord[na++] = j;
   int rc = sort_by_error(ord, na, berr);
-  const int stop = t->nf + (AU_AREA_GROWTH * nf0 - t->nf) / AU_AREA_SHARE;
+  long stop = t->nf + ((long)plan->growth * nf0 - t->nf) / AU_AREA_SHARE;
+  if (plan->target > 0 && stop > t->nf + t->nf / AU_TARGET_STEP) stop = t->nf + t->nf / AU_TARGET_STEP;
   for (int i = 0; rc == 0 && i < na && t->nf < stop; i++)
     if (lepp_split(w, h, bad[3 * ord[i]], bad[3 * ord[i] + 1], &t->area_splits) < 0) rc = -1;
   free(ord);
@@ -390,14 +395,44 @@ static int area_splits(au__tex_work *w, he_table *h, const int *bad, const doubl
 
 static const char *pname(au_tex_proj p) { return p == AU_TEX_CEA ? "cea" : p == AU_TEX_LAEA ? "laea" : "oct"; }
 
-au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, int worst_first, au_msg *msg) {
+/* The per-face mean |straight chart area share / surface share - 1| of the current faces: the texture's
+ * per-face error (vt_error in au_texture.c) before the coordinates are written, since every chart's
+ * raw units are proportional to the vt ones. A face turned over in its chart (sigma: the map's
+ * orientation), which the next round splits, counts as 1 and stays out of the shares: across oct's
+ * gutter its straight triangle can span the square. NAN when out of memory. */
+static double chart_error(const au__tex_work *w, au_tex_proj proj, double sigma) {
+  const au_tex_mesh *t = w->t;
+  double *a = malloc(2 * (size_t)(t->nf > 0 ? t->nf : 1) * sizeof *a), sc = 0, ss = 0, e = 0;
+  if (!a) return NAN;
+  for (int f = 0; f < t->nf; f++) {
+    const int *c = t->F + 3 * (size_t)f;
+    const double *x = t->X + 3 * (size_t)c[0], *y = t->X + 3 * (size_t)c[1], *z = t->X + 3 * (size_t)c[2];
+    double u[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, v[3] = {z[0] - x[0], z[1] - x[1], z[2] - x[2]};
+    double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double xy[6];
+    int which[3];
+    au__tex_face_raw(w, proj, f, xy, which);
+    a[2 * f] = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    a[2 * f + 1] = 0.5 * sigma * ((xy[2] - xy[0]) * (xy[5] - xy[1]) - (xy[4] - xy[0]) * (xy[3] - xy[1]));
+    if (a[2 * f + 1] > 0) ss += a[2 * f], sc += a[2 * f + 1];
+  }
+  for (int f = 0; f < t->nf; f++) e += a[2 * f + 1] > 0 ? fabs((a[2 * f + 1] / sc) / (a[2 * f] / ss) - 1) : 1;
+  free(a);
+  return t->nf ? e / t->nf : 0;
+}
+
+au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area *plan, au_msg *msg) {
+  double tol = plan->tol;
   au_tex_mesh *t = w->t;
   he_table h = {NULL, NULL, 0};
   int *bad = NULL, nbad = 0, badcap = 0;
   double *berr = NULL; /* [badcap]: an area-bad face's |straight / spherical area - 1|; a fold's inf */
   au_status st = AU_OK;
   double sigma = map_sign(w);
-  int nf0 = t->nf;
+  int nf0 = t->nf, nf_best = t->nf, area_done = 0, area_rounds = 0, last_area = 0; /* nf_best: the faces when the texture's error was
+                                                        lowest (best_e); area_done: the target ended
+                                                        the area splitting */
+  double best_e = INFINITY;
   if (opts->proj == AU_TEX_OCT) {
     st = oct_creases(w, msg);
     if (st != AU_OK) return st;
@@ -405,7 +440,8 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, i
   for (int round = 0;; round++) {
     st = au__tex_raw_update(w, opts->proj, msg);
     if (st != AU_OK) break;
-    int area_on = round < opts->max_rounds && t->nf < AU_AREA_GROWTH * nf0 && tol > 0;
+    int area_on = !area_done && (plan->stop_nf <= 0 || t->nf < plan->stop_nf) &&
+                  (plan->target > 0 ? area_rounds : round) < opts->max_rounds && t->nf < (long)plan->growth * nf0 && tol > 0;
     int folds = 0;
     double emax = 0, esum = 0;
     int ne = 0;
@@ -433,8 +469,30 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, i
     }
     t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
     t->folds_left = folds;
+    if (area_on && plan->target > 0) {
+      /* Measured only on a fold-free round: next to a fold the faces are not yet the texture's
+       * (on bumpy_star's oct texture a face beside a crease fold came out at 3000x its share, and
+       * 1 after the fold's split); a round with folds mends them alone. Then stop at the target,
+       * or when the error has not gone down while the faces grew AU_TARGET_STALL times (where the
+       * splits only add slivers, as near oct's creases on bumpy_star, more would spend faces). */
+      int stop = 1;
+      if (folds == 0) {
+        double e = chart_error(w, opts->proj, sigma);
+        stop = e == e && e <= plan->target;
+        if (e == e && e < best_e) best_e = e, nf_best = t->nf;
+        else if (t->nf > AU_TARGET_STALL * (long)nf_best) stop = 1;
+        area_done = stop;
+      }
+      if (stop) {
+        int k = 0;
+        for (int j = 0; j < nbad; j++)
+          if (bad[3 * j + 1] == 2) bad[3 * k] = bad[3 * j], bad[3 * k + 1] = 2, berr[k++] = berr[j];
+        nbad = k;
+      }
+    }
+    if (area_on && nbad > folds) area_rounds++, last_area = round;
     if (nbad == 0) break;
-    if (round >= AU_FOLD_ROUNDS) {
+    if (round - (plan->target > 0 ? last_area : 0) >= AU_FOLD_ROUNDS) {
       st = au_msg_set(msg, AU_E_NUMERIC,
                       "au_tex_coords: projection %s: %d faces stay turned over in the texture after %d rounds of splitting",
                       pname(opts->proj), folds, round);
@@ -476,12 +534,13 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, i
       t->fold_splits += r;
     }
     free(sp);
-    if (area_splits(w, &h, bad, berr, nbad, worst_first, nf0)) {
+    if (area_splits(w, &h, bad, berr, nbad, plan, nf0)) {
       st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
       break;
     }
   }
 done:
+  plan->best_e = best_e, plan->best_nf = nf_best;
   t->edge_splits = t->fold_splits + t->area_splits;
   free(h.key), free(h.face), free(bad), free(berr);
   return st;

@@ -447,6 +447,31 @@ static double map_face_error(const au_mesh *m, const double *Q) {
   return cnt ? e / cnt : 0;
 }
 
+/* The sphere map's per-face mean |r - 1| with chord triangles (param-eval IN MAP's r_mean_abs_dev):
+ * P as given, not normalized. */
+static double map_chord_error(const au_mesh *m, const double *P) {
+  double sa = 0, ss = 0, e = 0;
+  double *A = malloc(2 * (size_t)m->nf * sizeof *A);
+  if (!A) return 0;
+  for (int f = 0; f < m->nf; f++) {
+    const int *c = m->F + 3 * (size_t)f;
+    double n[2];
+    for (int k = 0; k < 2; k++) {
+      const double *X = k ? m->X : P, *a = X + 3 * c[0], *b = X + 3 * c[1], *d = X + 3 * c[2];
+      double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+      double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
+      n[k] = 0.5 * sqrt(x * x + y * y + z * z);
+    }
+    A[2 * f] = n[0], A[2 * f + 1] = n[1];
+    sa += n[0], ss += n[1];
+  }
+  int cnt = 0;
+  for (int f = 0; f < m->nf; f++)
+    if (A[2 * f + 1] > 0) e += fabs((A[2 * f] / sa) / (A[2 * f + 1] / ss) - 1), cnt++;
+  free(A);
+  return cnt ? e / cnt : 0;
+}
+
 au_tex_opts au_tex_opts_default(void) {
   au_tex_opts o;
   memset(&o, 0, sizeof o);
@@ -455,6 +480,7 @@ au_tex_opts au_tex_opts_default(void) {
   o.axis_dir[2] = 1;
   o.area_tol = 0;
   o.max_rounds = 16;
+  o.area_target = -1;
   return o;
 }
 
@@ -543,7 +569,7 @@ static double vt_error(const au_tex_mesh *t) {
 
 /* The texture coordinates with one rule for the area splits (au__tex_refine's worst_first). */
 static au_status tex_build(const au_mesh *m, const double *P, const au_tex_opts *opts, int worst_first,
-                           au_tex_mesh **out, au_msg *msg) {
+                           au__tex_area *plan_out, au_tex_mesh **out, au_msg *msg) {
   int nv = m->nv, nf = m->nf;
   au__tex_work w;
   memset(&w, 0, sizeof w);
@@ -563,9 +589,13 @@ static au_status tex_build(const au_mesh *m, const double *P, const au_tex_opts 
   }
   double sigma = 1;
   if (st == AU_OK) {
-    double e = map_face_error(m, w.Q);
-    t->area_tol = opts->area_tol >= 0 ? opts->area_tol : fmax(0.001, 0.25 * e); /* 0: no area splits */
-    st = au__tex_refine(&w, opts, t->area_tol, worst_first, msg);
+    /* au_tex_coords_opts has made the automatic tolerance and target numbers */
+    au__tex_area plan = {opts->area_tol, opts->area_tol > 0 ? opts->area_target : 0, 8, worst_first, 0, INFINITY, 0};
+    plan.growth = opts->area_growth > 0 ? opts->area_growth : plan.target > 0 ? 32 : 8;
+    if (plan_out) plan.stop_nf = plan_out->stop_nf;
+    t->area_tol = plan.tol, t->area_target = plan.target;
+    st = au__tex_refine(&w, opts, &plan, msg);
+    if (plan_out) *plan_out = plan;
     double s = 0;
     for (int f = 0; f < nf; f++)
       s += au__sph_tri_area(w.Q + 3 * (size_t)m->F[3 * f], w.Q + 3 * (size_t)m->F[3 * f + 1], w.Q + 3 * (size_t)m->F[3 * f + 2]);
@@ -575,12 +605,67 @@ static au_status tex_build(const au_mesh *m, const double *P, const au_tex_opts 
   if (st == AU_OK) {
     t->area_worst_first = worst_first;
     t->vt_err_mean = vt_error(t);
+    t->area_target_met = t->area_target > 0 && t->vt_err_mean <= t->area_target;
     *out = t, w.t = NULL;
   }
   au_tex_mesh_free(&w.t);
   au_locator_free(&loc);
   free(w.C), free(w.Q), free(w.is_pole), free(w.raw);
   return st;
+}
+
+/* One rule's try. With a target it missed, the splitting went on past its lowest error (the error is
+ * not monotone in the splits: oct's creases on bumpy_star, 0.0217 at 28408 faces, 0.0349 at 141582):
+ * the splitting is deterministic, so it is made again up to the faces of that lowest error. */
+static au_status tex_try(const au_mesh *m, const double *P, const au_tex_opts *opts, int worst_first,
+                         au_tex_mesh **out, au_msg *msg) {
+  au__tex_area plan = {0};
+  au_status st = tex_build(m, P, opts, worst_first, &plan, out, msg);
+  if (st != AU_OK || !(plan.target > 0) || (*out)->area_target_met || !(plan.best_nf < (*out)->nf) ||
+      !(plan.best_e < (*out)->vt_err_mean))
+    return st;
+  au_tex_mesh *b = NULL;
+  au_msg m2 = {{0}};
+  au__tex_area replay = {0};
+  replay.stop_nf = plan.best_nf;
+  au_status st2 = tex_build(m, P, opts, worst_first, &replay, &b, &m2);
+  if (st2 == AU_E_NOMEM) {
+    au_tex_mesh_free(out);
+    if (msg) *msg = m2;
+    return st2;
+  }
+  if (st2 == AU_OK && b->vt_err_mean < (*out)->vt_err_mean) {
+    au_tex_mesh_free(out);
+    *out = b, b = NULL;
+  }
+  au_tex_mesh_free(&b);
+  return st;
+}
+
+/* Is a better than b? With a target, meeting it first and then the fewer faces; else (or when
+ * neither meets it) the lower per-face texture error. */
+static int tex_better(const au_tex_mesh *a, const au_tex_mesh *b) {
+  if (a->area_target_met != b->area_target_met) return a->area_target_met;
+  if (a->area_target_met && a->nf != b->nf) return a->nf < b->nf;
+  return a->vt_err_mean < b->vt_err_mean;
+}
+
+/* Keep the better of *best and the try b (status st2, message m2), freeing the other; *st is the
+ * status of *best. Returns 1 when out of memory (then *best is freed and *msg says so). */
+static int keep_better(au_tex_mesh **best, au_status *st, au_tex_mesh *b, au_status st2, const au_msg *m2, au_msg *msg) {
+  if (st2 == AU_E_NOMEM) {
+    au_tex_mesh_free(best);
+    au_tex_mesh_free(&b);
+    if (msg) *msg = *m2;
+    *st = st2;
+    return 1;
+  }
+  if (st2 == AU_OK && (*st != AU_OK || tex_better(b, *best))) {
+    au_tex_mesh_free(best);
+    *best = b, b = NULL, *st = AU_OK;
+  }
+  au_tex_mesh_free(&b);
+  return 0;
 }
 
 au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opts *opts_in, au_tex_mesh **out,
@@ -592,7 +677,7 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
       (opts.proj != AU_TEX_CEA && opts.proj != AU_TEX_LAEA && opts.proj != AU_TEX_OCT) ||
       (opts.axis != AU_TEX_AXIS_Z && opts.axis != AU_TEX_AXIS_AUTO && opts.axis != AU_TEX_AXIS_VECTOR) ||
       !(opts.area_tol == opts.area_tol) || opts.max_rounds < 0 || opts.max_rounds > 64 || opts.area_rule < 0 ||
-      opts.area_rule > 2)
+      opts.area_rule > 2 || !(opts.area_target == opts.area_target) || opts.area_growth < 0 || opts.area_growth > 64)
     return au_msg_set(msg, AU_E_ARG, "au_tex_coords: bad arguments");
   int nv = m->nv, nf = m->nf;
   for (long i = 0; i < 3L * nf; i++)
@@ -600,41 +685,45 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
   for (int i = 0; i < nv; i++)
     if (!(isfinite(P[3 * i]) && isfinite(P[3 * i + 1]) && isfinite(P[3 * i + 2])))
       return au_msg_set(msg, AU_E_ARG, "vertex %d of the sphere map is not finite", i);
-  au_status st = tex_build(m, P, &opts, opts.area_tol != 0 && opts.area_rule == 2, out, msg);
-  if (opts.area_tol == 0 || opts.area_rule != 0 || st == AU_E_NOMEM || st == AU_E_ARG) return st;
-  /* With area splitting, the worst-first rule too (au_texsplit.c, AU_AREA_SHARE); the lower per-face
-   * texture error is kept, and the other rule's failure (folds it could not mend) only loses its try. */
-  au_msg msg2 = {{0}};
-  au_tex_mesh *b = NULL;
-  au_status st2 = tex_build(m, P, &opts, 1, &b, &msg2);
-  if (st2 == AU_E_NOMEM) {
-    au_tex_mesh_free(out);
-    if (msg) *msg = msg2;
-    return st2;
+  if (opts.area_tol != 0) {
+    /* The automatic tolerance (a quarter of the map's spherical per-face error) and target (the map's
+     * own error, as issue 18 asks of a texture: 1.25 x its chordal per-face error + 0.002). */
+    double *Q = malloc(3 * (size_t)nv * sizeof *Q);
+    if (!Q) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+    for (int i = 0; i < nv; i++) {
+      const double *p = P + 3 * (size_t)i;
+      double r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+      for (int j = 0; j < 3; j++) Q[3 * i + j] = r > 0 ? p[j] / r : 0;
+    }
+    if (opts.area_tol < 0) opts.area_tol = fmax(0.001, 0.25 * map_face_error(m, Q));
+    if (opts.area_target < 0) opts.area_target = 1.25 * map_chord_error(m, P) + 0.002;
+    free(Q);
   }
-  if (st2 == AU_OK && (st != AU_OK || b->vt_err_mean < (*out)->vt_err_mean)) {
-    au_tex_mesh_free(out);
-    *out = b, b = NULL, st = AU_OK;
-  }
-  au_tex_mesh_free(&b);
-  if (st != AU_OK) return st;
-  /* And none: where the projection hardly bends, the splits gather where it does and the per-face mean
-   * then counts the map's own error there more often (bunny laea: 0.0085 unsplit, 0.0097 split). */
+  if (opts.area_tol == 0 || opts.area_rule != 0) return tex_try(m, P, &opts, opts.area_rule == 2, out, msg);
+  /* With area splitting, three tries: none, every face above the tolerance each round, the worst first
+   * (au_texsplit.c, AU_AREA_SHARE). None first: where the projection hardly bends, the splits gather
+   * where it does and the per-face mean then counts the map's own error there more often (bunny laea:
+   * 0.0085 unsplit, 0.0097 split); and when it meets the target no split is needed. A try that fails
+   * (folds it could not mend) only loses its turn. */
   au_tex_opts none = opts;
   none.area_tol = 0;
-  au_msg msg3 = {{0}};
-  st2 = tex_build(m, P, &none, 0, &b, &msg3);
-  if (st2 == AU_E_NOMEM) {
-    au_tex_mesh_free(out);
-    if (msg) *msg = msg3;
-    return st2;
+  au_status st = tex_build(m, P, &none, 0, NULL, out, msg);
+  if (st == AU_E_NOMEM) return st;
+  if (st == AU_OK) {
+    au_tex_mesh *t = *out;
+    t->area_tol = opts.area_tol, t->area_target = opts.area_target, t->area_dropped = 1;
+    t->area_target_met = t->area_target > 0 && t->vt_err_mean <= t->area_target;
+    if (t->area_target_met) return AU_OK;
   }
-  if (st2 == AU_OK && b->vt_err_mean < (*out)->vt_err_mean) {
-    b->area_tol = (*out)->area_tol, b->area_dropped = 1;
-    au_tex_mesh_free(out);
-    *out = b, b = NULL;
+  int failed = 0;
+  for (int rule = 1; rule <= 2; rule++) {
+    au_msg m2 = {{0}};
+    au_tex_mesh *b = NULL;
+    au_status st2 = tex_try(m, P, &opts, rule == 2, &b, &m2);
+    failed += st2 == AU_E_NUMERIC;
+    if (keep_better(out, &st, b, st2, &m2, msg)) return st;
   }
-  au_tex_mesh_free(&b);
+  if (st == AU_OK) (*out)->area_tries_failed = failed;
   return st;
 }
 

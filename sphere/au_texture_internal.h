@@ -46,11 +46,23 @@ au_status au__tex_raw_update(au__tex_work *w, au_tex_proj proj, au_msg *msg);
  * index of each corner, packed base 9). Returns 1 if a corner is a pole (cea), else 0. */
 int au__tex_face_raw(const au__tex_work *w, au_tex_proj proj, int f, double xy[6], int *which);
 
-/* Split faces until none is turned over in its chart and (while rounds last) every face's straight
- * texture area is within opts->area_tol of its spherical area (au_texsplit.c, rule there);
- * worst_first: the area splits go to the worst faces first, by longest-edge propagation.
- * Returns AU_OK, AU_E_NOMEM, AU_E_NUMERIC (folds left after the rounds). */
-au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, double tol, int worst_first, au_msg *msg);
+/* The area splitting of one try: tol, the tolerance on |straight / spherical area - 1| (0: none);
+ * target, the per-face texture error at which it stops (0: none); growth, the faces' growth at which
+ * it stops; worst_first: the worst faces first, by longest-edge propagation (else every face above
+ * tol each round). */
+typedef struct au__tex_area {
+  double tol, target;
+  int growth, worst_first;
+  int stop_nf;    /* > 0: no area splits once the faces are this many (a replay up to best_nf) */
+  double best_e;  /* out, with a target: the lowest per-face texture error of a fold-free round */
+  int best_nf;    /* out: the faces then */
+} au__tex_area;
+
+/* Split faces until none is turned over in its chart and (while rounds, the growth budget and the
+ * target last) every face's straight texture area is within plan->tol of its spherical area
+ * (au_texsplit.c, rule there). Returns AU_OK, AU_E_NOMEM, AU_E_NUMERIC (folds left after the
+ * rounds). */
+au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area *plan, au_msg *msg);
 
 /* The rotation R (row-major 3x3, texture point = R p) asked for by opts for the map P (nv x 3,
  * unit) with faces F (nf x 3). Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */

@@ -1020,6 +1020,12 @@ static int vt_quality(const char *name, int shared, int axis_auto) {
         AU_CHECK_INT(t->nf, ==, m->nf + 2 * t->pole_splits + 2 * t->fold_splits);
         AU_CHECK_DBL((double)t->nf, <=, (shared ? proj == AU_TEX_OCT ? 1.4 : 1.2 : 2.0) * m->nf); /* oct spot 1.28 x */
         e_default = e;
+      } else if (!shared && t->area_dropped && t->area_tries_failed == 2) {
+        /* spiky_ico, cea: both rules left a sliver turned over; the texture without area splits is
+         * kept, the same as the default's */
+        fprintf(stderr, "%s proj %d area_tol auto: both rules refused, splits dropped\n", name, proj);
+        AU_CHECK_INT(t->area_splits, ==, 0);
+        AU_CHECK_DBL(e, ==, e_default);
       } else {
         /* oct: the area splits near the creases leave slivers, no reliable gain (spot 0.78 x, bumpy_star 1.39 x) */
         if (shared && proj != AU_TEX_OCT) AU_CHECK_DBL(e, <=, AU_VT_GAIN * e_default);
@@ -1055,7 +1061,8 @@ static int area_rules_of(const char *name, int shared, int proj_lo, int proj_hi)
     int kept_rule = -1;
     for (int rule = 0; rule < 4; rule++) {
       au_tex_opts o = au_tex_opts_default();
-      o.proj = (au_tex_proj)proj, o.area_tol = rule == 3 ? 0 : -1, o.area_rule = rule == 3 ? 0 : rule;
+      /* no target: the lowest error is kept (the target's choice is test area_target's) */
+      o.proj = (au_tex_proj)proj, o.area_tol = rule == 3 ? 0 : -1, o.area_rule = rule == 3 ? 0 : rule, o.area_target = 0;
       au_tex_mesh *t = NULL;
       au_msg msg = {{0}};
       au_status st = au_tex_coords_opts(m, P, &o, &t, &msg);
@@ -1119,6 +1126,83 @@ static int area_rules(void) {
  * the lower spherical per-face error (the floor a texture's straight triangles tend to), stays
  * fold-free, and its equal-area grid cells (located on the sphere) are closer to equal in surface
  * area. */
+/* The target (au_tex_opts.area_target, automatic with area_tol auto): issue 18's bound, 1.25 x the
+ * map's chordal per-face error + 0.002, computed here independently; the texture's per-face error,
+ * measured here, is at most it when the result says it is met, and then the kept try has the fewest
+ * faces of the tries that meet it (each rule alone with the target; no splits). On the maps of
+ * spherical areas (those `authalic texture` makes; the polished map's spherical error is a floor near
+ * the bound, docs/textures.md) the target is met on every projection of spot, where the 8x budget
+ * without a target missed it with cea (0.0195 against 0.0161, session 12). */
+static int area_target_of(const char *name, int shared) {
+  char path[1024];
+  if (shared) {
+    if (!au_test_shared_mesh(name, path, sizeof path)) return AU_SKIP;
+  } else {
+    snprintf(path, sizeof path, "%s/data/%s", AU_SOURCE_DIR, name);
+  }
+  au_mesh *m = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK_STATUS(au_io_read(path, &m, &msg), AU_OK, &msg);
+  au_options mo = au_options_default();
+  au_expert ex = au_expert_default(AU_TARGET_SPHERE, 0);
+  ex.sphere_areas = 2, mo.expert = &ex;
+  au_result *r = NULL;
+  au_status st = au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &mo, &r, &msg);
+  AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+  const double *P = r->P;
+  double target = 1.25 * map_r(m, P, 0) + 0.002;
+  for (int proj = 0; proj < 3; proj++) {
+    /* [0] the default (area_rule 0); [1], [2] each rule alone with the target; [3] no area splits;
+     * [4] no target (the old 8x budget, lowest error). */
+    int nf[5], met[5];
+    double e[5];
+    for (int k = 0; k < 5; k++) {
+      au_tex_opts o = au_tex_opts_default();
+      o.proj = (au_tex_proj)proj, o.area_tol = k == 3 ? 0 : -1, o.area_rule = k == 1 || k == 2 ? k : 0;
+      if (k == 4) o.area_target = 0;
+      au_tex_mesh *t = NULL;
+      st = au_tex_coords_opts(m, P, &o, &t, &msg);
+      if (st == AU_E_NUMERIC && (k == 1 || k == 2)) { /* that rule alone left a fold */
+        met[k] = 0, nf[k] = 0, e[k] = INFINITY;
+        continue;
+      }
+      AU_CHECK_STATUS(st, AU_OK, &msg);
+      int folds;
+      double arel;
+      e[k] = vt_check(t, m, &folds, &arel), nf[k] = t->nf, met[k] = e[k] <= target;
+      AU_CHECK_INT(folds, ==, 0);
+      AU_CHECK_DBL(arel, <=, 1e-9);
+      if (k != 3 && k != 4) {
+        AU_CHECK_NEAR(t->area_target, target, 1e-12);
+        AU_CHECK_INT(t->area_target_met, ==, met[k]);
+      }
+      if (k == 4) AU_CHECK_DBL(t->area_target, ==, 0);
+      if (k == 0 && t->area_dropped) AU_CHECK_INT(t->area_splits, ==, 0);
+      au_tex_mesh_free(&t);
+    }
+    fprintf(stderr, "%s proj %d: target %.4f; kept %.4f at %d faces; rounds %.4f at %d, worst first %.4f at %d, "
+            "none %.4f at %d; no target %.4f at %d\n", name, proj, target, e[0], nf[0], e[1], nf[1], e[2], nf[2], e[3],
+            nf[3], e[4], nf[4]);
+    /* Met when a try meets it, then with the fewest faces; else the lowest error of the tries. */
+    AU_CHECK_INT(met[0], ==, met[1] || met[2] || met[3]);
+    for (int k = 1; k <= 3; k++) {
+      if (met[0] && met[k]) AU_CHECK_INT(nf[0], <=, nf[k]);
+      if (!met[0]) AU_CHECK_DBL(e[0], <=, e[k]);
+    }
+    /* Measured: met on every projection of spot, and on bumpy_star's cea and laea (its oct texture
+     * stops at 0.0217 against 0.0213, the splits near the creases adding slivers). */
+    if (shared || proj != AU_TEX_OCT) AU_CHECK_INT(met[0], ==, 1);
+    if (shared && proj == AU_TEX_CEA) AU_CHECK_INT(met[4], ==, 0);
+  }
+  au_result_free(&r);
+  au_mesh_free(&m);
+  return 0;
+}
+static int area_target(void) {
+  int rc = area_target_of("bumpy_star.obj", 0);
+  return rc ? rc : area_target_of("spot.obj", 1);
+}
+
 static int spherical_map(void) {
   const char *names[2] = {"bumpy_star.obj", "dumbbell.obj"};
   for (int k = 0; k < 2; k++) {
@@ -1271,6 +1355,7 @@ int main(int argc, char **argv) {
       {"axis_auto", axis_auto},
       {"vt_short_flow", vt_short_flow},
       {"spherical_map", spherical_map},     {"area_rules", area_rules},
+      {"area_target", area_target},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }

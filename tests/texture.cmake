@@ -3,7 +3,7 @@ au_test_module(test_texture test_texture.c geo_cea_roundtrip geo_laea_roundtrip 
                layout_roundtrip orient_exact locate_random coords_cea_seam_poles coords_laea bake_linear cell_areas npy_file
                png_roundtrip pictures obj_file scalars_file bad_args star_cells render_seam
                oct_equal_area vt_star vt_spiky vt_shared_spot vt_shared_hippocampus axis_auto
-               vt_short_flow spherical_map area_rules)
+               vt_short_flow spherical_map area_rules area_target)
 
 # End-to-end runs of `authalic texture` and `authalic sample` (au_cli_test comes from tests/cli.cmake).
 foreach(c texture_help sample_help missing_args bad_values bad_combination bad_outputs unknown_flag)

@@ -97,7 +97,11 @@ enum {
     "map's triangles are smallest, the seam across the fewest faces; the rotation is printed)")                    \
   X(OPT_AREA_TOL, "area-tol", "T", CLI_VALUE, CLI_TEXTURE,                                                           \
     "also split faces whose straight texture triangle misses its spherical area by more than T (e.g. 0.01; auto: a " \
-    "quarter of the map's per-face error): closer per-face areas at several times the faces (default 0: off)")      \
+    "quarter of the map's per-face error), until the texture is as exact as the map (--area-target): closer "    \
+    "per-face areas at more faces (default 0: off)")                                                                 \
+  X(OPT_AREA_TARGET, "area-target", "E", CLI_VALUE, CLI_TEXTURE,                                                     \
+    "with --area-tol: stop splitting once the texture's per-face mean |r-1| is at most E (default auto: the map's "  \
+    "own, 1.25 x its per-face mean |r-1| + 0.002, at most 32x the faces; 0: no target, at most 8x the faces)")       \
   X(OPT_LONLAT, "lonlat", "FILE", CLI_FILE, CLI_TEXTURE,                                                             \
     "write longitude and latitude in degrees of every vertex of OUT.obj")                                            \
   X(OPT_BAKE, "bake", "ATTR", CLI_FILE, CLI_TEXTURE,                                                                 \
@@ -130,7 +134,7 @@ enum {
 typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
   OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
-  OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_LONLAT,
+  OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_AREA_TARGET, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
   OPT_COUNT
 } cli_opt_id;

@@ -97,6 +97,13 @@ static int parse_args(int argc, char **argv, tex_args *a) {
     if (strcmp(v, "auto") && (end == v || *end || !(a->topts.area_tol >= 0 && a->topts.area_tol < 1e3)))
       return cli_usage_error(help, "--area-tol '%s': expected a number >= 0 or auto", v);
   }
+  if ((v = c.val[OPT_AREA_TARGET]) != NULL) {
+    char *end;
+    a->topts.area_target = strcmp(v, "auto") == 0 ? -1 : strtod(v, &end);
+    if (strcmp(v, "auto") && (end == v || *end || !(a->topts.area_target >= 0 && a->topts.area_target < 1e3)))
+      return cli_usage_error(help, "--area-target '%s': expected a number >= 0 or auto", v);
+    if (a->topts.area_tol == 0) return cli_usage_error(help, "--area-target: needs --area-tol");
+  }
   cli_opt_id size = a->sample ? OPT_GRID : OPT_SIZE;
   a->has_size = c.val[size] != NULL;
   if (cli_opt_size(&c, size, &a->W, &a->H)) return EXIT_USAGE;
@@ -416,12 +423,16 @@ static int run_texture(const tex_args *a) {
   }
   if (!a->quiet) {
     const double *R = t->layout.R;
+    char target[64] = "";
+    if (t->area_target > 0)
+      snprintf(target, sizeof target, ", target %.4g %s", t->area_target, t->area_target_met ? "met" : "missed");
     fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d edge splits=%d "
-            "(split for folding=%d for area=%d%s, tol %.3g%s) out V=%d F=%d mean|r-1|=%.3g sph|r-1|=%.4g vt|r-1|=%.4g "
+            "(split for folding=%d for area=%d%s, tol %.3g%s%s) out V=%d F=%d mean|r-1|=%.3g sph|r-1|=%.4g vt|r-1|=%.4g "
             "axis=%.6f,%.6f,%.6f",
             m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : a->proj == AU_TEX_LAEA ? "laea" : "oct", t->nvt, t->seam_faces,
             t->pole_splits, t->edge_splits, t->fold_splits, t->area_splits, t->area_worst_first ? " worst first" : "",
-            t->area_tol, t->area_dropped ? ", dropped: no lower error" : "", t->nv, t->nf, met.r_mean_abs_dev, met.sph_r_mean_abs_dev, t->vt_err_mean, R[6], R[7], R[8]);
+            t->area_tol, target, !t->area_dropped ? "" : t->area_target_met ? ", none needed" : t->area_tries_failed == 2 ? ", dropped: splits left folds" : ", dropped: no lower error",
+            t->nv, t->nf, met.r_mean_abs_dev, met.sph_r_mean_abs_dev, t->vt_err_mean, R[6], R[7], R[8]);
     if (a->bake) fprintf(stderr, " baked=%s %dx%d", a->bake, a->W, a->H);
     if (range[1] > range[0]) fprintf(stderr, " range=[%g, %g]", range[0], range[1]);
     fprintf(stderr, " time=%.2fs\n", cli_now() - t_start);
