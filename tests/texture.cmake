@@ -9,6 +9,6 @@ au_test_module(test_texture test_texture.c geo_cea_roundtrip geo_laea_roundtrip 
 foreach(c texture_help sample_help missing_args bad_values bad_combination bad_outputs unknown_flag)
   au_cli_test(texture.${c} texture_usage.sh ${c})
 endforeach()
-foreach(c obj_cea laea bake_normal bake_scalar sample sample_csv bad_map mirrored on_the_fly on_the_fly_spherical)
+foreach(c obj_cea laea bake_normal bake_scalar sample sample_csv bad_map mirrored on_the_fly on_the_fly_spherical area_target)
   au_cli_test(texture.${c} texture_runs.sh ${c})
 endforeach()

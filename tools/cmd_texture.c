@@ -358,6 +358,12 @@ static int run_texture(const tex_args *a) {
     rc = cli_fail(a->map ? a->map : a->in, st, &msg);
     goto done;
   }
+  if (t->area_target > 0 && !t->area_target_met)
+    cli_warn(&warn, a->in,
+             "the texture's per-face error %.4g misses the target %.4g; the map's spherical per-face error %.4g "
+             "is a floor%s",
+             t->vt_err_mean, t->area_target, met.sph_r_mean_abs_dev,
+             a->map && met.sph_r_mean_abs_dev > met.r_mean_abs_dev ? " (`authalic sphere --spherical-areas`, or texture without --map, makes a map with a lower one)" : "");
   if (a->bake) {
     rgb = malloc(3 * (size_t)a->W * a->H);
     st = rgb ? au_locator_build(m->nv, P, m->nf, m->F, &loc, &msg) : AU_E_NOMEM;

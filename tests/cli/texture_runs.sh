@@ -190,6 +190,37 @@ on_the_fly)
   expect_status 0
   expect_faces_compact "$T/o/tex.obj"
   ;;
+area_target)
+  # --area-tol auto splits until the texture is as exact as the map: the summary names the target
+  # (1.25 x the map's per-face error + 0.002) and says it is met, and the OBJ's per-face mean
+  # |vt share / surface share - 1|, measured here, is at most that, at no more than 32x the faces.
+  run texture "$IN" "$T/o/t.obj" --projection laea --area-tol auto
+  expect_status 0
+  expect_err 'target [0-9.e-]+ met\)'
+  tg=$(sed -n 's/.*target \([0-9.e-]*\) met.*/\1/p' "$T/log/stderr")
+  $PY - "$T/o/t.obj" "$tg" "$NF" <<'PYEOF' || fail "the texture misses its target $tg"
+import sys
+V, T, F = [], [], []
+for line in open(sys.argv[1]):
+    t = line.split()
+    if not t: continue
+    if t[0] == "v": V.append([float(x) for x in t[1:4]])
+    elif t[0] == "vt": T.append([float(x) for x in t[1:3]])
+    elif t[0] == "f": F.append([[int(i) - 1 for i in c.split("/")[:2]] for c in t[1:4]])
+def cross(a, b): return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+sa, ta = [], []
+for f in F:
+    p, q, r = (V[c[0]] for c in f)
+    n = cross([q[i] - p[i] for i in range(3)], [r[i] - p[i] for i in range(3)])
+    sa.append(0.5 * sum(x * x for x in n) ** 0.5)
+    a, b, c = (T[c[1]] for c in f)
+    ta.append(0.5 * abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])))
+S, A = sum(sa), sum(ta)
+e = sum(abs((t / A) / (s / S) - 1) for s, t in zip(sa, ta)) / len(F)
+print("per-face %.5f target %s faces %d" % (e, sys.argv[2], len(F)))
+sys.exit(0 if e <= float(sys.argv[2]) and len(F) <= 32 * int(sys.argv[3]) * 1.3 else 1)
+PYEOF
+  ;;
 on_the_fly_spherical)
   # Without --map the map drives the spherical triangles' areas only (no chord polish): on this mesh,
   # where `authalic sphere` polishes, its spherical per-face error (sph|r-1| in the summary) is lower

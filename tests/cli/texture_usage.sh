@@ -40,6 +40,8 @@ bad_values)
   expect_rejected "--grid '64x32x2'"
   run texture "$IN" "$OUT" --projection laea --bake normal --image "$T/o/t.png" --size 101x50
   expect_rejected 'laea needs an even width'
+  run texture "$IN" "$OUT" --area-tol auto --area-target -0.1
+  expect_rejected "--area-target '-0.1': expected a number >= 0 or auto"
   ;;
 bad_combination)
   run texture "$IN" "$OUT" --bake normal
@@ -50,6 +52,8 @@ bad_combination)
   expect_rejected '--render needs --bake'
   run texture "$IN" "$OUT" --size 64x32
   expect_rejected '--size applies to --bake only'
+  run texture "$IN" "$OUT" --area-target 0.01
+  expect_rejected '--area-target: needs --area-tol'
   ;;
 bad_outputs)
   run texture "$IN" "$T/o/out.ply"
