@@ -88,7 +88,7 @@ int au__tex_reserve(au__tex_work *w, int nv, int nf) {
 typedef struct he_table {
   uint64_t *key;
   int *face;
-  size_t mask;
+  size_t mask, used; /* used: slots holding a key (a split edge's keeps it, its face -1) */
 } he_table;
 
 static size_t he_slot(const he_table *h, uint64_t k) {
@@ -96,13 +96,37 @@ static size_t he_slot(const he_table *h, uint64_t k) {
   return (size_t)(x >> 17) & h->mask;
 }
 
-static void he_put(he_table *h, int a, int b, int f) {
-  uint64_t k = ((uint64_t)(uint32_t)a << 32) | (uint32_t)b;
+static void he_insert(he_table *h, uint64_t k, int f) {
   size_t s = he_slot(h, k);
   while (h->key[s] != UINT64_MAX && h->key[s] != k) s = (s + 1) & h->mask;
+  h->used += h->key[s] == UINT64_MAX;
   h->key[s] = k, h->face[s] = f;
 }
 
+/* Room for cap slots (a power of two), the live half-edges of h (if any) moved in and the split ones
+ * dropped. Returns 0 when out of memory (h unchanged). */
+static int he_rehash(he_table *h, size_t cap) {
+  he_table n = {malloc(cap * sizeof *n.key), malloc(cap * sizeof *n.face), cap - 1, 0};
+  if (!n.key || !n.face) {
+    free(n.key), free(n.face);
+    return 0;
+  }
+  memset(n.key, 0xff, cap * sizeof *n.key);
+  for (size_t s = 0; h->key && s <= h->mask; s++)
+    if (h->key[s] != UINT64_MAX && h->face[s] >= 0) he_insert(&n, h->key[s], h->face[s]);
+  free(h->key), free(h->face);
+  *h = n;
+  return 1;
+}
+
+/* Set the face of half-edge (a, b), growing the table past half full. Returns 0 when out of memory. */
+static int he_put(he_table *h, int a, int b, int f) {
+  if (2 * (h->used + 1) > h->mask + 1 && !he_rehash(h, 2 * (h->mask + 1))) return 0;
+  he_insert(h, ((uint64_t)(uint32_t)a << 32) | (uint32_t)b, f);
+  return 1;
+}
+
+/* The face of half-edge (a, b): a pointer into the table, valid until the next he_put; NULL if none. */
 static int *he_find(const he_table *h, int a, int b) {
   uint64_t k = ((uint64_t)(uint32_t)a << 32) | (uint32_t)b;
   size_t s = he_slot(h, k);
@@ -113,27 +137,25 @@ static int *he_find(const he_table *h, int a, int b) {
   return NULL;
 }
 
-/* A table for the current faces with room for a round that splits every edge (four times the
- * half-edges at load 1/2). Returns 0 when out of memory. */
+/* A table of the current faces at load 1/4 at most; the splits keep it current. Returns 0 when out of
+ * memory. */
 static int he_build(he_table *h, const au_tex_mesh *t) {
-  size_t need = 8 * 3 * (size_t)t->nf, cap = 1024;
+  size_t need = 4 * 3 * (size_t)t->nf, cap = 1024;
   while (cap < need) cap <<= 1;
   free(h->key), free(h->face);
-  h->key = malloc(cap * sizeof *h->key);
-  h->face = malloc(cap * sizeof *h->face);
-  if (!h->key || !h->face) return 0;
-  memset(h->key, 0xff, cap * sizeof *h->key);
-  h->mask = cap - 1;
+  h->key = NULL, h->face = NULL, h->used = 0, h->mask = 0;
+  if (!he_rehash(h, cap)) return 0;
   for (int f = 0; f < t->nf; f++)
-    for (int k = 0; k < 3; k++) he_put(h, t->F[3 * f + k], t->F[3 * f + (k + 1) % 3], f);
+    for (int k = 0; k < 3; k++)
+      if (!he_put(h, t->F[3 * f + k], t->F[3 * f + (k + 1) % 3], f)) return 0;
   return 1;
 }
 
 /* ---------------------------------------------------------------- splitting */
 
 /* Split face f at its half-edge (p, q) with the vertex m: f keeps (p, m, r), a new face gets
- * (m, q, r). Room must be reserved. */
-static void split_face(au__tex_work *w, he_table *h, int f, int p, int q, int m) {
+ * (m, q, r). Room must be reserved. Returns 0 when out of memory. */
+static int split_face(au__tex_work *w, he_table *h, int f, int p, int q, int m) {
   au_tex_mesh *t = w->t;
   int *c = t->F + 3 * (size_t)f, k = 0;
   while (c[k] != p) k++;
@@ -142,8 +164,7 @@ static void split_face(au__tex_work *w, he_table *h, int f, int p, int q, int m)
   int *d = t->F + 3 * (size_t)g;
   d[0] = m, d[1] = q, d[2] = r;
   t->src_face[g] = t->src_face[f];
-  he_put(h, p, m, f), he_put(h, m, r, f);
-  he_put(h, m, q, g), he_put(h, q, r, g), he_put(h, r, m, g);
+  return he_put(h, p, m, f) && he_put(h, m, r, f) && he_put(h, m, q, g) && he_put(h, q, r, g) && he_put(h, r, m, g);
 }
 
 /* Split the edge (a, b) and its two faces at the surface point (1 - s) x_a + s x_b. Returns 1 if
@@ -165,8 +186,7 @@ static int split_edge(au__tex_work *w, he_table *h, int a, int b, double sp) {
   s = sqrt(s);
   for (int j = 0; j < 3; j++) w->Q[3 * (size_t)m + j] = w->C[3 * (size_t)m + j] / s;
   w->is_pole[m] = 0;
-  split_face(w, h, f, a, b, m);
-  split_face(w, h, g, b, a, m);
+  if (!split_face(w, h, f, a, b, m) || !split_face(w, h, g, b, a, m)) return -1;
   return 1;
 }
 
@@ -180,7 +200,7 @@ static int split_edge(au__tex_work *w, he_table *h, int a, int b, double sp) {
  * 1e-12 of a plane count as on it. */
 static au_status oct_creases(au__tex_work *w, au_msg *msg) {
   au_tex_mesh *t = w->t;
-  he_table h = {NULL, NULL, 0};
+  he_table h = {NULL, NULL, 0, 0};
   int *e = NULL;
   au_status st = AU_OK;
   for (int j = 0; j < 3 && st == AU_OK; j++) {
@@ -424,7 +444,7 @@ static double chart_error(const au__tex_work *w, au_tex_proj proj, double sigma)
 au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area *plan, au_msg *msg) {
   double tol = plan->tol;
   au_tex_mesh *t = w->t;
-  he_table h = {NULL, NULL, 0};
+  he_table h = {NULL, NULL, 0, 0};
   int *bad = NULL, nbad = 0, badcap = 0;
   double *berr = NULL; /* [badcap]: an area-bad face's |straight / spherical area - 1|; a fold's inf */
   au_status st = AU_OK;
@@ -517,7 +537,7 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
       bad[3 * i] = c[k], bad[3 * i + 1] = c[(k + 1) % 3], bad[3 * i + 2] = fold;
       sp[i] = fold ? foot_param(w, c[k], c[(k + 1) % 3], c[(k + 2) % 3]) : 0.5;
     }
-    if (!he_build(&h, t)) {
+    if (!h.key && !he_build(&h, t)) { /* built once: the splits keep it current */
       free(sp);
       st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
       break;

@@ -320,8 +320,17 @@ int au__tex_face_raw(const au__tex_work *w, au_tex_proj proj, int f, double xy[6
      * unfolded into the continuation (the gutter). */
     double k = sqrt(M_PI), s0[2] = {raw[4 * (size_t)c[0]] / k, raw[4 * (size_t)c[0] + 1] / k};
     xy[0] = raw[4 * (size_t)c[0]], xy[1] = raw[4 * (size_t)c[0] + 1], which[0] = 0;
+    /* Every other copy lies past the square's edges, farther from the first corner than its distance
+     * to them: a corner nearer than that is its own nearest copy (most faces; the search over the
+     * copies was most of the area splitting's time). */
+    double margin = 1 - fmax(fabs(s0[0]), fabs(s0[1]));
     for (int j = 1; j < 3; j++) {
       double sj[2] = {raw[4 * (size_t)c[j]] / k, raw[4 * (size_t)c[j] + 1] / k}, best = INFINITY, o[2];
+      double d0 = (sj[0] - s0[0]) * (sj[0] - s0[0]) + (sj[1] - s0[1]) * (sj[1] - s0[1]);
+      if (margin > 0 && d0 < margin * margin) {
+        which[j] = 0, xy[2 * j] = raw[4 * (size_t)c[j]], xy[2 * j + 1] = raw[4 * (size_t)c[j] + 1];
+        continue;
+      }
       for (int m = 0; m < 9; m++) {
         au__oct_copy(sj, m, o);
         double d = (o[0] - s0[0]) * (o[0] - s0[0]) + (o[1] - s0[1]) * (o[1] - s0[1]);
@@ -617,9 +626,10 @@ static au_status tex_build(const au_mesh *m, const double *P, const au_tex_opts 
 /* One rule's try. With a target it missed, the splitting went on past its lowest error (the error is
  * not monotone in the splits: oct's creases on bumpy_star, 0.0217 at 28408 faces, 0.0349 at 141582):
  * the splitting is deterministic, so it is made again up to the faces of that lowest error. */
-static au_status tex_try(const au_mesh *m, const double *P, const au_tex_opts *opts, int worst_first,
+static au_status tex_try(const au_mesh *m, const double *P, const au_tex_opts *opts, int worst_first, int cap,
                          au_tex_mesh **out, au_msg *msg) {
   au__tex_area plan = {0};
+  plan.stop_nf = cap;
   au_status st = tex_build(m, P, opts, worst_first, &plan, out, msg);
   if (st != AU_OK || !(plan.target > 0) || (*out)->area_target_met || !(plan.best_nf < (*out)->nf) ||
       !(plan.best_e < (*out)->vt_err_mean))
@@ -699,7 +709,7 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
     if (opts.area_target < 0) opts.area_target = 1.25 * map_chord_error(m, P) + 0.002;
     free(Q);
   }
-  if (opts.area_tol == 0 || opts.area_rule != 0) return tex_try(m, P, &opts, opts.area_rule == 2, out, msg);
+  if (opts.area_tol == 0 || opts.area_rule != 0) return tex_try(m, P, &opts, opts.area_rule == 2, 0, out, msg);
   /* With area splitting, three tries: none, every face above the tolerance each round, the worst first
    * (au_texsplit.c, AU_AREA_SHARE). None first: where the projection hardly bends, the splits gather
    * where it does and the per-face mean then counts the map's own error there more often (bunny laea:
@@ -715,11 +725,15 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
     t->area_target_met = t->area_target > 0 && t->vt_err_mean <= t->area_target;
     if (t->area_target_met) return AU_OK;
   }
+  /* The worst first before the rounds (which double the faces a round): once a try meets the target,
+   * the next stops splitting for area at its faces, past which it could not win (on armadillo's oct
+   * texture the rounds went on to 2.7M faces). */
   int failed = 0;
-  for (int rule = 1; rule <= 2; rule++) {
+  for (int rule = 2; rule >= 1; rule--) {
     au_msg m2 = {{0}};
     au_tex_mesh *b = NULL;
-    au_status st2 = tex_try(m, P, &opts, rule == 2, &b, &m2);
+    int cap = st == AU_OK && (*out)->area_target_met ? (*out)->nf : 0;
+    au_status st2 = tex_try(m, P, &opts, rule == 2, cap, &b, &m2);
     failed += st2 == AU_E_NUMERIC;
     if (keep_better(out, &st, b, st2, &m2, msg)) return st;
   }
