@@ -238,7 +238,8 @@ static au_status oct_creases(au__tex_work *w, au_msg *msg) {
 
 /* What is wrong with face f: 2 fold, 1 area, 0 nothing; err: |straight / spherical area - 1|
  * (NaN for a pole face or a face of no spherical area). */
-static int face_state(const au__tex_work *w, au_tex_proj proj, int f, double sigma, double tol, double *err) {
+static int face_state(const au__tex_work *w, au_tex_proj proj, int f, double sigma, double tol, double *err,
+                      double *straight) {
   const int *c = w->t->F + 3 * (size_t)f;
   const double *Q = w->Q;
   double As = au__sph_tri_area(Q + 3 * (size_t)c[0], Q + 3 * (size_t)c[1], Q + 3 * (size_t)c[2]);
@@ -246,6 +247,7 @@ static int face_state(const au__tex_work *w, au_tex_proj proj, int f, double sig
   int which[3];
   int pole = au__tex_face_raw(w, proj, f, xy, which);
   double At = 0.5 * ((xy[2] - xy[0]) * (xy[5] - xy[1]) - (xy[4] - xy[0]) * (xy[3] - xy[1]));
+  *straight = At;
   *err = NAN;
   if (!(fabs(As) > 0)) return 0; /* corners coincide on the sphere: nothing a split could mend */
   if (sigma * At <= 1e-9 * fabs(As)) return 2;
@@ -415,29 +417,25 @@ static int area_splits(au__tex_work *w, he_table *h, const int *bad, const doubl
 
 static const char *pname(au_tex_proj p) { return p == AU_TEX_CEA ? "cea" : p == AU_TEX_LAEA ? "laea" : "oct"; }
 
-/* The per-face mean |straight chart area share / surface share - 1| of the current faces: the texture's
- * per-face error (vt_error in au_texture.c) before the coordinates are written, since every chart's
- * raw units are proportional to the vt ones. A face turned over in its chart (sigma: the map's
- * orientation), which the next round splits, counts as 1 and stays out of the shares: across oct's
- * gutter its straight triangle can span the square. NAN when out of memory. */
-static double chart_error(const au__tex_work *w, au_tex_proj proj, double sigma) {
+/* The per-face mean |straight chart area share / surface share - 1| of the faces, from their signed
+ * straight areas in the chart (At, as face_state measures them): the texture's per-face error
+ * (vt_error in au_texture.c) before the coordinates are written, since every chart's raw units are
+ * proportional to the vt ones. A face turned over in its chart (sigma: the map's orientation), which
+ * the next round splits, counts as 1 and stays out of the shares: across oct's gutter its straight
+ * triangle can span the square. */
+static double chart_error(const au__tex_work *w, const double *At, double sigma) {
   const au_tex_mesh *t = w->t;
-  double *a = malloc(2 * (size_t)(t->nf > 0 ? t->nf : 1) * sizeof *a), sc = 0, ss = 0, e = 0;
-  if (!a) return NAN;
-  for (int f = 0; f < t->nf; f++) {
-    const int *c = t->F + 3 * (size_t)f;
-    const double *x = t->X + 3 * (size_t)c[0], *y = t->X + 3 * (size_t)c[1], *z = t->X + 3 * (size_t)c[2];
-    double u[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, v[3] = {z[0] - x[0], z[1] - x[1], z[2] - x[2]};
-    double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-    double xy[6];
-    int which[3];
-    au__tex_face_raw(w, proj, f, xy, which);
-    a[2 * f] = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    a[2 * f + 1] = 0.5 * sigma * ((xy[2] - xy[0]) * (xy[5] - xy[1]) - (xy[4] - xy[0]) * (xy[3] - xy[1]));
-    if (a[2 * f + 1] > 0) ss += a[2 * f], sc += a[2 * f + 1];
-  }
-  for (int f = 0; f < t->nf; f++) e += a[2 * f + 1] > 0 ? fabs((a[2 * f + 1] / sc) / (a[2 * f] / ss) - 1) : 1;
-  free(a);
+  double sc = 0, ss = 0, e = 0;
+  for (int pass = 0; pass < 2; pass++)
+    for (int f = 0; f < t->nf; f++) {
+      const int *c = t->F + 3 * (size_t)f;
+      const double *x = t->X + 3 * (size_t)c[0], *y = t->X + 3 * (size_t)c[1], *z = t->X + 3 * (size_t)c[2];
+      double u[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, v[3] = {z[0] - x[0], z[1] - x[1], z[2] - x[2]};
+      double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+      double as = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), at = sigma * At[f];
+      if (pass == 0 && at > 0) ss += as, sc += at;
+      if (pass == 1) e += at > 0 ? fabs((at / sc) / (as / ss) - 1) : 1;
+    }
   return t->nf ? e / t->nf : 0;
 }
 
@@ -452,7 +450,8 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
   int nf0 = t->nf, nf_best = t->nf, area_done = 0, area_rounds = 0, last_area = 0; /* nf_best: the faces when the texture's error was
                                                         lowest (best_e); area_done: the target ended
                                                         the area splitting */
-  double best_e = INFINITY;
+  double best_e = INFINITY, *straight = NULL; /* straight: with a target, each face's signed straight
+                                                 area in its chart, for chart_error */
   if (opts->proj == AU_TEX_OCT) {
     st = oct_creases(w, msg);
     if (st != AU_OK) return st;
@@ -466,9 +465,15 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
     double emax = 0, esum = 0;
     int ne = 0;
     nbad = 0;
+    free(straight), straight = NULL;
+    if (area_on && plan->target > 0 && !(straight = malloc((size_t)t->nf * sizeof *straight))) {
+      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+      break;
+    }
     for (int f = 0; f < t->nf; f++) {
-      double e;
-      int s = face_state(w, opts->proj, f, sigma, area_on ? tol : INFINITY, &e);
+      double e, at;
+      int s = face_state(w, opts->proj, f, sigma, area_on ? tol : INFINITY, &e, &at);
+      if (straight) straight[f] = at;
       if (e == e) emax = fmax(emax, e), esum += e, ne++;
       if (!s) continue;
       folds += s == 2;
@@ -497,7 +502,7 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
        * splits only add slivers, as near oct's creases on bumpy_star, more would spend faces). */
       int stop = 1;
       if (folds == 0) {
-        double e = chart_error(w, opts->proj, sigma);
+        double e = chart_error(w, straight, sigma);
         stop = e == e && e <= plan->target;
         if (e == e && e < best_e) best_e = e, nf_best = t->nf;
         else if (t->nf > AU_TARGET_STALL * (long)nf_best) stop = 1;
@@ -562,7 +567,7 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
 done:
   plan->best_e = best_e, plan->best_nf = nf_best;
   t->edge_splits = t->fold_splits + t->area_splits;
-  free(h.key), free(h.face), free(bad), free(berr);
+  free(h.key), free(h.face), free(bad), free(berr), free(straight);
   return st;
 }
 
