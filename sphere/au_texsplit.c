@@ -89,6 +89,8 @@ typedef struct he_table {
   uint64_t *key;
   int *face;
   size_t mask, used; /* used: slots holding a key (a split edge's keeps it, its face -1) */
+  int *touched;      /* the faces the splits changed or made since the last scan (au__tex_refine) */
+  size_t ntouched, touchcap;
 } he_table;
 
 static size_t he_slot(const he_table *h, uint64_t k) {
@@ -106,7 +108,7 @@ static void he_insert(he_table *h, uint64_t k, int f) {
 /* Room for cap slots (a power of two), the live half-edges of h (if any) moved in and the split ones
  * dropped. Returns 0 when out of memory (h unchanged). */
 static int he_rehash(he_table *h, size_t cap) {
-  he_table n = {malloc(cap * sizeof *n.key), malloc(cap * sizeof *n.face), cap - 1, 0};
+  he_table n = {malloc(cap * sizeof *n.key), malloc(cap * sizeof *n.face), cap - 1, 0, NULL, 0, 0};
   if (!n.key || !n.face) {
     free(n.key), free(n.face);
     return 0;
@@ -115,8 +117,25 @@ static int he_rehash(he_table *h, size_t cap) {
   for (size_t s = 0; h->key && s <= h->mask; s++)
     if (h->key[s] != UINT64_MAX && h->face[s] >= 0) he_insert(&n, h->key[s], h->face[s]);
   free(h->key), free(h->face);
-  *h = n;
+  h->key = n.key, h->face = n.face, h->mask = n.mask, h->used = n.used;
   return 1;
+}
+
+/* Log face f as touched. Returns 0 when out of memory. */
+static int he_touch(he_table *h, int f) {
+  if (h->ntouched == h->touchcap) {
+    size_t cap = 2 * h->touchcap + 256;
+    int *p = realloc(h->touched, cap * sizeof *p);
+    if (!p) return 0;
+    h->touched = p, h->touchcap = cap;
+  }
+  h->touched[h->ntouched++] = f;
+  return 1;
+}
+
+static void he_free(he_table *h) {
+  free(h->key), free(h->face), free(h->touched);
+  memset(h, 0, sizeof *h);
 }
 
 /* Set the face of half-edge (a, b), growing the table past half full. Returns 0 when out of memory. */
@@ -143,7 +162,7 @@ static int he_build(he_table *h, const au_tex_mesh *t) {
   size_t need = 4 * 3 * (size_t)t->nf, cap = 1024;
   while (cap < need) cap <<= 1;
   free(h->key), free(h->face);
-  h->key = NULL, h->face = NULL, h->used = 0, h->mask = 0;
+  h->key = NULL, h->face = NULL, h->used = 0, h->mask = 0, h->ntouched = 0;
   if (!he_rehash(h, cap)) return 0;
   for (int f = 0; f < t->nf; f++)
     for (int k = 0; k < 3; k++)
@@ -164,7 +183,8 @@ static int split_face(au__tex_work *w, he_table *h, int f, int p, int q, int m) 
   int *d = t->F + 3 * (size_t)g;
   d[0] = m, d[1] = q, d[2] = r;
   t->src_face[g] = t->src_face[f];
-  return he_put(h, p, m, f) && he_put(h, m, r, f) && he_put(h, m, q, g) && he_put(h, q, r, g) && he_put(h, r, m, g);
+  return he_put(h, p, m, f) && he_put(h, m, r, f) && he_put(h, m, q, g) && he_put(h, q, r, g) && he_put(h, r, m, g) &&
+         he_touch(h, f) && he_touch(h, g);
 }
 
 /* Split the edge (a, b) and its two faces at the surface point (1 - s) x_a + s x_b. Returns 1 if
@@ -200,7 +220,7 @@ static int split_edge(au__tex_work *w, he_table *h, int a, int b, double sp) {
  * 1e-12 of a plane count as on it. */
 static au_status oct_creases(au__tex_work *w, au_msg *msg) {
   au_tex_mesh *t = w->t;
-  he_table h = {NULL, NULL, 0, 0};
+  he_table h = {NULL, NULL, 0, 0, NULL, 0, 0};
   int *e = NULL;
   au_status st = AU_OK;
   for (int j = 0; j < 3 && st == AU_OK; j++) {
@@ -232,7 +252,7 @@ static au_status oct_creases(au__tex_work *w, au_msg *msg) {
       }
     }
   }
-  free(e), free(h.key), free(h.face);
+  free(e), he_free(&h);
   return st;
 }
 
@@ -340,6 +360,11 @@ static int cmp_err_desc(const void *a, const void *b) {
   return (x->i > y->i) - (x->i < y->i);
 }
 
+static int cmp_int(const void *a, const void *b) {
+  int x = *(const int *)a, y = *(const int *)b;
+  return (x > y) - (x < y);
+}
+
 /* ord [0..n-1] (indices into err) sorted by err, largest first (ties by index: the same order on
  * every run). Returns 0, or -1 when out of memory. */
 static int sort_by_error(int *ord, int n, const double *err) {
@@ -439,29 +464,57 @@ static double chart_error(const au__tex_work *w, const double *At, double sigma)
   return t->nf ? e / t->nf : 0;
 }
 
+/* The faces touched since the last scan, once each, in increasing order, into *list (n: out); the log
+ * is emptied. Returns 0 when out of memory. */
+static int take_touched(he_table *h, int **list, int *n) {
+  int *p = realloc(*list, (h->ntouched > 0 ? h->ntouched : 1) * sizeof *p);
+  if (!p) return 0;
+  *list = p;
+  memcpy(p, h->touched, h->ntouched * sizeof *p);
+  qsort(p, h->ntouched, sizeof *p, cmp_int);
+  int k = 0;
+  for (size_t i = 0; i < h->ntouched; i++)
+    if (k == 0 || p[k - 1] != p[i]) p[k++] = p[i];
+  *n = k, h->ntouched = 0;
+  return 1;
+}
+
 au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area *plan, au_msg *msg) {
   double tol = plan->tol;
   au_tex_mesh *t = w->t;
-  he_table h = {NULL, NULL, 0, 0};
+  he_table h = {NULL, NULL, 0, 0, NULL, 0, 0};
   int *bad = NULL, nbad = 0, badcap = 0;
   double *berr = NULL; /* [badcap]: an area-bad face's |straight / spherical area - 1|; a fold's inf */
   au_status st = AU_OK;
   double sigma = map_sign(w);
-  int nf0 = t->nf, nf_best = t->nf, area_done = 0, area_rounds = 0, last_area = 0; /* nf_best: the faces when the texture's error was
-                                                        lowest (best_e); area_done: the target ended
-                                                        the area splitting */
+  int nf0 = t->nf, nf_best = t->nf; /* nf_best: the faces when the texture's error was lowest, best_e */
+  int area_done = 0;                /* the target (met, or given up) ended the area splitting */
+  int area_rounds = 0, last_area = 0;
   double best_e = INFINITY, *straight = NULL; /* straight: with a target, each face's signed straight
                                                  area in its chart, for chart_error */
+  /* A round after splits that no area split can follow (only folds are left to mend) looks at the
+   * faces those splits touched alone: a face no split touched keeps its corners and its state. The
+   * rest of the mending used to scan every face for a handful of folds, round after round (lion
+   * statue, cea: 60 rounds over 0.1-1M faces for 1-80 folds each). */
+  int repair = 0, *scan = NULL, nscan = 0;
   if (opts->proj == AU_TEX_OCT) {
     st = oct_creases(w, msg);
     if (st != AU_OK) return st;
   }
+  if (!he_build(&h, t)) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
   for (int round = 0;; round++) {
     st = au__tex_raw_update(w, opts->proj, msg);
     if (st != AU_OK) break;
-    int area_on = !area_done && (plan->stop_nf <= 0 || t->nf < plan->stop_nf) &&
-                  (plan->target > 0 ? area_rounds : round) < opts->max_rounds && t->nf < (long)plan->growth * nf0 && tol > 0;
-    int folds = 0;
+    int area_open = !area_done && (plan->stop_nf <= 0 || t->nf < plan->stop_nf) &&
+                    (plan->target > 0 ? area_rounds : round) < opts->max_rounds && t->nf < (long)plan->growth * nf0 &&
+                    tol > 0;
+    int area_on = area_open && !repair;
+    if (repair && !take_touched(&h, &scan, &nscan)) {
+      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+      break;
+    }
+    if (!repair) h.ntouched = 0;
+    int folds = 0, n = repair ? nscan : t->nf;
     double emax = 0, esum = 0;
     int ne = 0;
     nbad = 0;
@@ -470,7 +523,8 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
       st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
       break;
     }
-    for (int f = 0; f < t->nf; f++) {
+    for (int i = 0; i < n; i++) {
+      int f = repair ? scan[i] : i;
       double e, at;
       int s = face_state(w, opts->proj, f, sigma, area_on ? tol : INFINITY, &e, &at);
       if (straight) straight[f] = at;
@@ -492,7 +546,7 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
       bad[3 * nbad] = f, bad[3 * nbad + 1] = s, berr[nbad] = s == 2 ? INFINITY : e;
       nbad++;
     }
-    t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
+    if (!repair) t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
     t->folds_left = folds;
     if (area_on && plan->target > 0) {
       /* Measured only on a fold-free round: next to a fold the faces are not yet the texture's
@@ -515,8 +569,14 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
         nbad = k;
       }
     }
-    if (area_on && nbad > folds) area_rounds++, last_area = round;
-    if (nbad == 0) break;
+    int area_split = area_on && nbad > folds;
+    if (area_split) area_rounds++, last_area = round;
+    if (nbad == 0) {
+      /* Nothing left to mend: done, unless the area splitting may go on (a full scan next). */
+      if (!repair || !area_open) break;
+      repair = 0;
+      continue;
+    }
     if (round - (plan->target > 0 ? last_area : 0) >= AU_FOLD_ROUNDS) {
       st = au_msg_set(msg, AU_E_NUMERIC,
                       "au_tex_coords: projection %s: %d faces stay turned over in the texture after %d rounds of splitting",
@@ -542,11 +602,6 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
       bad[3 * i] = c[k], bad[3 * i + 1] = c[(k + 1) % 3], bad[3 * i + 2] = fold;
       sp[i] = fold ? foot_param(w, c[k], c[(k + 1) % 3], c[(k + 2) % 3]) : 0.5;
     }
-    if (!h.key && !he_build(&h, t)) { /* built once: the splits keep it current */
-      free(sp);
-      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-      break;
-    }
     /* Folds first, so that an edge asked for by a fold is split at its foot point. */
     for (int j = 0; j < nbad; j++) {
       if (!bad[3 * j + 2]) continue;
@@ -563,11 +618,26 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
       st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
       break;
     }
+    /* Without a target a round splits for area and folds alike while the area splitting lasts
+     * (every face is looked at each round); with one, the folds are mended before the error is
+     * measured again. */
+    repair = plan->target > 0 ? 1 : !area_open || !area_split;
+  }
+  if (st == AU_OK && repair) {
+    /* The statistics of the final faces (the last round looked at some only). */
+    double emax = 0, esum = 0, e, at;
+    int ne = 0;
+    for (int f = 0; f < t->nf; f++) {
+      face_state(w, opts->proj, f, sigma, INFINITY, &e, &at);
+      if (e == e) emax = fmax(emax, e), esum += e, ne++;
+    }
+    t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
   }
 done:
   plan->best_e = best_e, plan->best_nf = nf_best;
   t->edge_splits = t->fold_splits + t->area_splits;
-  free(h.key), free(h.face), free(bad), free(berr), free(straight);
+  he_free(&h);
+  free(bad), free(berr), free(straight), free(scan);
   return st;
 }
 
