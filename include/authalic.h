@@ -734,7 +734,8 @@ typedef struct au_tex_opts {
                           ((0, 0, 1)) */
   double area_tol;     /* 0 (default): no splitting for area (only faces that would turn over are
                           split); > 0: also split a face while |straight texture area / spherical
-                          area - 1| exceeds this (costs faces: 8-22x with auto on the shared meshes);
+                          area - 1| exceeds this, until area_target is met (with auto on the
+                          shared meshes: 1-15x the faces, docs/textures.md);
                           < 0: that with an automatic tolerance, a quarter of the map's per-face
                           mean |r - 1| (spherical areas), at least 0.001 */
   int max_rounds;      /* rounds of splitting for area, 0..64 (16); splitting for folds always goes

@@ -14,8 +14,11 @@
  * with a corner on a cea pole are exempt: the pole is a whole line of the image, and a triangle
  * keeps about half of its wedge whatever the splits). Each bad face's longest edge (chord on the
  * sphere) is split at its middle on the surface, together with the face on its other side, which
- * keeps the mesh conforming. Area rounds stop after opts->max_rounds rounds or when the faces
- * have grown eightfold; fold rounds go on (up to AU_FOLD_ROUNDS) until no fold is left.
+ * keeps the mesh conforming. Area rounds stop after opts->max_rounds rounds, when the faces have
+ * grown plan->growth times (8, or 32 with a target), or, with a target (the per-face texture error
+ * the texture should reach: by default the map's own, issue 18's 1.25 x its per-face error + 0.002),
+ * on the first fold-free round at or below it; fold rounds go on (up to AU_FOLD_ROUNDS) until no
+ * fold is left.
  *
  * Exactness: the new vertex is the midpoint x of the edge on the input surface (so it lies on the
  * input's flat triangle and the surface area is kept to rounding), and its point on the sphere is
@@ -38,6 +41,10 @@
 #define AU_TARGET_STALL 4 /* growth of the faces without a lower error after which a target is given up */
 #define AU_TARGET_STEP 4  /* with a target, a worst-first round grows the faces by at most 1/4, so the
                              splitting stops within a quarter of the faces the target needs */
+#define AU_FOLD_RUNAWAY 8 /* rounds in a row with more folds than the last after which a try gives up:
+                             needles of a map's near-degenerate triangles (the polished map of
+                             hand_closed, cea, worst first with a target) turned over again in every
+                             split, 1 fold to 630k in 25 rounds */
 #define AU_FOLD_GROWTH 64 /* and fold splitting gives up at this many (a safeguard: none needs it) */
 
 double au__sph_tri_area(const double *a, const double *b, const double *c) {
@@ -489,7 +496,7 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
   double sigma = map_sign(w);
   int nf0 = t->nf, nf_best = t->nf; /* nf_best: the faces when the texture's error was lowest, best_e */
   int area_done = 0;                /* the target (met, or given up) ended the area splitting */
-  int area_rounds = 0, last_area = 0;
+  int area_rounds = 0, last_area = 0, last_folds = 0, rising = 0;
   double best_e = INFINITY, *straight = NULL; /* straight: with a target, each face's signed straight
                                                  area in its chart, for chart_error */
   /* A round after splits that no area split can follow (only folds are left to mend) looks at the
@@ -576,6 +583,14 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
       if (!repair || !area_open) break;
       repair = 0;
       continue;
+    }
+    rising = folds > last_folds ? rising + 1 : 0;
+    last_folds = folds;
+    if (rising >= AU_FOLD_RUNAWAY) {
+      st = au_msg_set(msg, AU_E_NUMERIC,
+                      "au_tex_coords: projection %s: the folds multiply under splitting (%d after %d rounds)",
+                      pname(opts->proj), folds, round);
+      break;
     }
     if (round - (plan->target > 0 ? last_area : 0) >= AU_FOLD_ROUNDS) {
       st = au_msg_set(msg, AU_E_NUMERIC,

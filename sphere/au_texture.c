@@ -631,6 +631,24 @@ static au_status tex_try(const au_mesh *m, const double *P, const au_tex_opts *o
   au__tex_area plan = {0};
   plan.stop_nf = cap;
   au_status st = tex_build(m, P, opts, worst_first, &plan, out, msg);
+  if (st == AU_E_NUMERIC && opts->area_target > 0) {
+    /* Folds it could not mend (the splits the target's rounds make near a map's needles can keep
+     * turning them over): the rule without the target, which mixes area and fold splits each round,
+     * as before it, judged by the same target. */
+    au_tex_opts o = *opts;
+    o.area_target = 0;
+    au_msg m2 = {{0}};
+    au_status st2 = tex_build(m, P, &o, worst_first, NULL, out, &m2);
+    if (st2 == AU_OK) {
+      (*out)->area_target = opts->area_target;
+      (*out)->area_target_met = (*out)->vt_err_mean <= opts->area_target;
+    }
+    if (st2 == AU_OK || st2 == AU_E_NOMEM) {
+      if (st2 == AU_E_NOMEM && msg) *msg = m2;
+      return st2;
+    }
+    return st;
+  }
   if (st != AU_OK || !(plan.target > 0) || (*out)->area_target_met || !(plan.best_nf < (*out)->nf) ||
       !(plan.best_e < (*out)->vt_err_mean))
     return st;
