@@ -486,150 +486,171 @@ static int take_touched(he_table *h, int **list, int *n) {
   return 1;
 }
 
-au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area *plan, au_msg *msg) {
-  double tol = plan->tol;
+/* The splitting's state across rounds (au__tex_refine). */
+typedef struct refine_state {
+  au__tex_work *w;
+  const au_tex_opts *opts;
+  au__tex_area *plan;
+  he_table h;
+  int *bad, nbad, badcap; /* bad [3 per face]: the face, its state (face_state), then its edge's ends */
+  double *berr;           /* [badcap]: an area-bad face's |straight / spherical area - 1|; a fold's inf */
+  double sigma;           /* the map's orientation */
+  int nf0;                /* the faces before any split */
+  int nf_best;            /* the faces when the texture's error was lowest, best_e */
+  double best_e;
+  int area_done;          /* the target (met, or given up) ended the area splitting */
+  double *straight;       /* with a target: each face's signed straight area in its chart (chart_error) */
+  int *scan, nscan;       /* a repair round's faces: those the last splits touched */
+  int last_folds, rising; /* folds of the last round; rounds in a row with more than the last */
+} refine_state;
+
+/* Look at the faces (all, or in a repair round the touched ones) and list the bad ones: folds, and
+ * with area_on those above the tolerance. Returns the folds, or -1 when out of memory. */
+static int scan_round(refine_state *r, int repair, int area_on) {
+  au_tex_mesh *t = r->w->t;
+  if (repair && !take_touched(&r->h, &r->scan, &r->nscan)) return -1;
+  if (!repair) r->h.ntouched = 0;
+  free(r->straight), r->straight = NULL;
+  if (area_on && r->plan->target > 0 && !(r->straight = malloc((size_t)t->nf * sizeof *r->straight))) return -1;
+  int folds = 0, n = repair ? r->nscan : t->nf, ne = 0;
+  double emax = 0, esum = 0;
+  r->nbad = 0;
+  for (int i = 0; i < n; i++) {
+    int f = repair ? r->scan[i] : i;
+    double e, at;
+    int s = face_state(r->w, r->opts->proj, f, r->sigma, area_on ? r->plan->tol : INFINITY, &e, &at);
+    if (r->straight) r->straight[f] = at;
+    if (e == e) emax = fmax(emax, e), esum += e, ne++;
+    if (!s) continue;
+    folds += s == 2;
+    if (r->nbad == r->badcap) {
+      int cap = 2 * r->badcap + 64;
+      int *b = realloc(r->bad, 3 * (size_t)cap * sizeof *b);
+      if (b) r->bad = b;
+      double *be = realloc(r->berr, (size_t)cap * sizeof *be);
+      if (be) r->berr = be;
+      if (!b || !be) return -1;
+      r->badcap = cap;
+    }
+    r->bad[3 * r->nbad] = f, r->bad[3 * r->nbad + 1] = s, r->berr[r->nbad] = s == 2 ? INFINITY : e;
+    r->nbad++;
+  }
+  if (!repair) t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
+  t->folds_left = folds;
+  return folds;
+}
+
+/* With a target, after a full scan: measured only on a fold-free round (next to a fold the faces are
+ * not yet the texture's: on bumpy_star's oct texture a face beside a crease fold came out at 3000x
+ * its share, and 1 after the fold's split), so a round with folds mends them alone. Then stop at the
+ * target, or when the error has not gone down while the faces grew AU_TARGET_STALL times (where the
+ * splits only add slivers, as near oct's creases on bumpy_star, more would spend faces). Stopping
+ * drops the area-bad faces from the list. */
+static void target_round(refine_state *r, int folds) {
+  const au_tex_mesh *t = r->w->t;
+  int stop = 1;
+  if (folds == 0) {
+    double e = chart_error(r->w, r->straight, r->sigma);
+    stop = e == e && e <= r->plan->target;
+    if (e == e && e < r->best_e) r->best_e = e, r->nf_best = t->nf;
+    else if (t->nf > AU_TARGET_STALL * (long)r->nf_best) stop = 1;
+    r->area_done = stop;
+  }
+  if (stop) {
+    int k = 0;
+    for (int j = 0; j < r->nbad; j++)
+      if (r->bad[3 * j + 1] == 2) r->bad[3 * k] = r->bad[3 * j], r->bad[3 * k + 1] = 2, r->berr[k++] = r->berr[j];
+    r->nbad = k;
+  }
+}
+
+/* The ways a splitting gives up on its folds: AU_E_NUMERIC with the reason, else AU_OK. since: the
+ * rounds that count (with a target, those after the last area split). */
+static au_status give_up(refine_state *r, int round, int since, int folds, au_msg *msg) {
+  const char *p = pname(r->opts->proj);
+  r->rising = folds > r->last_folds ? r->rising + 1 : 0;
+  r->last_folds = folds;
+  if (r->rising >= AU_FOLD_RUNAWAY)
+    return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: projection %s: the folds multiply under splitting (%d after %d rounds)",
+                      p, folds, round);
+  if (since >= AU_FOLD_ROUNDS)
+    return au_msg_set(msg, AU_E_NUMERIC,
+                      "au_tex_coords: projection %s: %d faces stay turned over in the texture after %d rounds of splitting", p,
+                      folds, round);
+  if (r->w->t->nf > AU_FOLD_GROWTH * r->nf0)
+    return au_msg_set(msg, AU_E_NUMERIC,
+                      "au_tex_coords: projection %s: %d faces stay turned over in the texture after splitting to %d faces", p,
+                      folds, r->w->t->nf);
+  return AU_OK;
+}
+
+/* Split the listed faces: folds first at their foot points (so that an edge asked for by a fold is
+ * split there), then the area splits. The faces' corners and the split points are read before any
+ * split of the round changes them. Returns 0, or -1 when out of memory. */
+static int split_round(refine_state *r) {
+  au__tex_work *w = r->w;
   au_tex_mesh *t = w->t;
-  he_table h = {NULL, NULL, 0, 0, NULL, 0, 0};
-  int *bad = NULL, nbad = 0, badcap = 0;
-  double *berr = NULL; /* [badcap]: an area-bad face's |straight / spherical area - 1|; a fold's inf */
+  double *sp = malloc((size_t)(r->nbad > 0 ? r->nbad : 1) * sizeof *sp);
+  if (!sp) return -1;
+  int *bad = r->bad, rc = 0;
+  for (int i = 0; i < r->nbad; i++) {
+    int f = bad[3 * i], fold = bad[3 * i + 1] == 2, k = longest_edge(w, f);
+    const int *c = t->F + 3 * (size_t)f;
+    bad[3 * i] = c[k], bad[3 * i + 1] = c[(k + 1) % 3], bad[3 * i + 2] = fold;
+    sp[i] = fold ? foot_param(w, c[k], c[(k + 1) % 3], c[(k + 2) % 3]) : 0.5;
+  }
+  for (int j = 0; j < r->nbad && rc == 0; j++) {
+    if (!bad[3 * j + 2]) continue;
+    int s = split_edge(w, &r->h, bad[3 * j], bad[3 * j + 1], sp[j]);
+    if (s < 0) rc = -1;
+    else t->fold_splits += s;
+  }
+  free(sp);
+  if (rc == 0 && area_splits(w, &r->h, bad, r->berr, r->nbad, r->plan, r->nf0)) rc = -1;
+  return rc;
+}
+
+au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area *plan, au_msg *msg) {
+  au_tex_mesh *t = w->t;
+  refine_state r;
+  memset(&r, 0, sizeof r);
+  r.w = w, r.opts = opts, r.plan = plan, r.sigma = map_sign(w), r.best_e = INFINITY;
   au_status st = AU_OK;
-  double sigma = map_sign(w);
-  int nf0 = t->nf, nf_best = t->nf; /* nf_best: the faces when the texture's error was lowest, best_e */
-  int area_done = 0;                /* the target (met, or given up) ended the area splitting */
-  int area_rounds = 0, last_area = 0, last_folds = 0, rising = 0;
-  double best_e = INFINITY, *straight = NULL; /* straight: with a target, each face's signed straight
-                                                 area in its chart, for chart_error */
-  /* A round after splits that no area split can follow (only folds are left to mend) looks at the
-   * faces those splits touched alone: a face no split touched keeps its corners and its state. The
-   * rest of the mending used to scan every face for a handful of folds, round after round (lion
-   * statue, cea: 60 rounds over 0.1-1M faces for 1-80 folds each). */
-  int repair = 0, *scan = NULL, nscan = 0;
+  r.nf0 = r.nf_best = t->nf; /* the budgets count from the faces before oct's crease splits */
   if (opts->proj == AU_TEX_OCT) {
     st = oct_creases(w, msg);
     if (st != AU_OK) return st;
   }
-  if (!he_build(&h, t)) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  if (!he_build(&r.h, t)) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  /* A round after splits that no area split can follow (only folds are left to mend) looks at the
+   * faces those splits touched alone: a face no split touched keeps its corners and its state. The
+   * mending used to scan every face for a handful of folds, round after round (lion statue, cea:
+   * 60 rounds over 0.1-1M faces for 1-80 folds each). */
+  int repair = 0, area_rounds = 0, last_area = 0;
   for (int round = 0;; round++) {
     st = au__tex_raw_update(w, opts->proj, msg);
     if (st != AU_OK) break;
-    int area_open = !area_done && (plan->stop_nf <= 0 || t->nf < plan->stop_nf) &&
-                    (plan->target > 0 ? area_rounds : round) < opts->max_rounds && t->nf < (long)plan->growth * nf0 &&
-                    tol > 0;
+    int area_open = !r.area_done && (plan->stop_nf <= 0 || t->nf < plan->stop_nf) &&
+                    (plan->target > 0 ? area_rounds : round) < opts->max_rounds && t->nf < (long)plan->growth * r.nf0 &&
+                    plan->tol > 0;
     int area_on = area_open && !repair;
-    if (repair && !take_touched(&h, &scan, &nscan)) {
+    int folds = scan_round(&r, repair, area_on);
+    if (folds < 0) {
       st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
       break;
     }
-    if (!repair) h.ntouched = 0;
-    int folds = 0, n = repair ? nscan : t->nf;
-    double emax = 0, esum = 0;
-    int ne = 0;
-    nbad = 0;
-    free(straight), straight = NULL;
-    if (area_on && plan->target > 0 && !(straight = malloc((size_t)t->nf * sizeof *straight))) {
-      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-      break;
-    }
-    for (int i = 0; i < n; i++) {
-      int f = repair ? scan[i] : i;
-      double e, at;
-      int s = face_state(w, opts->proj, f, sigma, area_on ? tol : INFINITY, &e, &at);
-      if (straight) straight[f] = at;
-      if (e == e) emax = fmax(emax, e), esum += e, ne++;
-      if (!s) continue;
-      folds += s == 2;
-      if (nbad == badcap) {
-        badcap = 2 * badcap + 64;
-        int *b = realloc(bad, 3 * (size_t)badcap * sizeof *b);
-        double *be = realloc(berr, (size_t)badcap * sizeof *be);
-        if (be) berr = be;
-        if (b) bad = b;
-        if (!b || !be) {
-          st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-          goto done;
-        }
-        bad = b;
-      }
-      bad[3 * nbad] = f, bad[3 * nbad + 1] = s, berr[nbad] = s == 2 ? INFINITY : e;
-      nbad++;
-    }
-    if (!repair) t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
-    t->folds_left = folds;
-    if (area_on && plan->target > 0) {
-      /* Measured only on a fold-free round: next to a fold the faces are not yet the texture's
-       * (on bumpy_star's oct texture a face beside a crease fold came out at 3000x its share, and
-       * 1 after the fold's split); a round with folds mends them alone. Then stop at the target,
-       * or when the error has not gone down while the faces grew AU_TARGET_STALL times (where the
-       * splits only add slivers, as near oct's creases on bumpy_star, more would spend faces). */
-      int stop = 1;
-      if (folds == 0) {
-        double e = chart_error(w, straight, sigma);
-        stop = e == e && e <= plan->target;
-        if (e == e && e < best_e) best_e = e, nf_best = t->nf;
-        else if (t->nf > AU_TARGET_STALL * (long)nf_best) stop = 1;
-        area_done = stop;
-      }
-      if (stop) {
-        int k = 0;
-        for (int j = 0; j < nbad; j++)
-          if (bad[3 * j + 1] == 2) bad[3 * k] = bad[3 * j], bad[3 * k + 1] = 2, berr[k++] = berr[j];
-        nbad = k;
-      }
-    }
-    int area_split = area_on && nbad > folds;
+    if (area_on && plan->target > 0) target_round(&r, folds);
+    int area_split = area_on && r.nbad > folds;
     if (area_split) area_rounds++, last_area = round;
-    if (nbad == 0) {
+    if (r.nbad == 0) {
       /* Nothing left to mend: done, unless the area splitting may go on (a full scan next). */
       if (!repair || !area_open) break;
       repair = 0;
       continue;
     }
-    rising = folds > last_folds ? rising + 1 : 0;
-    last_folds = folds;
-    if (rising >= AU_FOLD_RUNAWAY) {
-      st = au_msg_set(msg, AU_E_NUMERIC,
-                      "au_tex_coords: projection %s: the folds multiply under splitting (%d after %d rounds)",
-                      pname(opts->proj), folds, round);
-      break;
-    }
-    if (round - (plan->target > 0 ? last_area : 0) >= AU_FOLD_ROUNDS) {
-      st = au_msg_set(msg, AU_E_NUMERIC,
-                      "au_tex_coords: projection %s: %d faces stay turned over in the texture after %d rounds of splitting",
-                      pname(opts->proj), folds, round);
-      break;
-    }
-    if (t->nf > AU_FOLD_GROWTH * nf0) {
-      st = au_msg_set(msg, AU_E_NUMERIC,
-                      "au_tex_coords: projection %s: %d faces stay turned over in the texture after splitting to %d faces",
-                      pname(opts->proj), folds, t->nf);
-      break;
-    }
-    /* The faces' corners are read before any split of the round changes them; the split points
-     * too (a fold's at the foot of the third corner, an area's at the middle). */
-    double *sp = malloc((size_t)nbad * sizeof *sp);
-    if (!sp) {
-      st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-      break;
-    }
-    for (int i = 0; i < nbad; i++) {
-      int f = bad[3 * i], fold = bad[3 * i + 1] == 2, k = longest_edge(w, f);
-      const int *c = t->F + 3 * (size_t)f;
-      bad[3 * i] = c[k], bad[3 * i + 1] = c[(k + 1) % 3], bad[3 * i + 2] = fold;
-      sp[i] = fold ? foot_param(w, c[k], c[(k + 1) % 3], c[(k + 2) % 3]) : 0.5;
-    }
-    /* Folds first, so that an edge asked for by a fold is split at its foot point. */
-    for (int j = 0; j < nbad; j++) {
-      if (!bad[3 * j + 2]) continue;
-      int r = split_edge(w, &h, bad[3 * j], bad[3 * j + 1], sp[j]);
-      if (r < 0) {
-        free(sp);
-        st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
-        goto done;
-      }
-      t->fold_splits += r;
-    }
-    free(sp);
-    if (area_splits(w, &h, bad, berr, nbad, plan, nf0)) {
+    st = give_up(&r, round, round - (plan->target > 0 ? last_area : 0), folds, msg);
+    if (st != AU_OK) break;
+    if (split_round(&r)) {
       st = au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
       break;
     }
@@ -643,16 +664,15 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
     double emax = 0, esum = 0, e, at;
     int ne = 0;
     for (int f = 0; f < t->nf; f++) {
-      face_state(w, opts->proj, f, sigma, INFINITY, &e, &at);
+      face_state(w, opts->proj, f, r.sigma, INFINITY, &e, &at);
       if (e == e) emax = fmax(emax, e), esum += e, ne++;
     }
     t->area_err_max = emax, t->area_err_mean = ne ? esum / ne : 0;
   }
-done:
-  plan->best_e = best_e, plan->best_nf = nf_best;
+  plan->best_e = r.best_e, plan->best_nf = r.nf_best;
   t->edge_splits = t->fold_splits + t->area_splits;
-  he_free(&h);
-  free(bad), free(berr), free(straight), free(scan);
+  he_free(&r.h);
+  free(r.bad), free(r.berr), free(r.straight), free(r.scan);
   return st;
 }
 
