@@ -154,8 +154,10 @@ endforeach()
 au_cli_test(init_only.spiky_ico quality.sh init_only data/spiky_ico.obj)
 # limbs4: both retries run and the twisted start's map is kept (docs/hard-meshes.md).
 au_cli_test(quality.limbs4 quality.sh map data/limbs4.obj)
-# --refine-mesh (issue 21) where it meets the issue's bounds for a refined map: cheburashka.
+# --refine-mesh (issue 21) where it meets the issue's bounds for a refined map: cheburashka, and cow
+# since session 13 (rounds spending half the budget left: 0.0079 / 0.0025).
 au_cli_test(refine_mesh.cheburashka refine_mesh.sh cheburashka.off)
+au_cli_test(refine_mesh.cow refine_mesh.sh cow.off)
 
 # --density FILE (issue 6): per-face density 4 on half the ellipsoid, and bad density files.
 foreach(c half count negative missing)
