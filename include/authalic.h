@@ -382,8 +382,8 @@ typedef struct au_options {
   au_lattice lattice;     /* torus: AU_LATTICE_CONFORMAL (default) or AU_LATTICE_SQUARE */
   int refine_mesh;        /* sphere: 1: after the flow, split the map's long edges where a chord
                              triangle cannot shrink to its share (the chord floor), with new vertices on
-                             the input surface, and flow again; up to three rounds, at most twice the
-                             input's faces. The result's mesh is then the refined one (nv > nv_in) and
+                             the input surface, and flow again; up to eight rounds, each spending at
+                             most half the face budget left, at most twice the input's faces. The result's mesh is then the refined one (nv > nv_in) and
                              au_result.parent tells where each new vertex lies; when no refinement
                              lowers the vertex error, the input's mesh and map (nrefined 0, a warning
                              says so). 0 (default): the input's mesh */
@@ -704,17 +704,19 @@ typedef struct au_tex_mesh {
   int folds_left;     /* faces turned over in the texture: 0 on success */
   int area_worst_first; /* with area splitting: 1 if the kept coordinates split the worst faces first
                            by longest-edge propagation, 0 if every face above the tolerance each
-                           round (both are made; the one of lower per-face texture error is kept) */
+                           round (both are made and the better kept: see au_tex_opts.area_rule) */
   double vt_err_mean;   /* per-face mean |vt share / surface share - 1| of the result (what param-eval
                            measures with --coords vt --domain plane) */
   int area_dropped;     /* with area_rule 0: 1 if the coordinates without area splits were kept
-                           (area_splits 0, area_tol the tolerance tried): with a target, because they
-                           met it; without, because neither rule gave a lower per-face texture error */
-  double area_target;   /* the per-face texture error the area splitting stopped at (the option, or the
-                           automatic one); 0: none */
+                           (area_splits 0, area_tol the tolerance tried): because they met the target
+                           (area_target_met), or had the lowest error of all tries, or every try with
+                           area splits left a face turned over (area_tries_failed == area_tries) */
+  double area_target;   /* the per-face texture error the area splitting aimed at and the result is
+                           judged by (the option, or the automatic one); 0: none */
   int area_target_met;  /* 1 if vt_err_mean <= area_target */
-  int area_tries_failed; /* with area_rule 0: how many of the two rules' tries left a face turned over
-                           (refused; 2: the result has no area splits) */
+  int area_tries;       /* with area_rule 0: the tries with area splits made (2; 4 when those with
+                           the target missed it and both rules were also made without it) */
+  int area_tries_failed; /* of those, the ones that left a face turned over (refused) */
 } au_tex_mesh;
 
 /* Options of au_tex_coords_opts. */
@@ -738,8 +740,10 @@ typedef struct au_tex_opts {
                           shared meshes: 1-15x the faces, docs/textures.md);
                           < 0: that with an automatic tolerance, a quarter of the map's per-face
                           mean |r - 1| (spherical areas), at least 0.001 */
-  int max_rounds;      /* rounds of splitting for area, 0..64 (16); splitting for folds always goes
-                          on until none is left */
+  int max_rounds;      /* rounds of splitting for area, 0..64 (16; with a target, rounds that split
+                          for area); splitting for folds goes on until none is left, or gives up
+                          (AU_E_NUMERIC) after 64 rounds (with a target: after the last area split)
+                          or when the folds rise 8 rounds in a row */
   int area_rule;       /* with area splitting: 0 (default) both rules below and no area splits at all,
                           the best kept (au_tex_mesh.vt_err_mean, area_dropped): with a target, the
                           fewest faces among those that meet it, else the lowest per-face texture

@@ -92,8 +92,8 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
 /* Refine a sphere map where the chord floor binds (sphere/au_sphere_refine.c): the longest edge of each
  * face whose least chord area (au_dec_sphere_chord_floor) exceeds half its share is split at its
  * midpoint (on the surface: the average of its ends; on the sphere: the great arc's midpoint), and the
- * flow runs again on the refined mesh from there, at the shear weight's floor; up to three rounds,
- * while the faces stay within max_faces x m->nf. A second refinement does the same for every face
+ * flow runs again on the refined mesh from there, at the shear weight's floor; up to eight rounds,
+ * each spending at most half the face budget left (max_faces x m->nf). A second refinement does the same for every face
  * whose floor exceeds a tenth of its share, and the refined map with the lower vertex error is kept.
  * m: the input mesh (validated, closed, genus 0); P: its map (nv x 3, fold-free, e.g. au_sphere_map's).
  * opts: the flow's options (may be NULL); max_faces >= 1 (2: at most twice the faces).

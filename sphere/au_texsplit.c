@@ -477,7 +477,7 @@ static int take_touched(he_table *h, int **list, int *n) {
   int *p = realloc(*list, (h->ntouched > 0 ? h->ntouched : 1) * sizeof *p);
   if (!p) return 0;
   *list = p;
-  memcpy(p, h->touched, h->ntouched * sizeof *p);
+  if (h->ntouched) memcpy(p, h->touched, h->ntouched * sizeof *p);
   qsort(p, h->ntouched, sizeof *p, cmp_int);
   int k = 0;
   for (size_t i = 0; i < h->ntouched; i++)
@@ -595,6 +595,8 @@ static int split_round(refine_state *r) {
   int *bad = r->bad, rc = 0;
   for (int i = 0; i < r->nbad; i++) {
     int f = bad[3 * i], fold = bad[3 * i + 1] == 2, k = longest_edge(w, f);
+    /* a fold whose edge cannot be split (no face across it) is looked at again, not lost */
+    if (fold && !he_touch(&r->h, f)) rc = -1;
     const int *c = t->F + 3 * (size_t)f;
     bad[3 * i] = c[k], bad[3 * i + 1] = c[(k + 1) % 3], bad[3 * i + 2] = fold;
     sp[i] = fold ? foot_param(w, c[k], c[(k + 1) % 3], c[(k + 2) % 3]) : 0.5;
@@ -621,7 +623,10 @@ au_status au__tex_refine(au__tex_work *w, const au_tex_opts *opts, au__tex_area 
     st = oct_creases(w, msg);
     if (st != AU_OK) return st;
   }
-  if (!he_build(&r.h, t)) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  if (!he_build(&r.h, t)) {
+    he_free(&r.h);
+    return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
+  }
   /* A round after splits that no area split can follow (only folds are left to mend) looks at the
    * faces those splits touched alone: a face no split touched keeps its corners and its state. The
    * mending used to scan every face for a handful of folds, round after round (lion statue, cea:

@@ -439,7 +439,7 @@ static au_status chart_faces(au__tex_work *w, au_tex_proj proj, int *key, au_msg
 static double map_face_error(const au_mesh *m, const double *Q) {
   double sa = 0, ss = 0, e = 0;
   double *A = malloc(2 * (size_t)m->nf * sizeof *A);
-  if (!A) return 0;
+  if (!A) return NAN; /* out of memory */
   for (int f = 0; f < m->nf; f++) {
     const int *c = m->F + 3 * (size_t)f;
     const double *a = m->X + 3 * c[0], *b = m->X + 3 * c[1], *d = m->X + 3 * c[2];
@@ -461,7 +461,7 @@ static double map_face_error(const au_mesh *m, const double *Q) {
 static double map_chord_error(const au_mesh *m, const double *P) {
   double sa = 0, ss = 0, e = 0;
   double *A = malloc(2 * (size_t)m->nf * sizeof *A);
-  if (!A) return 0;
+  if (!A) return NAN; /* out of memory */
   for (int f = 0; f < m->nf; f++) {
     const int *c = m->F + 3 * (size_t)f;
     double n[2];
@@ -687,7 +687,7 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
       (opts.proj != AU_TEX_CEA && opts.proj != AU_TEX_LAEA && opts.proj != AU_TEX_OCT) ||
       (opts.axis != AU_TEX_AXIS_Z && opts.axis != AU_TEX_AXIS_AUTO && opts.axis != AU_TEX_AXIS_VECTOR) ||
       !(opts.area_tol == opts.area_tol) || opts.max_rounds < 0 || opts.max_rounds > 64 || opts.area_rule < 0 ||
-      opts.area_rule > 2 || !(opts.area_target == opts.area_target) || opts.area_growth < 0 || opts.area_growth > 64)
+      opts.area_rule > 2 || !(opts.area_target < INFINITY) || opts.area_growth < 0 || opts.area_growth > 64)
     return au_msg_set(msg, AU_E_ARG, "au_tex_coords: bad arguments");
   int nv = m->nv, nf = m->nf;
   for (long i = 0; i < 3L * nf; i++)
@@ -708,6 +708,7 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
     if (opts.area_tol < 0) opts.area_tol = fmax(0.001, 0.25 * map_face_error(m, Q));
     if (opts.area_target < 0) opts.area_target = 1.25 * map_chord_error(m, P) + 0.002;
     free(Q);
+    if (isnan(opts.area_tol) || isnan(opts.area_target)) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
   }
   if (opts.area_tol == 0 || opts.area_rule != 0) return tex_try(m, P, &opts, opts.area_rule == 2, 0, out, msg);
   /* With area splitting, three tries: none, every face above the tolerance each round, the worst first
@@ -728,13 +729,13 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
   /* The worst first before the rounds (which double the faces a round): once a try meets the target,
    * the next stops splitting for area at its faces, past which it could not win (on armadillo's oct
    * texture the rounds went on to 2.7M faces). */
-  int failed = 0;
+  int failed = 0, tries = 0;
   for (int rule = 2; rule >= 1; rule--) {
     au_msg m2 = {{0}};
     au_tex_mesh *b = NULL;
     int cap = st == AU_OK && (*out)->area_target_met ? (*out)->nf : 0;
     au_status st2 = tex_try(m, P, &opts, rule == 2, cap, &b, &m2);
-    failed += st2 == AU_E_NUMERIC;
+    failed += st2 == AU_E_NUMERIC, tries++;
     if (keep_better(out, &st, b, st2, &m2, msg)) return st;
   }
   /* Missed: also both rules without the target (area and fold splits mixed each round, to 8x the
@@ -745,17 +746,16 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
   if (opts.area_target > 0 && !(st == AU_OK && (*out)->area_target_met)) {
     au_tex_opts plain = opts;
     plain.area_target = 0;
-    failed = 0;
     for (int rule = 1; rule <= 2; rule++) {
       au_msg m2 = {{0}};
       au_tex_mesh *b = NULL;
       au_status st2 = tex_build(m, P, &plain, rule == 2, NULL, &b, &m2);
-      failed += st2 == AU_E_NUMERIC;
+      failed += st2 == AU_E_NUMERIC, tries++;
       if (st2 == AU_OK) b->area_target = opts.area_target, b->area_target_met = b->vt_err_mean <= opts.area_target;
       if (keep_better(out, &st, b, st2, &m2, msg)) return st;
     }
   }
-  if (st == AU_OK) (*out)->area_tries_failed = failed;
+  if (st == AU_OK) (*out)->area_tries = tries, (*out)->area_tries_failed = failed;
   return st;
 }
 

@@ -1020,7 +1020,7 @@ static int vt_quality(const char *name, int shared, int axis_auto) {
         AU_CHECK_INT(t->nf, ==, m->nf + 2 * t->pole_splits + 2 * t->fold_splits);
         AU_CHECK_DBL((double)t->nf, <=, (shared ? proj == AU_TEX_OCT ? 1.4 : 1.2 : 2.0) * m->nf); /* oct spot 1.28 x */
         e_default = e;
-      } else if (!shared && t->area_dropped && t->area_tries_failed == 2) {
+      } else if (!shared && t->area_dropped && t->area_tries_failed == t->area_tries) {
         /* spiky_ico, cea: both rules left a sliver turned over; the texture without area splits is
          * kept, the same as the default's */
         fprintf(stderr, "%s proj %d area_tol auto: both rules refused, splits dropped\n", name, proj);

@@ -437,7 +437,7 @@ static int run_texture(const tex_args *a) {
             "axis=%.6f,%.6f,%.6f",
             m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : a->proj == AU_TEX_LAEA ? "laea" : "oct", t->nvt, t->seam_faces,
             t->pole_splits, t->edge_splits, t->fold_splits, t->area_splits, t->area_worst_first ? " worst first" : "",
-            t->area_tol, target, !t->area_dropped ? "" : t->area_target_met ? ", none needed" : t->area_tries_failed == 2 ? ", dropped: splits left folds" : ", dropped: no lower error",
+            t->area_tol, target, !t->area_dropped ? "" : t->area_target_met ? ", none needed" : t->area_tries_failed == t->area_tries ? ", dropped: splits left folds" : ", dropped: no lower error",
             t->nv, t->nf, met.r_mean_abs_dev, met.sph_r_mean_abs_dev, t->vt_err_mean, R[6], R[7], R[8]);
     if (a->bake) fprintf(stderr, " baked=%s %dx%d", a->bake, a->W, a->H);
     if (range[1] > range[0]) fprintf(stderr, " range=[%g, %g]", range[0], range[1]);
