@@ -224,7 +224,7 @@ static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_r
   if (nnew) warn(r, "refined: %d edges split, %d faces (the input has %d); vertices %d..%d are new", nnew, r->nf, x->m->nf,
                  x->m->nv, r->nv - 1);
   else if (rep->refine_kept_input)
-    warn(r, "refined: nothing split (no refinement lowered the vertex error); the input's mesh and map are written");
+    warn(r, "refined: nothing split (no refinement lowered the vertex error without raising the per-face one); the input's mesh and map are written");
   else
     warn(r, "refined: nothing to split (no chord triangle is held by the floor); the input's mesh and map are written");
   return st;

@@ -385,8 +385,8 @@ typedef struct au_options {
                              the input surface, and flow again; up to eight rounds, each spending at
                              most half the face budget left, at most twice the input's faces. The result's mesh is then the refined one (nv > nv_in) and
                              au_result.parent tells where each new vertex lies; when no refinement
-                             lowers the vertex error, the input's mesh and map (nrefined 0, a warning
-                             says so). 0 (default): the input's mesh */
+                             lowers the vertex error without raising the per-face one, the input's
+                             mesh and map (nrefined 0, a warning says so). 0 (default): the input's mesh */
   int measure_start;      /* 1 (default): also measure the initial map (au_result.init_metrics);
                              0: skip it, a tenth of a second on 100k faces (au_result_json then
                              measures it itself) */
