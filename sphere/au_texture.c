@@ -434,49 +434,30 @@ static au_status chart_faces(au__tex_work *w, au_tex_proj proj, int *key, au_msg
   return AU_OK;
 }
 
-/* The map's per-face mean |r - 1| with spherical areas (r: a face's share of the sphere over its
- * share of the surface), the base of the automatic area tolerance. */
-static double map_face_error(const au_mesh *m, const double *Q) {
+/* The map's per-face mean |r - 1| (r: a face's share of the sphere over its share of the surface),
+ * with spherical areas (S: the unit vectors; the base of the automatic area tolerance, faces of no
+ * spherical area left out) or with chord triangles (S: the map as given; param-eval IN MAP's
+ * r_mean_abs_dev, the automatic target's base). NAN when out of memory. */
+static double map_error(const au_mesh *m, const double *S, int spherical) {
   double sa = 0, ss = 0, e = 0;
   double *A = malloc(2 * (size_t)m->nf * sizeof *A);
-  if (!A) return NAN; /* out of memory */
-  for (int f = 0; f < m->nf; f++) {
-    const int *c = m->F + 3 * (size_t)f;
-    const double *a = m->X + 3 * c[0], *b = m->X + 3 * c[1], *d = m->X + 3 * c[2];
-    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-    double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-    A[2 * f] = fabs(au__sph_tri_area(Q + 3 * c[0], Q + 3 * c[1], Q + 3 * c[2]));
-    A[2 * f + 1] = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    sa += A[2 * f], ss += A[2 * f + 1];
-  }
-  int cnt = 0;
-  for (int f = 0; f < m->nf; f++)
-    if (A[2 * f] > 0 && A[2 * f + 1] > 0) e += fabs((A[2 * f] / sa) / (A[2 * f + 1] / ss) - 1), cnt++;
-  free(A);
-  return cnt ? e / cnt : 0;
-}
-
-/* The sphere map's per-face mean |r - 1| with chord triangles (param-eval IN MAP's r_mean_abs_dev):
- * P as given, not normalized. */
-static double map_chord_error(const au_mesh *m, const double *P) {
-  double sa = 0, ss = 0, e = 0;
-  double *A = malloc(2 * (size_t)m->nf * sizeof *A);
-  if (!A) return NAN; /* out of memory */
+  if (!A) return NAN;
   for (int f = 0; f < m->nf; f++) {
     const int *c = m->F + 3 * (size_t)f;
     double n[2];
     for (int k = 0; k < 2; k++) {
-      const double *X = k ? m->X : P, *a = X + 3 * c[0], *b = X + 3 * c[1], *d = X + 3 * c[2];
+      const double *X = k ? m->X : S, *a = X + 3 * c[0], *b = X + 3 * c[1], *d = X + 3 * c[2];
       double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
       double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
       n[k] = 0.5 * sqrt(x * x + y * y + z * z);
     }
+    if (spherical) n[0] = fabs(au__sph_tri_area(S + 3 * c[0], S + 3 * c[1], S + 3 * c[2]));
     A[2 * f] = n[0], A[2 * f + 1] = n[1];
     sa += n[0], ss += n[1];
   }
   int cnt = 0;
   for (int f = 0; f < m->nf; f++)
-    if (A[2 * f + 1] > 0) e += fabs((A[2 * f] / sa) / (A[2 * f + 1] / ss) - 1), cnt++;
+    if (A[2 * f + 1] > 0 && (!spherical || A[2 * f] > 0)) e += fabs((A[2 * f] / sa) / (A[2 * f + 1] / ss) - 1), cnt++;
   free(A);
   return cnt ? e / cnt : 0;
 }
@@ -705,8 +686,8 @@ au_status au_tex_coords_opts(const au_mesh *m, const double *P, const au_tex_opt
       double r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
       for (int j = 0; j < 3; j++) Q[3 * i + j] = r > 0 ? p[j] / r : 0;
     }
-    if (opts.area_tol < 0) opts.area_tol = fmax(0.001, 0.25 * map_face_error(m, Q));
-    if (opts.area_target < 0) opts.area_target = 1.25 * map_chord_error(m, P) + 0.002;
+    if (opts.area_tol < 0) opts.area_tol = fmax(0.001, 0.25 * map_error(m, Q, 1));
+    if (opts.area_target < 0) opts.area_target = 1.25 * map_error(m, P, 0) + 0.002;
     free(Q);
     if (isnan(opts.area_tol) || isnan(opts.area_target)) return au_msg_set(msg, AU_E_NOMEM, "au_tex_coords: out of memory");
   }

@@ -957,14 +957,17 @@ static double map_r(const au_mesh *m, const double *P, int spherical) {
 #define AU_VT_BOUND 3.5
 #define AU_VT_GAIN 0.6
 
+/* The path of data/NAME (shared = 0) or ../shared/meshes/NAME. Returns 0 when the latter is absent. */
+static int mesh_path(const char *name, int shared, char *path, size_t size) {
+  if (shared) return au_test_shared_mesh(name, path, size);
+  snprintf(path, size, "%s/data/%s", AU_SOURCE_DIR, name);
+  return 1;
+}
+
 /* A mesh and its sphere map: data/NAME (shared = 0) or ../shared/meshes/NAME. Returns 77 to skip. */
 static int mapped(const char *name, int shared, au_mesh **m, double **P) {
   char path[1024];
-  if (shared) {
-    if (!au_test_shared_mesh(name, path, sizeof path)) return AU_SKIP;
-  } else {
-    snprintf(path, sizeof path, "%s/data/%s", AU_SOURCE_DIR, name);
-  }
+  if (!mesh_path(name, shared, path, sizeof path)) return AU_SKIP;
   au_topo *topo = NULL;
   au_msg msg = {{0}};
   AU_CHECK_STATUS(au_io_read(path, m, &msg), AU_OK, &msg);
@@ -1135,11 +1138,7 @@ static int area_rules(void) {
  * without a target missed it with cea (0.0195 against 0.0161, session 12). */
 static int area_target_of(const char *name, int shared) {
   char path[1024];
-  if (shared) {
-    if (!au_test_shared_mesh(name, path, sizeof path)) return AU_SKIP;
-  } else {
-    snprintf(path, sizeof path, "%s/data/%s", AU_SOURCE_DIR, name);
-  }
+  if (!mesh_path(name, shared, path, sizeof path)) return AU_SKIP;
   au_mesh *m = NULL;
   au_msg msg = {{0}};
   AU_CHECK_STATUS(au_io_read(path, &m, &msg), AU_OK, &msg);
