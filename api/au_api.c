@@ -92,8 +92,8 @@ au_status au_mesh_check(const double *V, int nv, const int *F, int nf, au_target
 
 void au_target_defaults(au_target t, int *max_steps, double *tol) {
   au_advect_opts f;
-  double lr, ra, tr;
-  au__flow_defaults(t, 0, &f, &lr, &ra, &tr);
+  au_sphere_opts s;
+  au__flow_defaults(t, 0, &f, &s);
   if (max_steps) *max_steps = f.max_steps;
   if (tol) *tol = f.tol;
 }
@@ -128,17 +128,17 @@ au_options au_options_preset(au_preset p) {
 /* Refinement goes on while it gains 2% in four steps: as long as anything happens. */
 #define AU_REFINE_FACE_GAIN 0.02
 
-void au__flow_defaults(au_target t, int refine_faces, au_advect_opts *flow, double *lantern_retry,
-                       double *retry_above, double *twist_retry) {
+void au__flow_defaults(au_target t, int refine_faces, au_advect_opts *flow, au_sphere_opts *sphere) {
+  memset(sphere, 0, sizeof *sphere);
   if (t == AU_TARGET_SPHERE) {
-    au_sphere_opts s = au_sphere_opts_default();
-    *flow = s.flow, *lantern_retry = s.lantern_retry, *retry_above = s.retry_above, *twist_retry = s.twist_retry;
+    *sphere = au_sphere_opts_default();
+    *flow = sphere->flow;
     /* For accuracy, not speed: the ordinary schedule (on the resolved one the chord polish stalled on
      * undone steps), the polish whenever the chord error is larger, the angle steps after it all. */
     if (refine_faces) flow->face_gain = AU_REFINE_FACE_GAIN, flow->polish_gap = 0, flow->resolved_jump = 0, flow->angle_switch = 0;
   } else {
     au_disk_opts d = au_disk_opts_default();
-    *flow = d.flow, *lantern_retry = 0, *retry_above = 0, *twist_retry = 0;
+    *flow = d.flow;
     if (refine_faces)
       flow->face_gain = AU_REFINE_FACE_GAIN, flow->face_tol = au_advect_opts_default().face_tol, flow->resolved_jump = 0,
       flow->face_shear_tail = AU_PLANAR_REFINE_SHEAR_TAIL, flow->angle_switch = 0;
@@ -156,7 +156,10 @@ au_expert au_expert_default(au_target t, int refine_faces) {
   au_advect_opts f;
   au_expert e;
   memset(&e, 0, sizeof e);
-  au__flow_defaults(t, refine_faces, &f, &e.lantern_retry, &e.retry_above, &e.twist_retry);
+  au_sphere_opts s;
+  au__flow_defaults(t, refine_faces, &f, &s);
+  e.lantern_retry = s.lantern_retry, e.retry_above = s.retry_above, e.twist_retry = s.twist_retry;
+  e.vertex_polish = s.vertex_polish, e.polish_cells = s.polish_cells;
   e.method = (int)f.method;
 #define AU_FROM_FLOW(name) e.name = f.name;
   AU_EXPERT_FIELDS(AU_FROM_FLOW)

@@ -94,14 +94,14 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
 }
 
 /* The flow's options from the user's. */
-static void flow_options(au_target t, const au_options *o, progress_ctx *pc, au_advect_opts *f, double *lantern_retry,
-                         double *retry_above, double *twist_retry) {
-  au__flow_defaults(t, o->refine_faces, f, lantern_retry, retry_above, twist_retry);
-  if (o->expert) {
-    au__flow_from_expert(o->expert, f);
-    *lantern_retry = o->expert->lantern_retry, *retry_above = o->expert->retry_above;
-    *twist_retry = o->expert->twist_retry;
+static void flow_options(au_target t, const au_options *o, progress_ctx *pc, au_advect_opts *f, au_sphere_opts *sphere) {
+  au__flow_defaults(t, o->refine_faces, f, sphere);
+  if (o->expert && t == AU_TARGET_SPHERE) {
+    const au_expert *e = o->expert;
+    sphere->lantern_retry = e->lantern_retry, sphere->retry_above = e->retry_above, sphere->twist_retry = e->twist_retry;
+    sphere->vertex_polish = e->vertex_polish, sphere->polish_cells = e->polish_cells;
   }
+  if (o->expert) au__flow_from_expert(o->expert, f);
   if (o->max_steps > 0) f->max_steps = o->max_steps;
   if (o->tol >= 0) f->tol = o->tol;
   if (o->restore_shapes >= 0) f->restore = o->restore_shapes;
@@ -152,7 +152,7 @@ typedef struct map_run {
   const au_mesh *mm; /* the mesh that is mapped: m, or ms for the square */
   const au_topo *tt;
   au_advect_opts flow;
-  double lantern_retry, retry_above, twist_retry;
+  au_sphere_opts sphere; /* the sphere's retries and polish (its flow field unused: flow above) */
   progress_ctx pc;
   au_result *r;
   int outer; /* annulus: the loop index on the unit circle */
@@ -241,18 +241,23 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
     if (st == AU_OK) memcpy(r->P0, r->P, 3 * (size_t)r->nv * sizeof *r->P);
     return st;
   }
-  au_sphere_opts so = au_sphere_opts_default();
+  au_sphere_opts so = x->sphere;
   so.flow = x->flow, so.balance = x->o->balance != 0;
-  so.lantern_retry = x->lantern_retry, so.retry_above = x->retry_above, so.twist_retry = x->twist_retry;
   au_sphere_report *rep = calloc(1, sizeof *rep);
   if (!rep) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
-  st = au_sphere_map(x->m, x->t, &so, r->P, r->P0, rep, msg);
+  /* With refinement, the vertex polish comes after it (au_sphere_refine): re-flows from a polished map
+   * undo its slides and end far worse (cow: vertex error 0.072 against 0.0078). */
+  au_sphere_opts sm = so;
+  if (x->o->refine_mesh) sm.vertex_polish = 0;
+  st = au_sphere_map(x->m, x->t, &sm, r->P, r->P0, rep, msg);
   r->t_init = rep->t_init, r->t_flow = rep->t_flow;
   if (st >= 0 && x->o->refine_mesh) st = refine_sphere(x, &so, rep, msg);
   if (st >= 0) {
     au_status s2 = keep_log(r, &rep->flow, msg);
     r->conv.lantern_retry = rep->retry, r->conv.retry_err[0] = rep->retry_err[0], r->conv.retry_err[1] = rep->retry_err[1];
     r->conv.twist_retry = rep->twist, r->conv.twist_faces = rep->twist_faces, r->conv.twist_err = rep->twist_err;
+    r->conv.vertex_polish = rep->polish, r->conv.polish_sweeps = rep->polish_sweeps;
+    memcpy(r->conv.polish_err, rep->polish_err, sizeof rep->polish_err);
     if (s2 != AU_OK) st = s2;
   }
   free(rep);
@@ -423,7 +428,9 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
   if (ms != AU_OK) return au_msg_set(msg, ms, "metrics of the map failed");
   const int not_converged = st == AU_W_NOT_CONVERGED;
   if (not_converged)
-    warn(r, "tolerance %g not reached in %d steps (error %.3e)", x->flow.tol, r->conv.steps, r->conv.err[r->conv.steps]);
+    warn(r, "tolerance %g not reached in %d steps (error %.3e%s)", x->flow.tol, r->conv.steps,
+         r->conv.vertex_polish == 2 ? r->conv.polish_err[1] : r->conv.err[r->conv.steps],
+         r->conv.vertex_polish == 2 ? " after the vertex polish" : "");
   /* A folded map is never handed back: zero folds is the promise, not a hope. Folded here means a
    * sign a reader of the output would see: triangles the start squeezed below a double's resolution
    * that the flow had no steps left to grow. */
@@ -490,7 +497,7 @@ au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, con
   if (!(x.r = calloc(1, sizeof *x.r))) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
   x.r->target = t, x.r->init_only = o->init_only != 0;
   memcpy(x.r->corners, (int[4]){-1, -1, -1, -1}, sizeof x.r->corners);
-  flow_options(t, o, &x.pc, &x.flow, &x.lantern_retry, &x.retry_above, &x.twist_retry);
+  flow_options(t, o, &x.pc, &x.flow, &x.sphere);
 
   au_status check = AU_OK;
   st = prepare(&x, V, nv, F, nf, &check, msg);
@@ -553,6 +560,7 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.has_schedule = flow, info.start_jump = r->conv.start_jump, info.resolved = r->conv.resolved;
   info.retry = r->conv.lantern_retry, info.retry_err[0] = r->conv.retry_err[0], info.retry_err[1] = r->conv.retry_err[1];
   info.twist = r->conv.twist_retry, info.twist_faces = r->conv.twist_faces, info.twist_err = r->conv.twist_err;
+  info.polish = r->conv.vertex_polish, info.polish_sweeps = r->conv.polish_sweeps, info.polish_err = r->conv.polish_err;
   info.angle_from = flow ? r->conv.angle_from : 0;
   if (r->target == AU_TARGET_TORUS)
     info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;

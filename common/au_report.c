@@ -126,6 +126,13 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
          put(tw, "faces_sheared", num(info->twist_faces)) && put(tw, "vertex_err", num(info->twist_err)) &&
          put(tw, "conformal_start_folded", cJSON_CreateBool(info->twist == 3));
   }
+  if (ok && info->polish > 0 && info->polish_err) {
+    cJSON *vp = cJSON_CreateObject();
+    const double *e = info->polish_err;
+    ok = put(conv, "vertex_polish", vp) && put(vp, "kept", cJSON_CreateBool(info->polish == 2)) &&
+         put(vp, "sweeps", num(info->polish_sweeps)) && put(vp, "vertex_err_before", num(e[0])) &&
+         put(vp, "vertex_err_after", num(e[1])) && put(vp, "face_err_before", num(e[2])) && put(vp, "face_err_after", num(e[3]));
+  }
   for (int i = 0; ok && i < info->nwarnings; i++) ok &= put(warn, NULL, str(info->warnings[i]));
 
   ok = ok && put(root, "tool", str("authalic")) && put(root, "version", str(info->tool_version)) &&

@@ -44,6 +44,10 @@ typedef struct au_report_info {
                                   Written as convergence.twisted_start */
   int twist_faces;             /* the faces the twisted start sheared */
   double twist_err;            /* the twisted retry's vertex error */
+  int polish;                  /* sphere's vertex polish (au_sphere_report.polish): 0 none (nothing written),
+                                  1 discarded, 2 kept. Written as convergence.vertex_polish */
+  int polish_sweeps;           /* its sweeps */
+  const double *polish_err;    /* [4]: vertex error before, after; per-face error before, after */
   int angle_from;              /* > 0: the step at which the angle steps began (au_advect_report);
                                   written as convergence.angle_from */
   const double (*lattice)[2];  /* torus: the lattice's basis (rows a1, a2), written as "lattice": [[a1x, a1y],

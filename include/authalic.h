@@ -429,6 +429,10 @@ struct au_expert {
   double twist_retry;     /* sphere: a map still missing tol by more than retry_above x, with a chord
                              floor excess above this, is mapped again from the twisted start, the better
                              map kept (0.02; 0 off; docs/hard-meshes.md) */
+  int vertex_polish;      /* sphere: a map still missing tol gets at most this many sweeps of the vertex
+                             polish (each vertex alone steps on its own triangles' chord areas), kept if
+                             its chord vertex error falls and per-face error does not rise (30; 0 off) */
+  double polish_cells;    /* sphere: the vertex polish's weight of the vertex cells against the faces (1) */
   double resolved_jump;   /* a start whose mean jump of log r across edges is at most this runs the
                              resolved schedule (0.1; refine_faces 0: never) */
   double resolved_shear;  /* resolved schedule: first shear weight (0.1) */
@@ -518,6 +522,10 @@ typedef struct au_convergence {
                         3 the conformal start folded and the map comes from the strong twisted start */
   int twist_faces;   /* with a twisted retry: the faces its start sheared */
   double twist_err;  /* with a twisted retry: its map's chord vertex error */
+  int vertex_polish; /* sphere: 0 none; 1 the vertex polish ran and was discarded; 2 it was kept */
+  int polish_sweeps; /* with a vertex polish: its sweeps */
+  double polish_err[4]; /* with a vertex polish: chord vertex error before and after it, per-face mean
+                           |r - 1| before and after */
 } au_convergence;
 
 #define AU_MAX_WARNINGS 8

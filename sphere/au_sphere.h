@@ -29,6 +29,11 @@ typedef struct au_sphere_opts {
                            tolerance and its chord floor's excess (au_metrics.chord_floor_excess) is
                            above this, it is made again from the twisted start (au_sphere_twisted) and
                            the map with the lower chord vertex error kept (default 0.02; 0 off) */
+  int vertex_polish;    /* > 0: a map that misses its tolerance gets at most this many sweeps of the vertex
+                           polish (au_sphere_vertex_polish), kept if its chord vertex error falls and its
+                           per-face error does not rise (default 30; 0 off). Not with flow.sphere_areas
+                           2, a map of the spherical triangles: the polish is of the chord ones */
+  double polish_cells;  /* the polish's weight of the vertex cells against the faces (default 1) */
 } au_sphere_opts;
 
 au_sphere_opts au_sphere_opts_default(void);
@@ -48,6 +53,10 @@ typedef struct au_sphere_report {
   int twist_faces;        /* with a twisted retry: the faces its start sheared */
   double twist_err;       /* with a twisted retry: its map's chord vertex error */
   int refine_kept_input;  /* au_sphere_refine: 1 if neither refinement beat the input's map */
+  int polish;             /* 0: no vertex polish; 1: it ran and was discarded; 2: it was kept */
+  int polish_sweeps;      /* with a polish: its sweeps */
+  double polish_err[4];   /* with a polish: chord vertex error before and after, per-face mean |r - 1|
+                             before and after */
 } au_sphere_report;
 
 /* Fold-free spherical conformal map of a closed genus-0 mesh.
@@ -71,6 +80,25 @@ au_status au_sphere_twisted(const au_mesh *m, const au_topo *t, double *P, int *
  * conformal start folds even compressed (nested protrusions: data/tpose.obj); au_sphere_map falls back
  * to it. Returns as au_sphere_twisted. */
 au_status au_sphere_twisted_strong(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg);
+
+/* The vertex polish: after the flow, each vertex in turn takes a damped Gauss-Newton step in its
+ * tangent plane on its own triangles' chord areas (C / T - 1, T the share of the chord triangles' total)
+ * and its cells' (cell_weight x log of cell over share, scaled by faces per vertex), halved until that
+ * falls with no triangle turned over; sweeps over all vertices until one gains less than 0.5% of the
+ * faces' squared residual, at most max_sweeps. The flow moves every vertex along one gradient field
+ * and jams where long, thin chord triangles sit on their floor; one vertex alone can slide along a long
+ * edge (sphere/au_sphere_polish.c). face_w: per-face target density (NULL: equal area).
+ * P: in/out, nv x 3 unit vectors, fold-free; stays fold-free. *sweeps (may be NULL): sweeps run.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
+au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P, int max_sweeps,
+                                  double cell_weight, int *sweeps, au_msg *msg);
+
+/* au_sphere_vertex_polish with o->vertex_polish sweeps and o->polish_cells, on a copy of P, which
+ * replaces P when its chord vertex error is lower and its per-face error not higher (au_sphere_map runs it
+ * on a map that misses its tolerance). rep->polish, polish_sweeps and polish_err tell what happened.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
+au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
+                               au_sphere_report *rep, au_msg *msg);
 
 /* Moebius-normalize a sphere map in place so the surface-area-weighted centroid of the image
  * is the origin (the conformal map stays conformal). P: nv x 3 unit vectors, in/out.

@@ -16,6 +16,8 @@ au_sphere_opts au_sphere_opts_default(void) {
   o.lantern_retry = 2;
   o.retry_above = 2;
   o.twist_retry = 0.02;
+  o.vertex_polish = 30;
+  o.polish_cells = 1;
   return o;
 }
 
@@ -74,6 +76,59 @@ static double chord_vertex_error(const au_mesh *m, const au_topo *t, const au_ad
   }
   free(as), free(ad), free(vs), free(vd);
   return err;
+}
+
+/* The flow's per-face target densities (NULL for equal area; else caller frees *w). */
+static int face_density(const au_mesh *m, const au_advect_opts *fo, double **w) {
+  *w = NULL;
+  if (!fo->face_weight && !fo->weight) return 0;
+  if (!(*w = malloc(sizeof(double) * (size_t)m->nf))) return -1;
+  for (int f = 0; f < m->nf; f++) {
+    const int *c = m->F + 3 * f;
+    (*w)[f] = fo->face_weight ? fo->face_weight[f] : (fo->weight[c[0]] + fo->weight[c[1]] + fo->weight[c[2]]) / 3.0;
+  }
+  return 0;
+}
+
+/* The per-face mean |r - 1| of the chord triangles against the flow's targets (au_metrics'
+ * r_mean_abs_dev, without its exclusion of degenerate faces). */
+static double chord_face_error(const au_mesh *m, const double *w, const double *P) {
+  const int nf = m->nf, *F = m->F;
+  double *as = malloc(sizeof(double) * (size_t)nf), *ad = malloc(sizeof(double) * (size_t)nf), err = INFINITY;
+  if (as && ad && nf > 0) {
+    au_dec_face_areas(nf, F, m->X, as);
+    au_dec_face_areas(nf, F, P, ad);
+    double ss = 0, sd = 0, sum = 0;
+    for (int f = 0; f < nf; f++) as[f] *= w ? w[f] : 1.0, ss += as[f], sd += ad[f];
+    for (int f = 0; f < nf; f++) sum += as[f] > 0 ? fabs((ad[f] / sd) / (as[f] / ss) - 1) : 0;
+    err = sum / nf;
+  }
+  free(as), free(ad);
+  return err;
+}
+
+au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
+                               au_sphere_report *rep, au_msg *msg) {
+  double *w = NULL, *P2 = malloc(sizeof(double) * 3 * (size_t)m->nv);
+  if (!P2 || face_density(m, &o->flow, &w) < 0) {
+    free(P2);
+    return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+  }
+  memcpy(P2, P, sizeof(double) * 3 * (size_t)m->nv);
+  au_status st = au_sphere_vertex_polish(m, t, w, P2, o->vertex_polish, o->polish_cells, &rep->polish_sweeps, msg);
+  if (st == AU_OK) {
+    rep->polish_err[0] = chord_vertex_error(m, t, &o->flow, P);
+    rep->polish_err[1] = chord_vertex_error(m, t, &o->flow, P2);
+    rep->polish_err[2] = chord_face_error(m, w, P);
+    rep->polish_err[3] = chord_face_error(m, w, P2);
+    rep->polish = 1;
+    if (rep->polish_err[1] < rep->polish_err[0] && rep->polish_err[3] <= rep->polish_err[2]) {
+      memcpy(P, P2, sizeof(double) * 3 * (size_t)m->nv);
+      rep->polish = 2;
+    }
+  }
+  free(P2), free(w);
+  return st;
 }
 
 /* The chord floor's excess (au_metrics.chord_floor_excess): the area by which faces' least chord areas
@@ -182,6 +237,12 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
       free(r3), free(P3);
     }
     free(Pstart);
+    /* The polish is of chord triangles: not for a map of the spherical ones (sphere_areas 2). */
+    if (st == AU_W_NOT_CONVERGED && o.vertex_polish > 0 && o.flow.sphere_areas != 2) {
+      au_status sp = au_sphere_polish_map(m, t, &o, P, rep, msg);
+      if (sp != AU_OK) st = sp;
+      else if (rep->polish == 2 && rep->polish_err[1] <= o.flow.tol) st = AU_OK, rep->flow.converged = 1;
+    }
     rep->t_flow = now_s() - t0;
   }
   au_advect_plan_free(&plan);

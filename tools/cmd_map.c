@@ -186,8 +186,10 @@ static void summary(int cmd, const au_result *r, double seconds) {
                      : r->conv.twist_retry == 2 ? "twisted start kept"
                      : r->conv.twist_retry == 1 ? "twisted start discarded"
                                                 : "";
-    char tail[80] = "";
-    if (*lr || *tw) snprintf(tail, sizeof tail, " (%s%s%s)", lr, *lr && *tw ? "; " : "", tw);
+    const char *vp = r->conv.vertex_polish == 2 ? "vertex polish kept" : r->conv.vertex_polish == 1 ? "vertex polish discarded" : "";
+    char tail[120] = "";
+    if (*lr || *tw || *vp)
+      snprintf(tail, sizeof tail, " (%s%s%s%s%s)", lr, *lr && (*tw || *vp) ? "; " : "", tw, *tw && *vp ? "; " : "", vp);
     fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs%s\n", r->nv,
             r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs, seconds, tail);
     return;

@@ -77,7 +77,8 @@ class Convergence(ctypes.Structure):
                 ("face_err", P_double), ("frac", P_double), ("polish_from", c_int), ("angle_from", c_int),
                 ("resolved", c_int), ("start_jump", c_double), ("lantern_retry", c_int),
                 ("retry_err", c_double * 2), ("twist_retry", c_int), ("twist_faces", c_int),
-                ("twist_err", c_double)]
+                ("twist_err", c_double), ("vertex_polish", c_int), ("polish_sweeps", c_int),
+                ("polish_err", c_double * 4)]
 
 
 class Result(ctypes.Structure):
