@@ -85,13 +85,13 @@ au_status au_sphere_twisted_strong(const au_mesh *m, const au_topo *t, double *P
  * tangent plane on its own triangles' chord areas (C / T - 1, T the share of the chord triangles' total)
  * and its cells' (cell_weight x log of cell over share, scaled by faces per vertex), halved until that
  * falls with no triangle turned over; sweeps over all vertices until one gains less than 0.5% of the
- * faces' squared residual, at most max_sweeps. The flow moves every vertex along one gradient field
+ * faces' squared residual or the vertex cells' mean |log ratio| is at most tol, at most max_sweeps. The flow moves every vertex along one gradient field
  * and jams where long, thin chord triangles sit on their floor; one vertex alone can slide along a long
  * edge (sphere/au_sphere_polish.c). face_w: per-face target density (NULL: equal area).
  * P: in/out, nv x 3 unit vectors, fold-free; stays fold-free. *sweeps (may be NULL): sweeps run.
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
 au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P, int max_sweeps,
-                                  double cell_weight, int *sweeps, au_msg *msg);
+                                  double cell_weight, double tol, int *sweeps, au_msg *msg);
 
 /* au_sphere_vertex_polish with o->vertex_polish sweeps and o->polish_cells, on a copy of P, which
  * replaces P when its chord vertex error is lower and its per-face error not higher (au_sphere_map runs it

@@ -169,7 +169,7 @@ static double polish_vertex(polish_ctx *x, const int *vf_start, const int *vf, i
 }
 
 au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P, int max_sweeps,
-                                  double cell_weight, int *sweeps, au_msg *msg) {
+                                  double cell_weight, double tol, int *sweeps, au_msg *msg) {
   if (sweeps) *sweeps = 0;
   if (!m || !t || !P || max_sweeps < 0 || !(cell_weight >= 0)) return au_msg_set(msg, AU_E_ARG, "polish: bad arguments");
   const int nv = m->nv, nf = m->nf, *F = m->F;
@@ -202,12 +202,17 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
     for (int f = 0; f < nf; f++) sC += C[f];
     memset(cell, 0, sizeof(double) * (size_t)nv);
     memset(Tc, 0, sizeof(double) * (size_t)nv);
-    double E = 0;
+    double E = 0, verr = 0;
     for (int f = 0; f < nf; f++) {
       T[f] = As[f] / sA * sC;
       for (int k = 0; k < 3; k++) cell[F[3 * f + k]] += C[f] / 3, Tc[F[3 * f + k]] += T[f] / 3;
       E += (C[f] / T[f] - 1) * (C[f] / T[f] - 1);
     }
+    /* Done at the tolerance, as the flow is: the vertex cells' mean |log ratio| (the metrics' measure). */
+    int nused = 0;
+    for (int v = 0; v < nv; v++)
+      if (t->vused[v]) verr += fabs(log(cell[v] / Tc[v])), nused++;
+    if (nused && verr / nused <= tol) break;
     double fall = 0;
     for (int v = 0; v < nv; v++)
       if (t->vused[v]) fall += polish_vertex(&x, vf_start, vf, v);
