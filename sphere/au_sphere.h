@@ -31,7 +31,7 @@ typedef struct au_sphere_opts {
                            the map with the lower chord vertex error kept (default 0.02; 0 off) */
   int vertex_polish;    /* > 0: a map that misses its tolerance gets at most this many sweeps of the vertex
                            polish (au_sphere_vertex_polish), kept if its chord vertex error falls and its
-                           per-face error does not rise (default 30; 0 off). Not with flow.sphere_areas
+                           per-face error does not rise (default 50; 0 off). Not with flow.sphere_areas
                            2, a map of the spherical triangles: the polish is of the chord ones */
   double polish_cells;  /* the polish's weight of the vertex cells against the faces (default 1) */
 } au_sphere_opts;
@@ -84,10 +84,10 @@ au_status au_sphere_twisted_strong(const au_mesh *m, const au_topo *t, double *P
 /* The vertex polish: after the flow, each vertex in turn takes a damped Gauss-Newton step in its
  * tangent plane on its own triangles' chord areas (C / T - 1, T the share of the chord triangles' total)
  * and its cells' (cell_weight x log of cell over share, scaled by faces per vertex), halved until that
- * falls with no triangle turned over; sweeps over all vertices until one gains less than 0.5% of the
- * faces' squared residual or the vertex cells' mean |log ratio| is at most tol, at most max_sweeps. The flow moves every vertex along one gradient field
- * and jams where long, thin chord triangles sit on their floor; one vertex alone can slide along a long
- * edge (sphere/au_sphere_polish.c). face_w: per-face target density (NULL: equal area).
+ * falls with no triangle turned over; sweeps over all vertices until the vertex cells' mean |log ratio|
+ * is at most tol or fell by less than 0.2% in the last sweep, at most max_sweeps. The flow moves every
+ * vertex along one gradient field and jams where long, thin chord triangles sit on their floor; one
+ * vertex alone can slide along a long edge (sphere/au_sphere_polish.c). face_w: per-face target density (NULL: equal area).
  * P: in/out, nv x 3 unit vectors, fold-free; stays fold-free. *sweeps (may be NULL): sweeps run.
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
 au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P, int max_sweeps,
