@@ -75,6 +75,11 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
     return au_msg_set(msg, AU_E_ARG, "restore_shapes: expected a number from 0 to 1 (negative: default)");
   if (o->vertex_density && o->face_density)
     return au_msg_set(msg, AU_E_ARG, "give a vertex density or a face density, not both");
+  /* The refined mesh's new vertices and faces would have no density (and the flow would read past it). */
+  if (o->refine_mesh && (o->vertex_density || o->face_density))
+    return au_msg_set(msg, AU_E_ARG, "refine_mesh does not take a density");
+  if (o->expert && (o->expert->vertex_polish < 0 || !(o->expert->polish_cells >= 0) || isinf(o->expert->polish_cells)))
+    return au_msg_set(msg, AU_E_ARG, "expert vertex_polish: expected sweeps >= 0 and polish_cells >= 0");
   if (!(o->inner_radius >= 0 && o->inner_radius < 1))
     return au_msg_set(msg, AU_E_ARG, "inner_radius: expected 0 < r < 1 (0: the conformal modulus's)");
   if (o->boundary != AU_BOUNDARY_SLIDE && o->boundary != AU_BOUNDARY_FIXED)

@@ -130,8 +130,9 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
  * pieces come after the input's faces. parent [0..2*nnew-1], param [0..nnew-1] (free): new vertex
  * m->nv + k lies at (1 - param[k]) X[parent[2k]] + param[k] X[parent[2k+1]] (a parent may itself be
  * new, with a smaller number), on the surface. With nothing to split, or when neither refinement
- * lowers the input map's vertex error, or the better one raises its per-face error, out is a copy of m, Pout of P and nnew is 0 (rep->refine_kept_input
- * 1 in the second case). rep (may be NULL): the input map's report in, the kept refinement's last
+ * lowers the input map's vertex error, or the better one raises its per-face error, out is a copy of m,
+ * Pout P (with the vertex polish, au_sphere_polish_map, when P misses the tolerance) and nnew is 0
+ * (rep->refine_kept_input 1 when something was split). rep (may be NULL): the input map's report in, the kept refinement's last
  * flow's report in rep->flow out (unchanged when the input's map is kept).
  * Returns AU_OK, AU_W_NOT_CONVERGED (the last flow missed its tolerance; the map is fold-free),
  * AU_E_ARG, AU_E_NOMEM, or an error of au_advect_run. */

@@ -221,7 +221,7 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
     if (sweep > 0 && !(verr < (1 - POLISH_STALL) * verr_last)) break;
     verr_last = verr;
     for (int v = 0; v < nv; v++)
-      if (t->vused[v]) polish_vertex(&x, vf_start, vf, v);
+      if (t->vused[v] && !t->vb[v]) polish_vertex(&x, vf_start, vf, v); /* a closed star (sphere maps have only those) */
     if (sweeps) *sweeps = sweep + 1;
   }
 done:

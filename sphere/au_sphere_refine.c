@@ -290,6 +290,7 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     return st;
   }
   double best = INFINITY, e_in = vertex_error(m, Pin);
+  int any_split = 0;
   const int ncand = (int)(sizeof refine_floor_share / sizeof *refine_floor_share);
   for (int c = 0; c < ncand; c++) {
     au_mesh *mr = NULL;
@@ -305,44 +306,37 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
       st = s2;
       break;
     }
-    double e = vertex_error(mr, Pr);
-    if (c == 0 || e < best) {
+    double e = nn > 0 ? vertex_error(mr, Pr) : INFINITY;
+    if (nn > 0 && (!*out || e < best)) {
       au_mesh_free(out), free(*Pout), free(*parent), free(*param);
       *out = mr, *Pout = Pr, *parent = par, *param = prm, *nnew = nn, best = e, st = s2;
-      /* A candidate that split nothing ran no flow: the report keeps the first map's. */
-      if (rep && nn > 0) {
+      if (rep) {
         rep->flow = *ar, rep->polish = pol.polish, rep->polish_sweeps = pol.polish_sweeps;
         memcpy(rep->polish_err, pol.polish_err, sizeof pol.polish_err);
       }
     } else {
       au_mesh_free(&mr), free(Pr), free(par), free(prm);
     }
+    any_split |= nn > 0;
   }
   free(ar);
-  if (st >= 0 && *out && !*nnew) {
-    /* Nothing to split: the input's map, polished. */
-    memcpy(*Pout, Pin, sizeof(double) * 3 * (size_t)m->nv);
-    if (prin.polish == 2 && prin.polish_err[1] <= o.flow.tol) st = AU_OK;
-    if (rep) {
-      if (st == AU_OK) rep->flow.converged = 1;
-      rep->polish = prin.polish, rep->polish_sweeps = prin.polish_sweeps;
-      memcpy(rep->polish_err, prin.polish_err, sizeof prin.polish_err);
-    }
-  }
-  /* Neither refinement beat the input's map (a refined band can hold the flow back more than the
-   * floor it lifts), or the better one's vertex cells came at the faces' expense (tpose: vertex 7.09
-   * -> 4.23 but per-face 1.68 -> 28): the input's mesh and map stand, nothing split. */
-  if (st >= 0 && *out && *nnew && (e_in < best || face_error(*out, *Pout) > face_error(m, Pin))) {
+  /* The input's mesh and its (polished) map stand when nothing was split, when neither refinement beat
+   * it (a refined band can hold the flow back more than the floor it lifts), or when the better one's
+   * vertex cells came at the faces' expense (tpose: vertex 7.09 -> 4.23 but per-face 1.68 -> 28). */
+  if (st >= 0 && (!*out || e_in < best || face_error(*out, *Pout) > face_error(m, Pin))) {
     au_mesh *mc = NULL;
-    if (au_mesh_copy(m, &mc) == AU_OK) {
+    if (au_mesh_copy(m, &mc) != AU_OK) {
+      st = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+    } else {
       au_mesh_free(out), free(*Pout), free(*parent), free(*param);
       *out = mc, *Pout = Pin, *parent = NULL, *param = NULL, *nnew = 0;
       Pin = NULL;
       /* The input map's own status: its flow's, when the caller passed its report, or met by its polish. */
       st = rep ? (flow_in.converged ? AU_OK : AU_W_NOT_CONVERGED) : e_in > o.flow.tol ? AU_W_NOT_CONVERGED : AU_OK;
-      if (prin.polish == 2 && prin.polish_err[1] <= o.flow.tol) st = AU_OK, flow_in.converged = 1;
+      if (prin.polish == 2 && prin.polish_err[1] <= o.flow.tol) st = AU_OK;
       if (rep) {
-        rep->flow = flow_in, rep->refine_kept_input = 1, rep->polish = prin.polish, rep->polish_sweeps = prin.polish_sweeps;
+        rep->flow = flow_in, rep->flow.converged = st == AU_OK, rep->refine_kept_input = any_split;
+        rep->polish = prin.polish, rep->polish_sweeps = prin.polish_sweeps;
         memcpy(rep->polish_err, prin.polish_err, sizeof prin.polish_err);
       }
     }

@@ -158,6 +158,7 @@ au_cli_test(quality.limbs4 quality.sh map data/limbs4.obj)
 # since session 13 (rounds spending half the budget left: 0.0079 / 0.0025).
 au_cli_test(refine_mesh.cheburashka refine_mesh.sh cheburashka.off)
 au_cli_test(refine_mesh.cow refine_mesh.sh cow.off)
+au_cli_test(refine_mesh.nothing refine_nothing.sh)
 au_cli_test(thin_limbs.cow thin_limbs.sh cow.off)
 au_cli_test(thin_limbs.cheburashka thin_limbs.sh cheburashka.off)
 au_cli_test(thin_limbs.hand_closed thin_limbs.sh hand_closed.obj)

@@ -122,6 +122,8 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
         return cli_usage_error(a->help, "--init-only runs no advection: --steps, --tol, --density, --boundary, "
                                         "--refine-faces, --restore-shapes, --angles and --spherical-areas do not apply");
   }
+  if (a->val[OPT_REFINE_MESH] && a->val[OPT_DENSITY])
+    return cli_usage_error(a->help, "--refine-mesh does not take --density (the new vertices and faces would have none)");
   const char *v = a->val[OPT_FORMAT];
   if (v && au_io_format_parse(v) == AU_IO_FORMAT_AUTO)
     return cli_usage_error(a->help, "--format '%s': expected obj, off, ply, freesurfer or gifti", v);

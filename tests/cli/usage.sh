@@ -79,6 +79,11 @@ duplicate_flag)
 bad_combination)
   run sphere "$IN" "$OUT" --init-only --steps 5
   expect_rejected 'init-only'
+  # A refined mesh's new vertices and faces would have no density.
+  awk '/^v /{n++} END{for(i=0;i<n;i++) print 1}' "$IN" >"$T/d.txt"
+  run sphere "$IN" "$OUT" --density "$T/d.txt" --refine-mesh "$T/o/surf.obj"
+  expect_rejected '--refine-mesh does not take --density'
+  [ ! -e "$T/o/surf.obj" ] || fail "a refused run wrote the refined surface"
   ;;
 extra_arg)
   run sphere "$IN" "$OUT" "$T/o/third.obj"
