@@ -89,14 +89,21 @@ au_status au_sphere_twisted_strong(const au_mesh *m, const au_topo *t, double *P
  * vertex along one gradient field and jams where long, thin chord triangles sit on their floor; one
  * vertex alone can slide along a long edge (sphere/au_sphere_polish.c). face_w: per-face target density (NULL: equal area).
  * P: in/out, nv x 3 unit vectors, fold-free; stays fold-free. *sweeps (may be NULL): sweeps run.
- * Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
-au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P, int max_sweeps,
-                                  double cell_weight, double tol, int *sweeps, au_msg *msg);
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED (P partly polished, still fold-free). */
+typedef struct au_polish_opts {
+  int max_sweeps;     /* at most this many sweeps */
+  double cell_weight; /* weight of the vertex cells against the faces (>= 0) */
+  double tol;         /* stop once the vertex cells' mean |log ratio| is at most this */
+  const int *cancel;  /* when *cancel is nonzero at the start of a sweep (read atomically): AU_E_CANCELLED */
+} au_polish_opts;
+au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
+                                  const au_polish_opts *po, int *sweeps, au_msg *msg);
 
 /* au_sphere_vertex_polish with o->vertex_polish sweeps and o->polish_cells, on a copy of P, which
  * replaces P when its chord vertex error is lower and its per-face error not higher (au_sphere_map runs it
  * on a map that misses its tolerance). rep->polish, polish_sweeps and polish_err tell what happened.
- * Returns AU_OK, AU_E_ARG, AU_E_NOMEM. */
+ * o->flow.cancel is honoured between sweeps. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED (P
+ * unchanged). */
 au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
                                au_sphere_report *rep, au_msg *msg);
 

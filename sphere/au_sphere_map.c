@@ -115,7 +115,8 @@ au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphe
     return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
   }
   memcpy(P2, P, sizeof(double) * 3 * (size_t)m->nv);
-  au_status st = au_sphere_vertex_polish(m, t, w, P2, o->vertex_polish, o->polish_cells, o->flow.tol, &rep->polish_sweeps, msg);
+  au_polish_opts po = {o->vertex_polish, o->polish_cells, o->flow.tol, o->flow.cancel};
+  au_status st = au_sphere_vertex_polish(m, t, w, P2, &po, &rep->polish_sweeps, msg);
   if (st == AU_OK) {
     rep->polish_err[0] = chord_vertex_error(m, t, &o->flow, P);
     rep->polish_err[1] = chord_vertex_error(m, t, &o->flow, P2);

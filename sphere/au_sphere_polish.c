@@ -169,10 +169,13 @@ static double polish_vertex(polish_ctx *x, const int *vf_start, const int *vf, i
   return 0;
 }
 
-au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P, int max_sweeps,
-                                  double cell_weight, double tol, int *sweeps, au_msg *msg) {
+au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
+                                  const au_polish_opts *po, int *sweeps, au_msg *msg) {
   if (sweeps) *sweeps = 0;
-  if (!m || !t || !P || max_sweeps < 0 || !(cell_weight >= 0)) return au_msg_set(msg, AU_E_ARG, "polish: bad arguments");
+  if (!m || !t || !P || !po || po->max_sweeps < 0 || !(po->cell_weight >= 0))
+    return au_msg_set(msg, AU_E_ARG, "polish: bad arguments");
+  const int max_sweeps = po->max_sweeps;
+  const double cell_weight = po->cell_weight, tol = po->tol;
   const int nv = m->nv, nf = m->nf, *F = m->F;
   int *vf_start = calloc((size_t)nv + 1, sizeof(int)), *vf = malloc(sizeof(int) * 3 * (size_t)nf);
   double *As = malloc(sizeof(double) * (size_t)nf), *T = malloc(sizeof(double) * (size_t)nf);
@@ -220,6 +223,10 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
      * after 8 sweeps at vertex 0.0051 by a gain in that residual, 30 sweeps give 0.0041). */
     if (sweep > 0 && !(verr < (1 - POLISH_STALL) * verr_last)) break;
     verr_last = verr;
+    if (po->cancel && __atomic_load_n(po->cancel, __ATOMIC_ACQUIRE)) {
+      st = au_msg_set(msg, AU_E_CANCELLED, "polish: cancelled at sweep %d", sweep);
+      break;
+    }
     for (int v = 0; v < nv; v++)
       if (t->vused[v] && !t->vb[v]) polish_vertex(&x, vf_start, vf, v); /* a closed star (sphere maps have only those) */
     if (sweeps) *sweeps = sweep + 1;

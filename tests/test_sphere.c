@@ -781,6 +781,17 @@ static int vertex_polish(void) {
     AU_CHECK_NEAR(rep[1].polish_err[1], q[1].vertex_logr_mean_abs, 1e-9);
     AU_CHECK_DBL(q[1].vertex_logr_mean_abs, <=, 0.9 * q[0].vertex_logr_mean_abs);
     AU_CHECK_DBL(q[1].r_mean_abs_dev, <=, 0.97 * q[0].r_mean_abs_dev);
+    /* A cancellation is honoured at the first sweep: nothing moves. */
+    const int stop = 1;
+    au_polish_opts po = {50, 1, 0, &stop};
+    double *Pc = malloc(sizeof(double) * 3 * (size_t)L.m->nv);
+    AU_CHECK(Pc != NULL);
+    memcpy(Pc, L.P, sizeof(double) * 3 * (size_t)L.m->nv);
+    int sw = -1;
+    AU_CHECK_STATUS(au_sphere_vertex_polish(L.m, L.t, NULL, Pc, &po, &sw, &msg), AU_E_CANCELLED, &msg);
+    AU_CHECK_INT(sw, ==, 0);
+    AU_CHECK(memcmp(Pc, L.P, sizeof(double) * 3 * (size_t)L.m->nv) == 0);
+    free(Pc);
     unload(&L);
   }
   return 0;
