@@ -712,6 +712,19 @@ static int twisted_start(void) {
   return 0;
 }
 
+/* Map L with o into L->P (rep may be NULL) and measure it into *q: a valid status, 0 folds, every point
+ * on the unit sphere. Returns 0, or 1 after a failed check. */
+static int map_measured(loaded *L, const au_sphere_opts *o, au_sphere_report *rep, au_metrics *q) {
+  au_msg msg = {{0}};
+  au_status st = au_sphere_map(L->m, L->t, o, L->P, NULL, rep, &msg);
+  AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
+  AU_CHECK_STATUS(au_metrics_compute(L->m->nv, L->m->nf, L->m->X, L->P, L->m->F, AU_DOMAIN_SPHERE, q, NULL, NULL), AU_OK,
+                  (au_msg *)NULL);
+  AU_CHECK_INT(q->folds, ==, 0);
+  AU_CHECK_DBL(radius_dev(L), <=, 1e-12);
+  return 0;
+}
+
 /* The twisted retry (au_sphere_opts.twist_retry): limbs4's map misses its tolerance with 11% of the
  * chord area on the floor, so it is made again from the twisted start and that map kept; its vertex
  * and per-face errors are well below the map without the retry (measured 2026-12-03: vertex 0.178 ->
@@ -719,19 +732,13 @@ static int twisted_start(void) {
 static int twist_retry_limbs4(void) {
   loaded L;
   if (load("limbs4.obj", 1, &L)) return 1;
-  au_msg msg = {{0}};
   au_metrics q[2];
   au_sphere_report rep[2];
   for (int r = 0; r < 2; r++) {
     au_sphere_opts o = au_sphere_opts_default();
     if (r == 0) o.twist_retry = 0;
     o.vertex_polish = 0; /* the retry's own map is what is checked (test vertex_polish for the polish) */
-    au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &rep[r], &msg);
-    AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
-    AU_CHECK_STATUS(au_metrics_compute(L.m->nv, L.m->nf, L.m->X, L.P, L.m->F, AU_DOMAIN_SPHERE, &q[r], NULL, NULL), AU_OK,
-                    (au_msg *)NULL);
-    AU_CHECK_INT(q[r].folds, ==, 0);
-    AU_CHECK_DBL(radius_dev(&L), <=, 1e-12);
+    if (map_measured(&L, &o, &rep[r], &q[r])) return 1;
   }
   fprintf(stderr, "limbs4: vertex %.4f -> %.4f, per-face %.4f -> %.4f, chord floor excess %.4f -> %.4f (twisted: %d faces "
           "sheared, kept %d)\n", q[0].vertex_logr_mean_abs, q[1].vertex_logr_mean_abs, q[0].r_mean_abs_dev,
@@ -763,12 +770,7 @@ static int vertex_polish(void) {
     for (int r = 0; r < 2; r++) {
       au_sphere_opts o = au_sphere_opts_default();
       if (r == 0) o.vertex_polish = 0;
-      au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &rep[r], &msg);
-      AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
-      AU_CHECK_STATUS(au_metrics_compute(L.m->nv, L.m->nf, L.m->X, L.P, L.m->F, AU_DOMAIN_SPHERE, &q[r], NULL, NULL), AU_OK,
-                      (au_msg *)NULL);
-      AU_CHECK_INT(q[r].folds, ==, 0);
-      AU_CHECK_DBL(radius_dev(&L), <=, 1e-12);
+      if (map_measured(&L, &o, &rep[r], &q[r])) return 1;
     }
     fprintf(stderr, "%s: vertex %.4f -> %.4f, per-face %.4f -> %.4f (%d sweeps, kept %d)\n", names[k],
             q[0].vertex_logr_mean_abs, q[1].vertex_logr_mean_abs, q[0].r_mean_abs_dev, q[1].r_mean_abs_dev,

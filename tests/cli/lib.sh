@@ -37,6 +37,15 @@ skip() {
   exit 77
 }
 
+# stage_shared MESH: skip unless ../shared has meshes/MESH and tools/param-eval; then IN is the staged
+# copy of the mesh and PE the evaluator.
+stage_shared() {
+  PE=$SHARED/tools/param-eval
+  [ -f "$SHARED/meshes/$1" ] || skip "$SHARED/meshes/$1 is absent"
+  [ -x "$PE" ] || skip "$PE is absent"
+  IN=$(stage "$SHARED/meshes/$1")
+}
+
 # Run the program; $status holds its exit status.
 run() {
   echo "+ authalic $*" >&2

@@ -5,10 +5,7 @@
 # (per-face mean |r - 1| <= 0.02, vertex mean |log r| <= 0.005). Skipped without ../shared.
 # sh refine_mesh.sh PROG SOURCE_DIR SHARED_DIR MESH   (MESH: a file name in ../shared/meshes)
 . "$(dirname "$0")/lib.sh"
-PE=$SHARED/tools/param-eval
-[ -f "$SHARED/meshes/$1" ] || skip "$SHARED/meshes/$1 is absent"
-[ -x "$PE" ] || skip "$PE is absent"
-IN=$(stage "$SHARED/meshes/$1")
+stage_shared "$1"
 OUT=$T/o/map.obj
 SURF=$T/o/surf.obj
 run sphere "$IN" "$OUT" --refine-mesh "$SURF" --quiet

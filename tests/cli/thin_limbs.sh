@@ -4,10 +4,7 @@
 # (without it cow had 0.0349 / 0.0173). Skipped without ../shared.
 # sh thin_limbs.sh PROG SOURCE_DIR SHARED_DIR MESH   (MESH: a file name in ../shared/meshes)
 . "$(dirname "$0")/lib.sh"
-PE=$SHARED/tools/param-eval
-[ -f "$SHARED/meshes/$1" ] || skip "$SHARED/meshes/$1 is absent"
-[ -x "$PE" ] || skip "$PE is absent"
-IN=$(stage "$SHARED/meshes/$1")
+stage_shared "$1"
 OUT=$T/o/map.obj
 run sphere "$IN" "$OUT" --report "$T/o/r.json" --quiet
 expect_status 0
