@@ -13,9 +13,11 @@
 #include "au_dec.h"
 #include "au_sphere.h"
 
+/* A star's arrays are fixed: a vertex with more faces is not polished (a closed star of n faces touches
+ * n + 1 cells). The other two are explained where they are used, in star_eval and the sweep loop. */
 enum { POLISH_MAX_DEGREE = 64 };
-#define POLISH_SPHERE_MIN 0.1
-#define POLISH_STALL 0.002
+#define POLISH_SPHERE_MIN 0.1 /* a face's triple product stays above this fraction of its share */
+#define POLISH_STALL 0.002    /* the sweeps stop when one lowers the vertex error by less than this */
 
 static double dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static void cross(const double *a, const double *b, double *r) {
