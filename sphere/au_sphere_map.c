@@ -46,6 +46,14 @@ static double now_s(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The flow's target density of face f: its own, the mean of its corners', or 1 for equal area. */
+static double density_of(const au_mesh *m, const au_advect_opts *fo, int f) {
+  const int *c = m->F + 3 * f;
+  return fo->face_weight ? fo->face_weight[f]
+         : fo->weight    ? (fo->weight[c[0]] + fo->weight[c[1]] + fo->weight[c[2]]) / 3.0
+                         : 1.0;
+}
+
 /* The vertex mean |log ratio| of the chord triangles (the measure of au_metrics and param-eval), with
  * the flow's targets: a third of each face's surface area times its density. */
 static double chord_vertex_error(const au_mesh *m, const au_topo *t, const au_advect_opts *fo, const double *P) {
@@ -59,9 +67,7 @@ static double chord_vertex_error(const au_mesh *m, const au_topo *t, const au_ad
     double ss = 0, sd = 0;
     for (int f = 0; f < nf; f++) {
       const int *c = F + 3 * f;
-      double w = fo->face_weight ? fo->face_weight[f]
-                 : fo->weight    ? (fo->weight[c[0]] + fo->weight[c[1]] + fo->weight[c[2]]) / 3.0
-                                 : 1.0;
+      const double w = density_of(m, fo, f);
       for (int k = 0; k < 3; k++) vs[c[k]] += as[f] * w / 3, vd[c[k]] += ad[f] / 3;
       ss += as[f] * w, sd += ad[f];
     }
@@ -83,10 +89,7 @@ static int face_density(const au_mesh *m, const au_advect_opts *fo, double **w) 
   *w = NULL;
   if (!fo->face_weight && !fo->weight) return 0;
   if (!(*w = malloc(sizeof(double) * (size_t)m->nf))) return -1;
-  for (int f = 0; f < m->nf; f++) {
-    const int *c = m->F + 3 * f;
-    (*w)[f] = fo->face_weight ? fo->face_weight[f] : (fo->weight[c[0]] + fo->weight[c[1]] + fo->weight[c[2]]) / 3.0;
-  }
+  for (int f = 0; f < m->nf; f++) (*w)[f] = density_of(m, fo, f);
   return 0;
 }
 

@@ -258,6 +258,12 @@ static double face_error(const au_mesh *m, const double *P) {
   return met.r_mean_abs_dev;
 }
 
+/* The vertex polish's part of a report (au_sphere_polish_map's) into rep. */
+static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
+  rep->polish = from->polish, rep->polish_sweeps = from->polish_sweeps;
+  memcpy(rep->polish_err, from->polish_err, sizeof from->polish_err);
+}
+
 au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,
                            au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                            au_sphere_report *rep, au_msg *msg) {
@@ -311,8 +317,8 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
       au_mesh_free(out), free(*Pout), free(*parent), free(*param);
       *out = mr, *Pout = Pr, *parent = par, *param = prm, *nnew = nn, best = e, st = s2;
       if (rep) {
-        rep->flow = *ar, rep->polish = pol.polish, rep->polish_sweeps = pol.polish_sweeps;
-        memcpy(rep->polish_err, pol.polish_err, sizeof pol.polish_err);
+        rep->flow = *ar;
+        take_polish(rep, &pol);
       }
     } else {
       au_mesh_free(&mr), free(Pr), free(par), free(prm);
@@ -336,8 +342,7 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
       if (prin.polish == 2 && prin.polish_err[1] <= o.flow.tol) st = AU_OK;
       if (rep) {
         rep->flow = flow_in, rep->flow.converged = st == AU_OK, rep->refine_kept_input = any_split;
-        rep->polish = prin.polish, rep->polish_sweeps = prin.polish_sweeps;
-        memcpy(rep->polish_err, prin.polish_err, sizeof prin.polish_err);
+        take_polish(rep, &prin);
       }
     }
   }
