@@ -431,7 +431,7 @@ struct au_expert {
                              map kept (0.02; 0 off; docs/hard-meshes.md) */
   int vertex_polish;      /* sphere: a map still missing tol gets at most this many sweeps of the vertex
                              polish (each vertex alone steps on its own triangles' chord areas), kept if
-                             its chord vertex error falls and per-face error does not rise (50; 0 off) */
+                             its chord vertex error falls and per-face error does not rise (200; 0 off) */
   double polish_cells;    /* sphere: the vertex polish's weight of the vertex cells against the faces (1) */
   double resolved_jump;   /* a start whose mean jump of log r across edges is at most this runs the
                              resolved schedule (0.1; refine_faces 0: never) */

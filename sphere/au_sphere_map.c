@@ -16,7 +16,7 @@ au_sphere_opts au_sphere_opts_default(void) {
   o.lantern_retry = 2;
   o.retry_above = 2;
   o.twist_retry = 0.02;
-  o.vertex_polish = 50;
+  o.vertex_polish = 200;
   o.polish_cells = 1;
   return o;
 }
