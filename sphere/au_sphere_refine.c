@@ -12,7 +12,13 @@
  * session 11): splitting only the faces on the floor leaves the rest of a limb's band as the next
  * floor (cow), while splitting the whole band spends the budget where the re-flow gains nothing and
  * leaves more vertices to settle (cheburashka). So both are made, from the same map, and the map
- * whose vertex cells are nearer their shares is kept. */
+ * whose vertex cells are nearer their shares is kept.
+ *
+ * A third candidate splits the map's longest edges, whatever their faces' floors, with the whole budget
+ * in one round. Where a limb's base is stretched around its ring (docs/hard-meshes.md, session 15),
+ * its bands' corners stand over the ends of the long ring edges; splitting only a floor face's edge
+ * puts the band's next face onto its floor, round after round, while splitting every long edge of a
+ * band (ring edges and diagonals alike: they are about as long) keeps its corners over the ends. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,8 +29,9 @@
 
 /* A face counts as held by the floor when its chord floor exceeds this fraction of its share: from
  * there the polish's steps shrink towards nothing at it (docs/hard-meshes.md). The second candidate
- * also splits the band around such faces, whose floors are a tenth of their share and up. */
-static const double refine_floor_share[] = {0.5, 0.1};
+ * also splits the band around such faces, whose floors are a tenth of their share and up; the third
+ * (0) splits the longest edges of the map. */
+static const double refine_floor_share[] = {0.5, 0.1, 0};
 
 /* Rounds of split and re-flow at most, each spending at most 1/AU_REFINE_SHARE of the face budget
  * left: after a re-flow the faces the floor holds are others than before, and a budget spent at once
@@ -49,8 +56,9 @@ static double dist3(const double *a, const double *b) {
 }
 
 /* The edges to split: of each face whose chord floor exceeds floor_share of its share, its longest
- * chord edge; the most held first, while each split's two new faces fit the budget. mark [0..ne-1]
- * out (1: split). Returns their count. */
+ * chord edge, the most held first; or with floor_share 0 every edge, the longest in the map first;
+ * while each split's new faces fit the budget. cand: room for max(nf, ne). mark [0..ne-1] out (1:
+ * split). Returns their count. */
 static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, double floor_share, int budget,
                       unsigned char *mark, split_cand *cand) {
   const int nf = m->nf;
@@ -60,7 +68,8 @@ static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, doubl
   double sAs = 0;
   for (int f = 0; f < nf; f++) sAs += As[f];
   int nc = 0;
-  for (int f = 0; f < nf; f++) {
+  for (int e = 0; floor_share == 0 && e < t->ne; e++) cand[nc++] = (split_cand){dist3(P + 3 * t->E[2 * e], P + 3 * t->E[2 * e + 1]), e};
+  for (int f = 0; floor_share > 0 && f < nf; f++) {
     const int *v = m->F + 3 * f;
     const double *a = P + 3 * v[0], *b = P + 3 * v[1], *c = P + 3 * v[2];
     double share = 4 * M_PI * As[f] / sAs, floor_area = au_dec_sphere_chord_floor(a, b, c);
@@ -167,7 +176,10 @@ static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const 
   return AU_OK;
 }
 
-/* One candidate: rounds of splits by floor_share and re-flows, from the map (m, P). */
+/* One candidate: rounds of splits by floor_share and re-flows, from the map (m, P); with floor_share 0
+ * (the longest edges) one round spending the whole budget: the longest edges after a re-flow are the
+ * halves of the first round's (limbs4 at 2x the faces: vertex error 0.0160 in one round, 0.0181 over
+ * the rounds below; docs/hard-meshes.md). */
 static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_opts *o, double max_faces,
                              double floor_share, au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                              au_advect_report *ar, au_sphere_report *pol, au_msg *msg) {
@@ -186,15 +198,16 @@ static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_
    * vertex error 0.0159 from shear 1, 0.0134 from the tail; docs/hard-meshes.md). */
   au_advect_opts fo = o->flow;
   fo.shear = fo.shear_tail;
-  for (int round = 0; round < AU_REFINE_ROUNDS && st >= 0; round++) {
+  const int rounds = floor_share > 0 ? AU_REFINE_ROUNDS : 1, share = floor_share > 0 ? AU_REFINE_SHARE : 1;
+  for (int round = 0; round < rounds && st >= 0; round++) {
     au_topo *t = NULL;
     au_status s2 = au_mesh_topology(mr, &t, msg);
     unsigned char *mark = s2 == AU_OK ? malloc((size_t)t->ne) : NULL;
-    split_cand *cand = mark ? malloc(sizeof *cand * (size_t)mr->nf) : NULL;
+    split_cand *cand = mark ? malloc(sizeof *cand * (size_t)(mr->nf > t->ne ? mr->nf : t->ne)) : NULL;
     int n = 0;
     if (s2 == AU_OK && !cand) s2 = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
     if (s2 == AU_OK) {
-      long budget = (cap - mr->nf) / AU_REFINE_SHARE;
+      long budget = (cap - mr->nf) / share;
       n = pick_edges(mr, t, Pr, floor_share, budget > 0x3fffffff ? 0x3fffffff : (int)budget, mark, cand);
       if (n < 0) s2 = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
     }
@@ -299,6 +312,9 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   int any_split = 0;
   const int ncand = (int)(sizeof refine_floor_share / sizeof *refine_floor_share);
   for (int c = 0; c < ncand; c++) {
+    /* The longest edges are split only where some face is held by its floor: elsewhere the refinement
+     * has nothing to lift, and the input stands without a search. */
+    if (refine_floor_share[c] == 0 && !any_split) break;
     au_mesh *mr = NULL;
     double *Pr = NULL, *prm = NULL;
     int *par = NULL, nn = 0;
