@@ -21,6 +21,8 @@
 /* A sphere map that missed its tolerance warns of the chord floor only when it matters: a single
  * floor-bound face after a short run is no news. */
 #define AU_FLOOR_WARN_EXCESS 1e-4
+/* refine_mesh's face budget by default, as a multiple of the input's faces: issue 21's bound. */
+#define AU_REFINE_DEFAULT_FACES 2
 
 static double now_s(void) {
   struct timespec ts;
@@ -78,6 +80,8 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
   /* The refined mesh's new vertices and faces would have no density (and the flow would read past it). */
   if (o->refine_mesh && (o->vertex_density || o->face_density))
     return au_msg_set(msg, AU_E_ARG, "refine_mesh does not take a density");
+  if (o->refine_max_faces != 0 && !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES))
+    return au_msg_set(msg, AU_E_ARG, "refine_max_faces: expected more than 1 and at most 16 (0: the default 2)");
   if (o->expert && (o->expert->vertex_polish < 0 || !(o->expert->polish_cells >= 0) || isinf(o->expert->polish_cells)))
     return au_msg_set(msg, AU_E_ARG, "expert vertex_polish: expected sweeps >= 0 and polish_cells >= 0");
   if (!(o->inner_radius >= 0 && o->inner_radius < 1))
@@ -203,7 +207,8 @@ static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_r
   double *Pr = NULL, *prm = NULL;
   int *par = NULL, nnew = 0;
   double t0 = now_s();
-  au_status st = au_sphere_refine(x->m, r->P, so, 2, &mr, &Pr, &par, &prm, &nnew, rep, msg);
+  const double max_faces = x->o->refine_max_faces > 0 ? x->o->refine_max_faces : AU_REFINE_DEFAULT_FACES;
+  au_status st = au_sphere_refine(x->m, r->P, so, max_faces, &mr, &Pr, &par, &prm, &nnew, rep, msg);
   r->t_flow += now_s() - t0;
   if (st < 0) return st;
   double *P0 = realloc(r->P0, sizeof(double) * 3 * (size_t)mr->nv);

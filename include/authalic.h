@@ -302,6 +302,7 @@ AU_API au_status au_mesh_check(const double *V, int nv, const int *F, int nf, au
 
 #define AU_MAX_STEPS 512      /* the most advection steps a map may take (au_options.max_steps) */
 #define AU_MAX_ANGLE_STEPS 50 /* the most angle steps (au_options.angle_steps) */
+#define AU_REFINE_MAX_FACES 16 /* the largest face budget of refine_mesh (au_options.refine_max_faces) */
 
 /* The defaults au_map uses for target t when au_options leaves them open: the most steps, and the
  * tolerance (vertex mean |ln ratio|). Either pointer may be NULL. */
@@ -382,14 +383,17 @@ typedef struct au_options {
   au_lattice lattice;     /* torus: AU_LATTICE_CONFORMAL (default) or AU_LATTICE_SQUARE */
   int refine_mesh;        /* sphere: 1: after the flow, split the map's long edges where a chord
                              triangle cannot shrink to its share (the chord floor), with new vertices on
-                             the input surface, and flow again; up to eight rounds, each spending at
-                             most half the face budget left, at most twice the input's faces. The result's mesh is then the refined one (nv > nv_in) and
+                             the input surface, and flow again, within refine_max_faces (three
+                             candidate refinements, the best kept: sphere/au_sphere_refine.c). The result's mesh is then the refined one (nv > nv_in) and
                              au_result.parent tells where each new vertex lies; when no refinement
                              lowers the vertex error without raising the per-face one, the input's
                              mesh and map (nrefined 0, a warning says so). 0 (default): the input's mesh */
   int measure_start;      /* 1 (default): also measure the initial map (au_result.init_metrics);
                              0: skip it, a tenth of a second on 100k faces (au_result_json then
                              measures it itself) */
+  double refine_max_faces; /* sphere with refine_mesh: the refined mesh has at most this many times the
+                              input's faces, 1 < x <= AU_REFINE_MAX_FACES; 0 (default): 2. Long thin limbs gain from
+                              more (docs/hard-meshes.md) */
 } au_options;
 
 AU_API au_options au_options_default(void);

@@ -159,6 +159,8 @@ au_cli_test(quality.limbs4 quality.sh map data/limbs4.obj)
 au_cli_test(refine_mesh.cheburashka refine_mesh.sh cheburashka.off)
 au_cli_test(refine_mesh.cow refine_mesh.sh cow.off)
 au_cli_test(refine_mesh.nothing refine_nothing.sh)
+# --refine-budget: a larger face budget than the default 2x on the generated coil (issue 21).
+au_cli_test(refine_budget refine_budget.sh)
 au_cli_test(thin_limbs.cow thin_limbs.sh cow.off)
 au_cli_test(thin_limbs.cheburashka thin_limbs.sh cheburashka.off)
 au_cli_test(thin_limbs.hand_closed thin_limbs.sh hand_closed.obj)

@@ -66,9 +66,12 @@ enum {
     "a vertex error of 0.01 on, elsewhere after the flow)")                                                          \
   X(OPT_REFINE_MESH, "refine-mesh", "SURF", CLI_FILE, CLI_SPHERE,                                                    \
     "split the map's long edges where a chord triangle cannot shrink to its share, with new vertices on the "     \
-    "input's edges, and flow again (at most twice the faces); OUT gets the refined mesh's map, SURF its surface, "  \
+    "input's edges, and flow again (at most twice the faces, see --refine-budget); OUT gets the refined mesh's map, SURF its surface, "  \
     "SURF.parents.txt one line per new vertex: its number, its parents' numbers (0-based) and t, the vertex being " \
     "(1 - t) parent1 + t parent2")                                                                                   \
+  X(OPT_REFINE_BUDGET, "refine-budget", "K", CLI_VALUE, CLI_SPHERE,                                                  \
+    "with --refine-mesh: at most K times the input's faces instead of twice, 1 < K <= 16: long, thin limbs come "    \
+    "closer to equal area with more")                                                                                \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
   X(OPT_SPHERICAL_AREAS, "spherical-areas", NULL, CLI_FLAG, CLI_SPHERE,                                              \
     "equalize the spherical triangles' areas and skip the chord polish: the map `texture` and `sample` make "      \
@@ -133,7 +136,7 @@ enum {
 /* The ids, each once. */
 typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
-  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
+  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_REFINE_BUDGET, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
   OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_AREA_TARGET, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
   OPT_COUNT

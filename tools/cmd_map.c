@@ -77,6 +77,9 @@ static int map_options(const cli_args *a, au_options *o) {
     return cli_usage_error(h, "--restore-shapes '%s': expected a number from 0 to 1", v);
   o->refine_faces = a->val[OPT_REFINE_FACES] != NULL;
   o->refine_mesh = a->val[OPT_REFINE_MESH] != NULL;
+  if ((v = a->val[OPT_REFINE_BUDGET]) &&
+      (cli_parse_nonneg(v, &o->refine_max_faces) || !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES)))
+    return cli_usage_error(h, "--refine-budget '%s': expected a number above 1 and at most %d", v, AU_REFINE_MAX_FACES);
   o->init_only = a->val[OPT_INIT_ONLY] != NULL;
   o->balance = a->val[OPT_NO_BALANCE] == NULL;
   if ((v = a->val[OPT_BOUNDARY])) {
@@ -122,6 +125,8 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
         return cli_usage_error(a->help, "--init-only runs no advection: --steps, --tol, --density, --boundary, "
                                         "--refine-faces, --restore-shapes, --angles and --spherical-areas do not apply");
   }
+  if (a->val[OPT_REFINE_BUDGET] && !a->val[OPT_REFINE_MESH])
+    return cli_usage_error(a->help, "--refine-budget applies to --refine-mesh, which is not given");
   if (a->val[OPT_REFINE_MESH] && a->val[OPT_DENSITY])
     return cli_usage_error(a->help, "--refine-mesh does not take --density (the new vertices and faces would have none)");
   const char *v = a->val[OPT_FORMAT];

@@ -71,6 +71,10 @@ bad_number)
     run sphere "$IN" "$OUT" --restore-shapes "$v"
     expect_rejected "--restore-shapes '$v'"
   done
+  for v in abc '' 1 0.5 16.5 nan inf; do
+    run sphere "$IN" "$OUT" --refine-mesh "$T/o/surf.obj" --refine-budget "$v"
+    expect_rejected "--refine-budget '$v'"
+  done
   ;;
 duplicate_flag)
   run sphere "$IN" "$OUT" --steps 5 --steps 6
@@ -84,6 +88,8 @@ bad_combination)
   run sphere "$IN" "$OUT" --density "$T/d.txt" --refine-mesh "$T/o/surf.obj"
   expect_rejected '--refine-mesh does not take --density'
   [ ! -e "$T/o/surf.obj" ] || fail "a refused run wrote the refined surface"
+  run sphere "$IN" "$OUT" --refine-budget 3
+  expect_rejected '--refine-budget applies to --refine-mesh'
   ;;
 extra_arg)
   run sphere "$IN" "$OUT" "$T/o/third.obj"

@@ -1,0 +1,28 @@
+# refine_budget.sh - `authalic sphere --refine-mesh SURF --refine-budget 3` on data/coil.obj (a long
+# coiled tail of girth 6, issue 21): the refined mesh has more than twice the input's faces and at most
+# three times, and its map is closer to equal area than the default budget's (twice the faces), by
+# ../shared/tools/param-eval: 0 folds, lower per-face and vertex errors. Skipped without param-eval.
+# sh refine_budget.sh PROG SOURCE_DIR SHARED_DIR
+. "$(dirname "$0")/lib.sh"
+PE=$SHARED/tools/param-eval
+[ -x "$PE" ] || skip "$PE is absent"
+[ -f "$SRC/data/coil.obj" ] || skip "$SRC/data/coil.obj is missing (run au_mklimbs to generate data/)"
+IN=$(stage "$SRC/data/coil.obj")
+for k in 2 3; do
+  run sphere "$IN" "$T/o/map$k.obj" --refine-mesh "$T/o/surf$k.obj" --refine-budget $k --quiet
+  expect_status 0
+  expect_on_sphere "$T/o/map$k.obj" 1e-12
+  "$PE" "$T/o/surf$k.obj" "$T/o/map$k.obj" --json >"$T/log/pe$k.json" || fail "param-eval failed (budget $k)"
+done
+$PY - "$IN" "$T/log/pe2.json" "$T/log/pe3.json" <<'PYEOF' || fail "the refined maps (above)"
+import json, sys
+f0 = sum(1 for line in open(sys.argv[1]) if line.startswith('f '))
+d2, d3 = json.load(open(sys.argv[2])), json.load(open(sys.argv[3]))
+for k, d in ((2, d2), (3, d3)):
+    print("budget %d: %d -> %d faces, per-face %.4f, vertex %.4f, folds %d" % (k, f0, d["F"], d["r_mean_abs_dev"],
+          d["vertex_logr_mean_abs"], d["folds"]), file=sys.stderr)
+ok = d2["folds"] == 0 and d3["folds"] == 0 and d2["F"] <= 2 * f0 < d3["F"] <= 3 * f0
+ok = ok and d3["r_mean_abs_dev"] < d2["r_mean_abs_dev"] and d3["vertex_logr_mean_abs"] < d2["vertex_logr_mean_abs"]
+sys.exit(0 if ok else 1)
+PYEOF
+exit 0
