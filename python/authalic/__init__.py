@@ -398,8 +398,10 @@ class MapResult:
 
     P:        float64 (nv, 3): the map (unit vectors on the sphere; (u, v, 0) in the plane).
     P0:       float64 (nv, 3): the initial (conformal or harmonic) map.
-    X:        float64 (nv, 3): surface positions (the input's, then the square's split midpoints).
-    F:        int32 (nf, 3): faces (the input's, then the square's split faces).
+    X:        float64 (nv, 3): surface positions (the input's, then the square's or refine_mesh's split
+              midpoints).
+    F:        int32 (nf, 3): faces (the input's, then the square's split faces; with refine_mesh the
+              refined mesh's faces).
     uv:       planar targets: float64 (nv, 2) texture coordinates in [0,1]^2 ((u+1)/2, (v+1)/2 for
               disk and annulus; (u, v) for the square); None on the sphere and the torus.
     vt, Ft, lattice: the torus's: vt float64 (nvt, 2) per-corner coordinates in the plane, Ft int32
@@ -413,11 +415,14 @@ class MapResult:
               (0,0), (1,0), (1,1), (0,1)) and nsplit: the square's; boundary_dev: planar targets'
               largest distance of the boundary from the domain's boundary; init_method: "cotan" or
               "meanvalue" for planar targets, else None.
+    parent, parent_t: the sphere with refine_mesh=True: int32 (nv - nv_in, 2) and float64 (nv - nv_in,):
+              new vertex nv_in + k lies at (1 - parent_t[k]) X[parent[k, 0]] + parent_t[k] X[parent[k, 1]]
+              (a parent may itself be new, with a smaller number); None without refinement.
     """
 
     __slots__ = ("target", "P", "P0", "X", "F", "uv", "nv_in", "nf_in", "info", "status", "warnings",
                  "inner_radius", "modulus_radius", "outer_loop_vertex", "corners", "nsplit", "boundary_dev",
-                 "init_method", "vt", "Ft", "lattice")
+                 "init_method", "vt", "Ft", "lattice", "parent", "parent_t")
 
     def __repr__(self):
         return "<authalic.MapResult %s nv=%d nf=%d status=%s steps=%s folds=%s>" % (
@@ -446,6 +451,8 @@ def _collect(res, target, extra):
     out.inner_radius, out.modulus_radius, out.outer_loop_vertex = r.inner_radius, r.modulus_radius, r.outer_loop_vertex
     out.corners, out.nsplit, out.boundary_dev = list(r.corners), r.nsplit, r.boundary_dev
     out.init_method = r.init_method.decode() if r.init_method else None
+    out.parent = _copy(r.parent, (r.nrefined, 2), _np.int32) if r.nrefined > 0 else None
+    out.parent_t = _copy(r.parent_t, (r.nrefined,), _np.float64) if r.nrefined > 0 else None
     js = _ct.POINTER(_ct.c_char)()
     msg = _lib.Msg()
     st = _L.au_result_json(res, _ct.byref(extra) if extra is not None else None, _ct.byref(js), _ct.byref(msg))
@@ -511,9 +518,11 @@ def _real_opt(name, v, lo, hi, lo_open=False, hi_open=False):
 
 
 _PLANAR_ONLY = {"boundary": "disk, annulus and square", "inner_radius": "annulus", "outer_loop": "annulus",
-                "corners": "square", "restore_shapes": "sphere", "balance": "sphere", "lattice": "torus"}
+                "corners": "square", "restore_shapes": "sphere", "balance": "sphere", "lattice": "torus",
+                "refine_mesh": "sphere", "refine_budget": "sphere"}
 _APPLIES = {"boundary": ("disk", "annulus", "square"), "inner_radius": ("annulus",), "outer_loop": ("annulus",),
-            "corners": ("square",), "restore_shapes": ("sphere",), "balance": ("sphere",), "lattice": ("torus",)}
+            "corners": ("square",), "restore_shapes": ("sphere",), "balance": ("sphere",), "lattice": ("torus",),
+            "refine_mesh": ("sphere",), "refine_budget": ("sphere",)}
 
 
 def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_only, extra):
@@ -579,6 +588,14 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
             o.outer_loop = int(v)
         else:
             _bad("outer_loop %r: expected 'longer', 'shorter' or a vertex index" % (v,))
+    if extra.get("refine_mesh"):
+        o.refine_mesh = 1
+        flow_given.append("refine_mesh")
+    v = extra.get("refine_budget")
+    if v is not None:
+        if not extra.get("refine_mesh"):
+            _bad("refine_budget: applies with refine_mesh=True only")
+        o.refine_max_faces = _real_opt("refine_budget", v, 1, _lib.AU_REFINE_MAX_FACES, True)
     v = extra.get("lattice")
     if v is not None:
         if v not in _lib.AU_LATTICES:
@@ -671,9 +688,16 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
 
     target: "sphere", "disk", "annulus", "square" or "torus". The other arguments are those of
     sphere(), disk(), annulus(), square() and torus(), whose manuals say more; the target-specific
-    keywords (restore_shapes, balance; boundary; inner_radius, outer_loop; corners; lattice) are
-    accepted for their targets only. Use this rather than square() when the square may split edges (MapResult.F then
+    keywords (restore_shapes, balance, refine_mesh, refine_budget; boundary; inner_radius, outer_loop;
+    corners; lattice) are accepted for their targets only. Use this rather than square() when the square may split edges (MapResult.F then
     has more faces than F, and MapResult.X the split midpoints).
+
+    refine_mesh (sphere): True to split the map's long edges where a chord triangle cannot shrink to its
+    share (long, thin limbs), with new vertices on the input's edges, and flow again, as the program's
+    --refine-mesh: MapResult.X and F are then the refined mesh, P its map, parent and parent_t where
+    each new vertex lies; the input's mesh stands (with a warning) when no refinement does better.
+    refine_budget (with refine_mesh): at most this many times the input's faces, 1 < K <= 16 (None:
+    2; 3 does best on long limbs, docs/hard-meshes.md).
     """
     if target not in _lib.TARGETS:
         _bad("target %r: expected 'sphere', 'disk', 'annulus', 'square' or 'torus'" % (target,))

@@ -15,6 +15,7 @@ P_double, P_int = ctypes.POINTER(c_double), ctypes.POINTER(c_int)
 AU_MAX_WARNINGS = 8
 AU_MAX_STEPS = 512
 AU_MAX_ANGLE_STEPS = 50
+AU_REFINE_MAX_FACES = 16
 AU_OUTER_LONGER, AU_OUTER_SHORTER = -1, -2
 AU_E_ARG, AU_E_CANCELLED = -2, -7
 TARGETS = {"sphere": 0, "disk": 1, "annulus": 2, "square": 3, "torus": 4}

@@ -157,10 +157,36 @@ def test_bad_input_errors(tmp_path, star):
     (lambda V, F: authalic.map_mesh(V, F, "plane"), "target"),
     (lambda V, F: authalic.map_mesh(V, F, "torus"), "genus 0 .*closed genus-1"),
     (lambda V, F: authalic.metrics(V, F, V, domain="cube"), "domain"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_budget=3), "refine_mesh"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget=1), "refine_budget"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget=17), "refine_budget"),
+    (lambda V, F: authalic.map_mesh(V, F, "disk", refine_mesh=True), "sphere"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, density=np.ones(V.shape[0])), "density"),
 ])
 def test_bad_arguments(star, call, match):
     with pytest.raises(authalic.BadInputError, match=match):
         call(*star)
+
+
+def test_refine_mesh():
+    """refine_mesh=True on coil (a long coiled tail, issue 21): the refined mesh keeps the input's
+    vertices and faces' count first, at most refine_budget x the faces, its new vertices where parent
+    and parent_t say, the map on the unit sphere without folds and nearer equal area than unrefined."""
+    V, F = authalic.read_mesh(os.path.join(DATA, "coil.obj"))
+    with pytest.warns(authalic.AuthalicWarning):
+        plain = authalic.map_mesh(V, F, "sphere")
+        r = authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget=3)
+    nv, nf = V.shape[0], F.shape[0]
+    assert r.nv_in == nv and r.nf_in == nf and 2 * nf < r.F.shape[0] <= 3 * nf
+    assert np.array_equal(r.X[:nv], V) and r.parent.shape == (r.X.shape[0] - nv, 2)
+    a, b, t = r.parent[:, 0], r.parent[:, 1], r.parent_t
+    assert np.all((a < np.arange(nv, r.X.shape[0])) & (b < np.arange(nv, r.X.shape[0])))
+    assert np.allclose((1 - t)[:, None] * r.X[a] + t[:, None] * r.X[b], r.X[nv:], rtol=0, atol=1e-12)
+    assert np.allclose(np.linalg.norm(r.P, axis=1), 1, rtol=0, atol=1e-12)
+    m, m0 = authalic.metrics(r.X, r.F, r.P), authalic.metrics(V, F, plain.P)
+    assert m["folds"] == 0
+    assert m["r_mean_abs_dev"] < 0.5 * m0["r_mean_abs_dev"] and m["vertex_logr_mean_abs"] < 0.5 * m0["vertex_logr_mean_abs"]
+    assert plain.parent is None and plain.parent_t is None
 
 
 def test_bad_option_from_the_library():
