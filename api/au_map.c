@@ -81,7 +81,8 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
   if (o->refine_mesh && (o->vertex_density || o->face_density))
     return au_msg_set(msg, AU_E_ARG, "refine_mesh does not take a density");
   if (o->refine_max_faces != 0 && !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES))
-    return au_msg_set(msg, AU_E_ARG, "refine_max_faces: expected more than 1 and at most 16 (0: the default 2)");
+    return au_msg_set(msg, AU_E_ARG, "refine_max_faces: expected more than 1 and at most %d (0: the default %d)", AU_REFINE_MAX_FACES,
+                      AU_REFINE_DEFAULT_FACES);
   if (o->expert && (o->expert->vertex_polish < 0 || !(o->expert->polish_cells >= 0) || isinf(o->expert->polish_cells)))
     return au_msg_set(msg, AU_E_ARG, "expert vertex_polish: expected sweeps >= 0 and polish_cells >= 0");
   if (!(o->inner_radius >= 0 && o->inner_radius < 1))

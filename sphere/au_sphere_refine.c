@@ -39,6 +39,7 @@ static const double refine_floor_share[] = {0.5, 0.1, 0};
  * 8 rounds spending half of what is left, 0.0025; docs/hard-meshes.md). */
 #define AU_REFINE_ROUNDS 8
 #define AU_REFINE_SHARE 2
+/* The longest edges' single round stops at this many times the input's faces (refine_with). */
 #define AU_REFINE_LONG_MAX 3
 
 typedef struct split_cand {
@@ -179,8 +180,8 @@ static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const 
 
 /* One candidate: rounds of splits by floor_share and re-flows, from the map (m, P); with floor_share 0
  * (the longest edges) one round spending the whole budget: the longest edges after a re-flow are the
- * halves of the first round's (limbs4 at 2x the faces: vertex error 0.0160 in one round, 0.0181 over
- * the rounds below; docs/hard-meshes.md). */
+ * halves of the first round's (limbs4 at 2x the faces, from the flow's map: vertex error 0.0160 in one
+ * round, 0.0181 over the rounds below; docs/hard-meshes.md). */
 static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_opts *o, double max_faces,
                              double floor_share, au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                              au_advect_report *ar, au_sphere_report *pol, au_msg *msg) {
