@@ -80,7 +80,7 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
   /* The refined mesh's new vertices and faces would have no density (and the flow would read past it). */
   if (o->refine_mesh && (o->vertex_density || o->face_density))
     return au_msg_set(msg, AU_E_ARG, "refine_mesh does not take a density");
-  if (o->refine_max_faces != 0 && !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES))
+  if (o->refine_mesh && o->refine_max_faces != 0 && !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES))
     return au_msg_set(msg, AU_E_ARG, "refine_max_faces: expected more than 1 and at most %d (0: the default %d)", AU_REFINE_MAX_FACES,
                       AU_REFINE_DEFAULT_FACES);
   if (o->expert && (o->expert->vertex_polish < 0 || !(o->expert->polish_cells >= 0) || isinf(o->expert->polish_cells)))

@@ -98,6 +98,21 @@ static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, doubl
   return n;
 }
 
+/* The faces of the map P whose chord floor exceeds floor_share of their share; -1 out of memory. */
+static int held_faces(const au_mesh *m, const double *P, double floor_share) {
+  double *As = malloc(sizeof(double) * (size_t)m->nf), sAs = 0;
+  if (!As) return -1;
+  au_dec_face_areas(m->nf, m->F, m->X, As);
+  for (int f = 0; f < m->nf; f++) sAs += As[f];
+  int n = 0;
+  for (int f = 0; f < m->nf; f++) {
+    const int *v = m->F + 3 * f;
+    n += au_dec_sphere_chord_floor(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2]) > floor_share * 4 * M_PI * As[f] / sAs;
+  }
+  free(As);
+  return n;
+}
+
 /* One round of splitting: m, P (nv x 3) and the parents grow in place. Faces keep their index for
  * their first piece; the other pieces and the new vertices are appended. */
 static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const unsigned char *mark, int nsplit,
@@ -316,10 +331,15 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   double best = INFINITY, e_in = vertex_error(m, Pin);
   int any_split = 0;
   const int ncand = (int)(sizeof refine_floor_share / sizeof *refine_floor_share);
+  const int held = held_faces(m, P, refine_floor_share[0]);
+  if (held < 0) {
+    free(ar), free(Pin);
+    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  }
   for (int c = 0; c < ncand; c++) {
     /* The longest edges are split only where some face is held by its floor: elsewhere the refinement
      * has nothing to lift, and the input stands without a search. */
-    if (refine_floor_share[c] == 0 && !any_split) break;
+    if (refine_floor_share[c] == 0 && !held) break;
     au_mesh *mr = NULL;
     double *Pr = NULL, *prm = NULL;
     int *par = NULL, nn = 0;

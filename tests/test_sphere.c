@@ -650,9 +650,9 @@ static int compressed_start_limbs8(void) {
 
 /* Refinement where the chord floor binds (au_sphere_refine) on limbs4: the input's vertices stay first
  * and unmoved on the surface, every new vertex is exactly at its parents' stated parameter (so on the
- * surface), at most twice the faces, the refined map fold-free on the unit sphere. Measured 2026-12-03
- * (session 12, from the twisted map): 1162 edges split, 4648 faces, per-face 0.0810, vertex 0.0452 (the
- * equal-area bounds of issue 21 are not reached on limbs4; cli.refine_mesh.cheburashka checks them). */
+ * surface), at most twice the faces, the refined map fold-free on the unit sphere and nearer equal area
+ * than the unrefined one (issue 21's refined bounds are not reached on limbs4; cli.refine_mesh.* checks
+ * them on cow and cheburashka). */
 static int refine_mesh_limbs4(void) {
   loaded L;
   if (load("limbs4.obj", 1, &L)) return 1;

@@ -118,12 +118,13 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
   *o = au_options_default();
   if ((rc = map_options(a, o)) >= 0) return rc;
   if (o->init_only) {
-    static const cli_opt_id flow_only[] = {OPT_STEPS,  OPT_TOL,    OPT_DENSITY,         OPT_REFINE_FACES,
-                                           OPT_RESTORE, OPT_ANGLES, OPT_SPHERICAL_AREAS, OPT_BOUNDARY};
+    static const cli_opt_id flow_only[] = {OPT_STEPS,   OPT_TOL,    OPT_DENSITY,         OPT_REFINE_FACES, OPT_REFINE_MESH,
+                                           OPT_RESTORE, OPT_ANGLES, OPT_SPHERICAL_AREAS, OPT_BOUNDARY,     OPT_REFINE_BUDGET};
     for (size_t k = 0; k < sizeof flow_only / sizeof flow_only[0]; k++)
       if (a->val[flow_only[k]])
         return cli_usage_error(a->help, "--init-only runs no advection: --steps, --tol, --density, --boundary, "
-                                        "--refine-faces, --restore-shapes, --angles and --spherical-areas do not apply");
+                                        "--refine-faces, --refine-mesh, --refine-budget, --restore-shapes, --angles "
+                                        "and --spherical-areas do not apply");
   }
   if (a->val[OPT_REFINE_BUDGET] && !a->val[OPT_REFINE_MESH])
     return cli_usage_error(a->help, "--refine-budget applies to --refine-mesh, which is not given");

@@ -588,7 +588,10 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
             o.outer_loop = int(v)
         else:
             _bad("outer_loop %r: expected 'longer', 'shorter' or a vertex index" % (v,))
-    if extra.get("refine_mesh"):
+    v = extra.get("refine_mesh")
+    if v not in (None, False, True):
+        _bad("refine_mesh %r: expected True or False" % (v,))
+    if v:
         o.refine_mesh = 1
         flow_given.append("refine_mesh")
     v = extra.get("refine_budget")
@@ -697,7 +700,7 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
     --refine-mesh: MapResult.X and F are then the refined mesh, P its map, parent and parent_t where
     each new vertex lies; the input's mesh stands (with a warning) when no refinement does better.
     refine_budget (with refine_mesh): at most this many times the input's faces, 1 < K <= 16 (None:
-    2; 3 does best on long limbs, docs/hard-meshes.md).
+    2; long, thin limbs gained up to 3x (limbs4, coil) or 6x (limbs8), docs/hard-meshes.md).
     """
     if target not in _lib.TARGETS:
         _bad("target %r: expected 'sphere', 'disk', 'annulus', 'square' or 'torus'" % (target,))

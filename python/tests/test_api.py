@@ -161,6 +161,7 @@ def test_bad_input_errors(tmp_path, star):
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget=1), "refine_budget"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget=17), "refine_budget"),
     (lambda V, F: authalic.map_mesh(V, F, "disk", refine_mesh=True), "sphere"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh="no"), "refine_mesh"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, density=np.ones(V.shape[0])), "density"),
 ])
 def test_bad_arguments(star, call, match):

@@ -83,6 +83,9 @@ duplicate_flag)
 bad_combination)
   run sphere "$IN" "$OUT" --init-only --steps 5
   expect_rejected 'init-only'
+  run sphere "$IN" "$OUT" --init-only --refine-mesh "$T/o/surf.obj"
+  expect_rejected 'init-only'
+  [ ! -e "$T/o/surf.obj" ] || fail "a refused run wrote the refined surface"
   # A refined mesh's new vertices and faces would have no density.
   awk '/^v /{n++} END{for(i=0;i<n;i++) print 1}' "$IN" >"$T/d.txt"
   run sphere "$IN" "$OUT" --density "$T/d.txt" --refine-mesh "$T/o/surf.obj"
