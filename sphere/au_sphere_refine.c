@@ -57,6 +57,17 @@ static double dist3(const double *a, const double *b) {
   return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
+/* Each face's share of the unit sphere, 4 pi times its share of the surface's area: a new array (NULL
+ * out of memory). */
+static double *sphere_shares(const au_mesh *m) {
+  double *sh = malloc(sizeof(double) * (size_t)(m->nf > 0 ? m->nf : 1)), s = 0;
+  if (!sh) return NULL;
+  au_dec_face_areas(m->nf, m->F, m->X, sh);
+  for (int f = 0; f < m->nf; f++) s += sh[f];
+  for (int f = 0; f < m->nf; f++) sh[f] = 4 * M_PI * sh[f] / s;
+  return sh;
+}
+
 /* The edges to split: of each face whose chord floor exceeds floor_share of its share, its longest
  * chord edge, the most held first; or with floor_share 0 every edge, the longest in the map first;
  * while each split's new faces fit the budget. cand: room for max(nf, ne). mark [0..ne-1] out (1:
@@ -64,17 +75,14 @@ static double dist3(const double *a, const double *b) {
 static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, double floor_share, int budget,
                       unsigned char *mark, split_cand *cand) {
   const int nf = m->nf;
-  double *As = malloc(sizeof(double) * (size_t)nf);
-  if (!As) return -1;
-  au_dec_face_areas(nf, m->F, m->X, As);
-  double sAs = 0;
-  for (int f = 0; f < nf; f++) sAs += As[f];
+  double *sh = floor_share > 0 ? sphere_shares(m) : NULL;
+  if (floor_share > 0 && !sh) return -1;
   int nc = 0;
   for (int e = 0; floor_share == 0 && e < t->ne; e++) cand[nc++] = (split_cand){dist3(P + 3 * t->E[2 * e], P + 3 * t->E[2 * e + 1]), e};
   for (int f = 0; floor_share > 0 && f < nf; f++) {
     const int *v = m->F + 3 * f;
     const double *a = P + 3 * v[0], *b = P + 3 * v[1], *c = P + 3 * v[2];
-    double share = 4 * M_PI * As[f] / sAs, floor_area = au_dec_sphere_chord_floor(a, b, c);
+    double share = sh[f], floor_area = au_dec_sphere_chord_floor(a, b, c);
     if (!(floor_area > floor_share * share)) continue;
     int kbest = 0;
     double lbest = -1;
@@ -84,7 +92,7 @@ static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, doubl
     }
     cand[nc++] = (split_cand){floor_area / share, t->FE[3 * f + kbest]};
   }
-  free(As);
+  free(sh);
   qsort(cand, (size_t)nc, sizeof *cand, cmp_cand);
   memset(mark, 0, (size_t)t->ne);
   int n = 0;
@@ -100,16 +108,14 @@ static int pick_edges(const au_mesh *m, const au_topo *t, const double *P, doubl
 
 /* The faces of the map P whose chord floor exceeds floor_share of their share; -1 out of memory. */
 static int held_faces(const au_mesh *m, const double *P, double floor_share) {
-  double *As = malloc(sizeof(double) * (size_t)m->nf), sAs = 0;
-  if (!As) return -1;
-  au_dec_face_areas(m->nf, m->F, m->X, As);
-  for (int f = 0; f < m->nf; f++) sAs += As[f];
+  double *sh = sphere_shares(m);
+  if (!sh) return -1;
   int n = 0;
   for (int f = 0; f < m->nf; f++) {
     const int *v = m->F + 3 * f;
-    n += au_dec_sphere_chord_floor(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2]) > floor_share * 4 * M_PI * As[f] / sAs;
+    n += au_dec_sphere_chord_floor(P + 3 * v[0], P + 3 * v[1], P + 3 * v[2]) > floor_share * sh[f];
   }
-  free(As);
+  free(sh);
   return n;
 }
 
