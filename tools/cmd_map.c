@@ -143,6 +143,20 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
                    (a->val[OPT_DENSITY] && cli_same_file(d, a->val[OPT_DENSITY]))))
     rc = cli_usage_error(a->help, "--distortion '%s' is also another input or output file", d);
   if (!rc && d) rc = cli_check_writable_path(a->help, d, "--distortion");
+  /* --refine-mesh SURF is checked like OUT before the run: it was written over the input, or lost under
+   * OUT, or refused only after the whole map was made. Its parents file too. */
+  const char *sf = a->val[OPT_REFINE_MESH];
+  char parents[4200];
+  snprintf(parents, sizeof parents, "%s.parents.txt", sf ? sf : "");
+  for (int k = 0; !rc && sf && k < 2; k++) {
+    const char *f = k ? parents : sf;
+    if (cli_same_file(f, a->pos[0]) || cli_same_file(f, a->pos[1]) || (a->val[OPT_REPORT] && cli_same_file(f, a->val[OPT_REPORT])) ||
+        (d && cli_same_file(f, d)) || (a->val[OPT_DENSITY] && cli_same_file(f, a->val[OPT_DENSITY])))
+      rc = cli_usage_error(a->help, "--refine-mesh '%s': %s is also another input or output file", sf, k ? parents : "it");
+  }
+  if (!rc && sf && !au_mesh_can_write(sf))
+    rc = cli_usage_error(a->help, "--refine-mesh '%s': cannot write that extension (use .obj, .off, .ply or .gii)", sf);
+  if (!rc && sf) rc = cli_check_writable_path(a->help, sf, "--refine-mesh");
   if (!rc && cmd == CLI_TORUS && !cli_has_ext(a->pos[1], ".obj"))
     return cli_usage_error(a->help, "%s: the torus map is written as .obj (its seamless `vt` need OBJ)", a->pos[1]);
   const char *pv = a->val[OPT_PREVIEW];
@@ -222,24 +236,23 @@ static void summary(int cmd, const au_result *r, double seconds) {
           r->boundary_dev, extra, r->init_method ? r->init_method : "?", seconds);
 }
 
-/* --refine-mesh SURF: the refined surface, and SURF.parents.txt (written to a temporary, then renamed).
- * -1 to go on, else the exit code. */
-static int write_refined(const char *surf, const au_result *r) {
+/* --refine-mesh SURF: the refined surface, and SURF.parents.txt (each an atomic write of the library's).
+ * -1 to go on, else the exit code (nothing of either left behind). */
+static int write_refined(const char *surf, const char *parents, const au_result *r) {
   au_msg msg = {{0}};
   au_status st = au_mesh_write(surf, r->nv, r->X, r->nf, r->F, NULL, &msg);
   if (st < 0) return cli_fail(surf, st, &msg);
-  char path[4096], tmp[4200];
-  snprintf(path, sizeof path, "%s.parents.txt", surf);
-  snprintf(tmp, sizeof tmp, "%s.tmp", path);
-  FILE *fp = fopen(tmp, "w");
-  int ok = fp != NULL;
-  for (int k = 0; ok && k < r->nrefined; k++)
-    ok = fprintf(fp, "%d %d %d %.17g\n", r->nv_in + k, r->parent[2 * k], r->parent[2 * k + 1], r->parent_t[k]) > 0;
-  if (fp && fclose(fp) != 0) ok = 0;
-  if (!ok || rename(tmp, path) != 0) {
-    remove(tmp);
-    fprintf(stderr, "authalic: error: %s: cannot write: %s\n", path, strerror(errno));
-    return EXIT_INTERNAL;
+  /* A line is at most 3 ints and a %.17g: 80 bytes with room. */
+  size_t cap = 80 * (size_t)(r->nrefined > 0 ? r->nrefined : 1), len = 0;
+  char *text = malloc(cap);
+  for (int k = 0; text && k < r->nrefined; k++)
+    len += (size_t)snprintf(text + len, cap - len, "%d %d %d %.17g\n", r->nv_in + k, r->parent[2 * k], r->parent[2 * k + 1],
+                            r->parent_t[k]);
+  st = text ? au_write_text(parents, text, len, &msg) : AU_E_NOMEM;
+  free(text);
+  if (st < 0) {
+    unlink(surf);
+    return cli_fail(parents, st, &msg);
   }
   return -1;
 }
@@ -255,7 +268,10 @@ static int run_map(const cli_args *a, au_options *o) {
   au_mesh *m = NULL;
   au_result *r = NULL;
   au_io_meta *meta = NULL;
-  const char *distortion = a->val[OPT_DISTORTION];
+  const char *distortion = a->val[OPT_DISTORTION], *surf = a->val[OPT_REFINE_MESH];
+  char parents[4200];
+  snprintf(parents, sizeof parents, "%s.parents.txt", surf ? surf : "");
+  int wrote_surf = 0;
   double *density = NULL;
   au_msg msg = {{0}};
   cli_progress_state prog;
@@ -270,6 +286,7 @@ static int run_map(const cli_args *a, au_options *o) {
   if (t != AU_TARGET_TORUS && (rc = cli_output_format(a->help, out, au_io_format_parse(a->val[OPT_FORMAT]), meta, &ofmt)))
     goto done;
   cli_expect_output(distortion);
+  if (surf) cli_expect_output(surf), cli_expect_output(parents);
   if (a->val[OPT_DENSITY]) {
     int nval = 0;
     rc = read_density(a->val[OPT_DENSITY], m->nv, m->nf, &density, &nval);
@@ -309,7 +326,8 @@ static int run_map(const cli_args *a, au_options *o) {
   if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
   w.format = ofmt, w.meta = meta, w.geometric_type = t == AU_TARGET_SPHERE ? "Spherical" : "Flat";
   if (a->val[OPT_RADIUS]) cli_parse_nonneg(a->val[OPT_RADIUS], &w.radius); /* checked when parsed */
-  if (a->val[OPT_REFINE_MESH] && (rc = write_refined(a->val[OPT_REFINE_MESH], r)) >= 0) goto done;
+  if (surf && (rc = write_refined(surf, parents, r)) >= 0) goto done;
+  wrote_surf = surf != NULL;
   /* The distortion file first (its own atomic write), removed again if OUT cannot be published. */
   if (distortion) {
     au_mesh mm = {r->nv, r->nf, r->X, r->F};
@@ -330,8 +348,10 @@ static int run_map(const cli_args *a, au_options *o) {
   rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
   if (rc != EXIT_OK && distortion) unlink(distortion);
   if (rc != EXIT_OK && preview) unlink(preview);
+  /* So is a refined surface (at done: the distortion's and the preview's failures jump there). */
   if (rc == EXIT_OK && !quiet) summary(a->cmd, r, cli_now() - t_start);
 done:
+  if (rc != EXIT_OK && wrote_surf) unlink(surf), unlink(parents);
   cli_progress_end(&prog);
   au_result_free(&r);
   au_io_meta_free(&meta);

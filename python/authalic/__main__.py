@@ -44,6 +44,14 @@ OPTIONS = [
                                      "as long as it helps at all"),
     ("angles", "N", COMMANDS, "N steps (1..50) towards the map of least Dirichlet energy with the vertex cells held "
                               "at their areas"),
+    ("refine-mesh", "SURF", ("sphere",), "split the map's long edges where a chord triangle cannot shrink to its "
+                                         "share, with new vertices on the input's edges, and flow again (at most "
+                                         "twice the faces, see --refine-budget); OUT gets the refined mesh's map, SURF "
+                                         "its surface, SURF.parents.txt one line per new vertex: its number, its "
+                                         "parents' numbers (0-based) and t, the vertex being (1 - t) parent1 + t "
+                                         "parent2"),
+    ("refine-budget", "K", ("sphere",), "with --refine-mesh: at most K times the input's faces instead of twice (K "
+                                        "above 1, at most %d)" % _lib.AU_REFINE_MAX_FACES),
     ("no-balance", None, ("sphere",), "skip the Moebius balancing of the conformal start"),
     ("lattice", "SHAPE", ("torus",), "conformal (default): the conformal modulus's lattice, area 1; square: the unit "
                                      "square's"),
@@ -51,7 +59,8 @@ OPTIONS = [
     ("quiet", None, COMMANDS, "no progress and no summary on stderr (errors and warnings remain)"),
     ("help", None, COMMANDS, "this text"),
 ]
-FLOW_ONLY = ("steps", "tol", "density", "refine-faces", "restore-shapes", "angles", "boundary")
+FLOW_ONLY = ("steps", "tol", "density", "refine-faces", "refine-mesh", "refine-budget", "restore-shapes", "angles",
+             "boundary")
 
 
 class Usage(Exception):
@@ -110,7 +119,7 @@ def parse(argv):
                 raise Usage("option '%s' needs a value" % s)
             v = argv[i]
             i += 1
-            if name in ("report", "density") and not v:
+            if name in ("report", "density", "refine-mesh") and not v:
                 raise Usage("option '%s' needs a file name" % s)
         if name in vals:
             raise Usage("option '%s' given twice" % s)
@@ -121,7 +130,11 @@ def parse(argv):
         raise Usage("empty file name")
     if "init-only" in vals and any(k in vals for k in FLOW_ONLY):
         raise Usage("--init-only runs no advection: --steps, --tol, --density, --boundary, --refine-faces, "
-                    "--restore-shapes and --angles do not apply")
+                    "--refine-mesh, --refine-budget, --restore-shapes and --angles do not apply")
+    if "refine-budget" in vals and "refine-mesh" not in vals:
+        raise Usage("--refine-budget applies to --refine-mesh, which is not given")
+    if "refine-mesh" in vals and "density" in vals:
+        raise Usage("--refine-mesh does not take --density (the new vertices and faces would have none)")
     return cmd, pos[0], pos[1], vals
 
 
@@ -157,6 +170,17 @@ def map_kwargs(cmd, vals):
     if "restore-shapes" in vals:
         kw["restore_shapes"] = nonneg("restore-shapes", vals["restore-shapes"], 1, "expected a number from 0 to 1")
     kw["refine_faces"] = "refine-faces" in vals
+    if "refine-mesh" in vals:
+        kw["refine_mesh"] = True
+    if "refine-budget" in vals:
+        v, k = vals["refine-budget"], None
+        try:
+            k = float(v)
+        except ValueError:
+            pass
+        if k is None or not (1 < k <= _lib.AU_REFINE_MAX_FACES) or v.strip() != v:
+            raise Usage("--refine-budget '%s': expected a number above 1 and at most %d" % (v, _lib.AU_REFINE_MAX_FACES))
+        kw["refine_budget"] = k
     kw["init_only"] = "init-only" in vals
     if "no-balance" in vals:
         kw["balance"] = False
@@ -202,7 +226,11 @@ def same_file(a, b):
         return False
 
 
-def check_outputs(src, out, report):
+def parents_name(surf):
+    return surf + ".parents.txt"
+
+
+def check_outputs(src, out, report, surf=None, density=None):
     if same_file(src, out):
         raise Usage("output '%s' is the input file; refusing to overwrite it" % out)
     if report and same_file(report, src):
@@ -214,7 +242,14 @@ def check_outputs(src, out, report):
         if "." not in base:
             raise Usage("output '%s' has no extension (use .obj, .off or .ply)" % out)
         raise Usage("cannot write '%s' files (output '%s'; use .obj, .off or .ply)" % (base[base.rindex("."):], out))
-    for path, what in ((out, "output"), (report, "report")):
+    if surf:
+        for f in (surf, parents_name(surf)):
+            if any(o and same_file(f, o) for o in (src, out, report, density)):
+                raise Usage("--refine-mesh '%s': %s is also another input or output file" %
+                            (surf, "it" if f == surf else f))
+        if not authalic._L.au_mesh_can_write(os.fsencode(surf)):
+            raise Usage("--refine-mesh '%s': cannot write that extension (use .obj, .off, .ply or .gii)" % surf)
+    for path, what in ((out, "output"), (report, "report"), (surf, "--refine-mesh")):
         if not path:
             continue
         if os.path.isdir(path):
@@ -314,7 +349,8 @@ def run(cmd, src, out, vals):
     quiet = "quiet" in vals
     report = vals.get("report")
     kw = map_kwargs(cmd, vals)
-    check_outputs(src, out, report)
+    surf = vals.get("refine-mesh")
+    check_outputs(src, out, report, surf, vals.get("density"))
     if cmd == "torus" and not out.lower().endswith(".obj"):
         raise Usage("%s: the torus map is written as .obj (its seamless `vt` need OBJ)" % out)
     t0 = time.monotonic()
@@ -350,9 +386,25 @@ def run(cmd, src, out, vals):
             prog.end()
     for w in r.warnings:
         sys.stderr.write("authalic: warning: %s: %s\n" % (src, w))
-    # Written under a temporary name, renamed into place only when the report is written too.
+    # The refined surface and its parents first (each an atomic write), removed again if OUT is not
+    # published; then OUT under a temporary name, renamed into place only when the report is written too.
+    wrote_surf = False
+    if surf:
+        try:
+            authalic.write_mesh(surf, r.X, r.F)
+        except authalic.Error as e:
+            return fail(surf, str(e), isinstance(e, authalic.BadInputError))
+        wrote_surf = True
+        nv_in = r.X.shape[0] - (0 if r.parent is None else r.parent.shape[0])
+        lines = "".join("%d %d %d %.17g\n" % (nv_in + k, a, b, t) for k, ((a, b), t) in
+                        enumerate(zip(r.parent.tolist(), r.parent_t.tolist()))) if r.parent is not None else ""
+        msg, data = _lib.Msg(), lines.encode()
+        if authalic._L.au_write_text(os.fsencode(parents_name(surf)), data, len(data), msg) < 0:
+            os.unlink(surf)
+            return fail(parents_name(surf), msg.text.decode() or "cannot write", False)
     d, base = os.path.split(out)
     tmp = os.path.join(d, ".authalic-%d-%s" % (os.getpid(), base))
+    published = False
     try:
         t0 = time.monotonic()
         try:
@@ -382,9 +434,14 @@ def run(cmd, src, out, vals):
                 return fail(report, msg.text.decode() or "cannot write the report", authalic._L.au_status_is_input_error(st))
         os.replace(tmp, out)
         tmp = None
+        published = True
     finally:
         if tmp and os.path.exists(tmp):
             os.unlink(tmp)
+        if wrote_surf and not published:
+            for f in (surf, parents_name(surf)):
+                if os.path.exists(f):
+                    os.unlink(f)
     if not quiet:
         summary(cmd, r, time.monotonic() - t_start)
     return EXIT_OK

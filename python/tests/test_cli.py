@@ -68,14 +68,40 @@ def test_same_output_and_report_as_the_program(tmp_path, cmd, src, opts):
     (["square", DISK, "o.obj", "--corners", "0,1,2,3"], "--corners"),
     (["annulus", DISK, "o.obj", "--inner-radius", "1"], "--inner-radius"),
     (["sphere", STAR, "o.obj", "--density", "missing.txt"], "density"),
+    (["sphere", STAR, "o.obj", "--refine-budget", "3"], "--refine-budget applies to --refine-mesh"),
+    (["sphere", STAR, "o.obj", "--refine-mesh", "s.obj", "--refine-budget", "1"], "--refine-budget '1'"),
+    (["sphere", STAR, "o.obj", "--refine-mesh", STAR], "also another input or output file"),
+    (["sphere", STAR, "o.obj", "--refine-mesh", "o.obj"], "also another input or output file"),
+    (["sphere", STAR, "o.obj", "--refine-mesh", "s.xyz"], "cannot write that extension"),
+    (["disk", DISK, "o.obj", "--refine-mesh", "s.obj"], "unknown option"),
 ])
 def test_bad_usage_and_input_exit_2_with_one_line(tmp_path, args, words):
-    args = [str(tmp_path / a) if a in ("o.obj", "o.xyz", "missing.obj", "missing.txt") else a for a in args]
+    args = [str(tmp_path / a) if a in ("o.obj", "o.xyz", "s.obj", "s.xyz", "missing.obj", "missing.txt") else a
+            for a in args]
     r = run_py(*args)
     assert r.returncode == 2, (r.returncode, r.stderr)
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("authalic: error: ") and words in lines[0], r.stderr
     assert not [p for p in os.listdir(tmp_path) if not p.startswith("missing")]
+
+
+def test_refine_mesh_same_files_as_the_program(tmp_path):
+    """--refine-mesh SURF --refine-budget K: OUT, SURF and SURF.parents.txt byte for byte the program's."""
+    src = os.path.join(DATA, "limbs4.obj")
+    a = subprocess.run([cli(), "sphere", src, tmp_path / "c.obj", "--refine-mesh", tmp_path / "cs.obj",
+                        "--refine-budget", "2.5", "--quiet"], capture_output=True, text=True)
+    b = run_py("sphere", src, tmp_path / "p.obj", "--refine-mesh", tmp_path / "ps.obj", "--refine-budget", "2.5",
+               "--quiet")
+    assert a.returncode == 0 and b.returncode == 0, (a.stderr, b.stderr)
+    for c, p in (("c.obj", "p.obj"), ("cs.obj", "ps.obj"), ("cs.obj.parents.txt", "ps.obj.parents.txt")):
+        assert (tmp_path / c).read_bytes() == (tmp_path / p).read_bytes(), c
+    V, F = authalic.read_mesh(src)
+    X, F2 = authalic.read_mesh(str(tmp_path / "ps.obj"))
+    rows = [line.split() for line in (tmp_path / "ps.obj.parents.txt").read_text().splitlines()]
+    # Refined within the budget: every new vertex has a line, the new vertices numbered on from the input's.
+    assert F.shape[0] < F2.shape[0] <= 2.5 * F.shape[0]
+    assert [int(r[0]) for r in rows] == list(range(V.shape[0], X.shape[0]))
+    assert a.stderr == b.stderr
 
 
 def test_density_file_and_bad_values(tmp_path):

@@ -94,6 +94,29 @@ bad_combination)
   run sphere "$IN" "$OUT" --refine-budget 3
   expect_rejected '--refine-budget applies to --refine-mesh'
   ;;
+refine_outputs)
+  # --refine-mesh SURF is an output like OUT, checked before the run: it overwrote the input (status 0),
+  # was lost under OUT, or was refused only after the whole map was made.
+  cp "$IN" "$T/in.obj"
+  sum=$(cksum <"$T/in.obj")
+  run sphere "$T/in.obj" "$OUT" --refine-mesh "$T/in.obj"
+  expect_rejected "--refine-mesh '$T/in.obj': it is also another input or output file"
+  [ "$(cksum <"$T/in.obj")" = "$sum" ] || fail "--refine-mesh IN changed the input"
+  run sphere "$IN" "$OUT" --refine-mesh "$OUT"
+  expect_rejected 'is also another input or output file'
+  run sphere "$IN" "$OUT" --refine-mesh "$T/o/r.json" --report "$T/o/r.json"
+  expect_rejected 'is also another input or output file'
+  run sphere "$T/in.obj" "$OUT" --refine-mesh "$T/in"
+  expect_rejected "cannot write that extension"
+  # The parents file beside SURF counts too.
+  cp "$IN" "$T/s.obj.parents.txt"
+  run sphere "$T/s.obj.parents.txt" "$OUT" --refine-mesh "$T/s.obj"
+  expect_rejected "$T/s.obj.parents.txt is also another input or output file"
+  run sphere "$IN" "$OUT" --refine-mesh "$T/o/surf.xyz"
+  expect_rejected "--refine-mesh '$T/o/surf.xyz': cannot write that extension"
+  run sphere "$IN" "$OUT" --refine-mesh "$T/o/nodir/surf.obj"
+  expect_rejected "directory '$T/o/nodir' does not exist"
+  ;;
 extra_arg)
   run sphere "$IN" "$OUT" "$T/o/third.obj"
   expect_rejected "extra argument '$T/o/third.obj'"
