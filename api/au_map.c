@@ -21,6 +21,12 @@
 /* A sphere map that missed its tolerance warns of the chord floor only when it matters: a single
  * floor-bound face after a short run is no news. */
 #define AU_FLOOR_WARN_EXCESS 1e-4
+
+/* A map that misses its tolerance is also said to be squeezed where at least this share of the surface
+ * has vertex cells under 1/e of their share: long protrusions a conformal start squeezes by e^-20 and
+ * more, which the flow does not open up (tpose; docs/hard-meshes.md). Cells too large are the chord
+ * floor's, which has its own warning. */
+#define AU_SQUEEZED_WARN_SHARE 0.01
 /* refine_mesh's face budget by default, as a multiple of the input's faces: issue 21's bound. */
 #define AU_REFINE_DEFAULT_FACES 2
 
@@ -413,6 +419,38 @@ static au_status planar_finish(map_run *x, au_msg *msg) {
   return AU_OK;
 }
 
+/* Twice the area of triangle v of the points Y (nv x 3). */
+static double tri_area2(const double *Y, const int *v) {
+  double e1[3], e2[3];
+  for (int k = 0; k < 3; k++) e1[k] = Y[3 * v[1] + k] - Y[3 * v[0] + k], e2[k] = Y[3 * v[2] + k] - Y[3 * v[0] + k];
+  double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
+  return sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+/* The share of the surface whose barycentric vertex cells (the map's chord or plane triangles) have
+ * under 1/e of their share, and how many vertices that is; -1 out of memory. Measured here, not with
+ * au_metrics_vertex_distortion, which gives the cells below its degeneracy floor 0: those are the most
+ * squeezed of all (tpose: 201 vertices). */
+static double squeezed_share(const au_result *r, int *count) {
+  double *A = calloc((size_t)r->nv, sizeof(double)), *B = calloc((size_t)r->nv, sizeof(double));
+  double sa = 0, sb = 0, low = -1;
+  *count = 0;
+  if (A && B) {
+    for (int f = 0; f < r->nf; f++) {
+      const int *v = r->F + 3 * f;
+      double a = tri_area2(r->X, v), b = tri_area2(r->P, v);
+      for (int k = 0; k < 3; k++) A[v[k]] += a, B[v[k]] += b;
+      sa += 3 * a, sb += 3 * b;
+    }
+    low = 0;
+    for (int i = 0; i < r->nv; i++)
+      if (A[i] > 0 && B[i] / sb < exp(-1) * A[i] / sa) low += A[i], (*count)++;
+    low = sa > 0 ? low / sa : 0;
+  }
+  free(A), free(B);
+  return low;
+}
+
 /* Metrics of the result (and of its start), the fold check, the warnings about the flow. */
 static au_status measure(map_run *x, au_status st, au_msg *msg) {
   au_result *r = x->r;
@@ -456,6 +494,13 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
          "long edges (a long edge's chord runs under the sphere; excess %.2g%% of the area): a finer mesh there "
          "lowers that error",
          r->metrics.chord_floor_faces, 100 * r->metrics.chord_floor_excess);
+  int nfar = 0;
+  double far = not_converged ? squeezed_share(r, &nfar) : 0;
+  if (far >= AU_SQUEEZED_WARN_SHARE)
+    warn(r,
+         "%.2g%% of the surface (%d vertices) is mapped to less than 1/e of its area share: long protrusions "
+         "that the start squeezed and the flow could not open up",
+         100 * far, nfar);
   return dom == AU_DOMAIN_PLANE ? planar_finish(x, msg) : AU_OK;
 }
 

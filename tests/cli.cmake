@@ -161,6 +161,8 @@ au_cli_test(refine_mesh.cow refine_mesh.sh cow.off)
 au_cli_test(refine_mesh.nothing refine_nothing.sh)
 # --refine-budget: a larger face budget than the default 2x on the generated coil (issue 21).
 au_cli_test(refine_budget refine_budget.sh)
+# A map that misses its tolerance with squeezed protrusions says how much of the surface they are.
+au_cli_test(squeezed squeezed.sh)
 au_cli_test(thin_limbs.cow thin_limbs.sh cow.off)
 au_cli_test(thin_limbs.cheburashka thin_limbs.sh cheburashka.off)
 au_cli_test(thin_limbs.hand_closed thin_limbs.sh hand_closed.obj)
