@@ -275,6 +275,8 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
     r->conv.twist_retry = rep->twist, r->conv.twist_faces = rep->twist_faces, r->conv.twist_err = rep->twist_err;
     r->conv.vertex_polish = rep->polish, r->conv.polish_sweeps = rep->polish_sweeps;
     memcpy(r->conv.polish_err, rep->polish_err, sizeof rep->polish_err);
+    r->conv.staged_retry = rep->staged, r->conv.staged_stages = rep->staged_stages;
+    r->conv.staged_err[0] = rep->staged_err[0], r->conv.staged_err[1] = rep->staged_err[1];
     if (s2 != AU_OK) st = s2;
   }
   free(rep);
@@ -419,38 +421,6 @@ static au_status planar_finish(map_run *x, au_msg *msg) {
   return AU_OK;
 }
 
-/* Twice the area of triangle v of the points Y (nv x 3). */
-static double tri_area2(const double *Y, const int *v) {
-  double e1[3], e2[3];
-  for (int k = 0; k < 3; k++) e1[k] = Y[3 * v[1] + k] - Y[3 * v[0] + k], e2[k] = Y[3 * v[2] + k] - Y[3 * v[0] + k];
-  double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
-  return sqrt(cx * cx + cy * cy + cz * cz);
-}
-
-/* The share of the surface whose barycentric vertex cells (the map's chord or plane triangles) have
- * under 1/e of their share, and how many vertices that is; -1 out of memory. Measured here, not with
- * au_metrics_vertex_distortion, which gives the cells below its degeneracy floor 0: those are the most
- * squeezed of all (tpose: 201 vertices). */
-static double squeezed_share(const au_result *r, int *count) {
-  double *A = calloc((size_t)r->nv, sizeof(double)), *B = calloc((size_t)r->nv, sizeof(double));
-  double sa = 0, sb = 0, low = -1;
-  *count = 0;
-  if (A && B) {
-    for (int f = 0; f < r->nf; f++) {
-      const int *v = r->F + 3 * f;
-      double a = tri_area2(r->X, v), b = tri_area2(r->P, v);
-      for (int k = 0; k < 3; k++) A[v[k]] += a, B[v[k]] += b;
-      sa += 3 * a, sb += 3 * b;
-    }
-    low = 0;
-    for (int i = 0; i < r->nv; i++)
-      if (A[i] > 0 && B[i] / sb < exp(-1) * A[i] / sa) low += A[i], (*count)++;
-    low = sa > 0 ? low / sa : 0;
-  }
-  free(A), free(B);
-  return low;
-}
-
 /* Metrics of the result (and of its start), the fold check, the warnings about the flow. */
 static au_status measure(map_run *x, au_status st, au_msg *msg) {
   au_result *r = x->r;
@@ -495,7 +465,7 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
          "lowers that error",
          r->metrics.chord_floor_faces, 100 * r->metrics.chord_floor_excess);
   int nfar = 0;
-  double far = not_converged ? squeezed_share(r, &nfar) : 0;
+  double far = not_converged ? au__metrics_squeezed(r->nv, r->nf, r->X, r->P, r->F, &nfar) : 0;
   if (far >= AU_SQUEEZED_WARN_SHARE)
     warn(r,
          "%.2g%% of the surface (%d vertices) is mapped to less than 1/e of its area share: long protrusions "
@@ -617,6 +587,7 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.retry = r->conv.lantern_retry, info.retry_err[0] = r->conv.retry_err[0], info.retry_err[1] = r->conv.retry_err[1];
   info.twist = r->conv.twist_retry, info.twist_faces = r->conv.twist_faces, info.twist_err = r->conv.twist_err;
   info.polish = r->conv.vertex_polish, info.polish_sweeps = r->conv.polish_sweeps, info.polish_err = r->conv.polish_err;
+  info.staged = r->conv.staged_retry, info.staged_stages = r->conv.staged_stages, info.staged_err = r->conv.staged_err;
   info.angle_from = flow ? r->conv.angle_from : 0;
   if (r->target == AU_TARGET_TORUS)
     info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;

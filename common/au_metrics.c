@@ -381,3 +381,27 @@ au_status au__metrics_vt(int nv, int nf, const double *X, const int *F, int nvt,
   free(Xc), free(Pc);
   return st;
 }
+
+double au__metrics_squeezed(int nv, int nf, const double *X, const double *P, const int *F, int *count) {
+  double *A = calloc((size_t)(nv > 0 ? nv : 1), sizeof(double)), *B = calloc((size_t)(nv > 0 ? nv : 1), sizeof(double));
+  double sa = 0, sb = 0, low = -1;
+  *count = 0;
+  if (A && B) {
+    for (int f = 0; f < nf; f++) {
+      const int *v = F + 3 * f;
+      double e[3], g[3], c[3];
+      sub3(X + 3 * v[1], X + 3 * v[0], e), sub3(X + 3 * v[2], X + 3 * v[0], g), cross3(e, g, c);
+      double a = norm3(c);
+      sub3(P + 3 * v[1], P + 3 * v[0], e), sub3(P + 3 * v[2], P + 3 * v[0], g), cross3(e, g, c);
+      double b = norm3(c);
+      for (int k = 0; k < 3; k++) A[v[k]] += a, B[v[k]] += b;
+      sa += 3 * a, sb += 3 * b;
+    }
+    low = 0;
+    for (int i = 0; i < nv; i++)
+      if (A[i] > 0 && B[i] * sa < exp(-1.0) * A[i] * sb) low += A[i], (*count)++;
+    low = sa > 0 ? low / sa : 0;
+  }
+  free(A), free(B);
+  return low;
+}

@@ -27,6 +27,13 @@ extern "C" {
 au_status au__metrics_vt(int nv, int nf, const double *X, const int *F, int nvt, const double *vt, const int *Ft,
                          au_metrics *out, double *ups, double *lam);
 
+/* The share of the surface whose barycentric vertex cells have under 1/e of their share in the map P
+ * (its straight triangles: chord triangles on the sphere, plane triangles with z 0), and how many
+ * vertices those are (*count): the squeezed protrusions a map leaves (tpose; docs/hard-meshes.md).
+ * Unlike au_metrics_vertex_distortion it counts cells of any size, the degenerate ones too: those are
+ * the most squeezed. Returns -1 out of memory. */
+double au__metrics_squeezed(int nv, int nf, const double *X, const double *P, const int *F, int *count);
+
 #ifdef __cplusplus
 }
 #endif

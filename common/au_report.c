@@ -133,6 +133,12 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
          put(vp, "sweeps", num(info->polish_sweeps)) && put(vp, "vertex_err_before", num(e[0])) &&
          put(vp, "vertex_err_after", num(e[1])) && put(vp, "face_err_before", num(e[2])) && put(vp, "face_err_after", num(e[3]));
   }
+  if (ok && info->staged > 0 && info->staged_err) {
+    cJSON *sr = cJSON_CreateObject();
+    ok = put(conv, "staged_retry", sr) && put(sr, "kept", cJSON_CreateBool(info->staged == 2)) &&
+         put(sr, "stages", num(info->staged_stages)) && put(sr, "vertex_err_before", num(info->staged_err[0])) &&
+         put(sr, "vertex_err_after", num(info->staged_err[1]));
+  }
   for (int i = 0; ok && i < info->nwarnings; i++) ok &= put(warn, NULL, str(info->warnings[i]));
 
   ok = ok && put(root, "tool", str("authalic")) && put(root, "version", str(info->tool_version)) &&

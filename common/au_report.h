@@ -48,6 +48,10 @@ typedef struct au_report_info {
                                   1 discarded, 2 kept. Written as convergence.vertex_polish */
   int polish_sweeps;           /* its sweeps */
   const double *polish_err;    /* [4]: vertex error before, after; per-face error before, after */
+  int staged;                  /* sphere's staged retry (au_sphere_report.staged): 0 none (nothing written),
+                                  1 discarded, 2 kept. Written as convergence.staged_retry */
+  int staged_stages;           /* its stages */
+  const double *staged_err;    /* [2]: vertex error before it and of its map */
   int angle_from;              /* > 0: the step at which the angle steps began (au_advect_report);
                                   written as convergence.angle_from */
   const double (*lattice)[2];  /* torus: the lattice's basis (rows a1, a2), written as "lattice": [[a1x, a1y],

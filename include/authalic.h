@@ -530,6 +530,10 @@ typedef struct au_convergence {
   int polish_sweeps; /* with a vertex polish: its sweeps */
   double polish_err[4]; /* with a vertex polish: chord vertex error before and after it, per-face mean
                            |r - 1| before and after */
+  int staged_retry;  /* sphere: 0 none; 1 the staged retry (squeezed protrusions: the flow again from the
+                        start, in stages) ran and was discarded; 2 its map was kept */
+  int staged_stages; /* with a staged retry: its stages (the last run, to the shares, not counted) */
+  double staged_err[2]; /* with a staged retry: the chord vertex error before it and of its map */
 } au_convergence;
 
 #define AU_MAX_WARNINGS 8

@@ -34,6 +34,12 @@ typedef struct au_sphere_opts {
                            per-face error does not rise (default 50; 0 off). Not with flow.sphere_areas
                            2, a map of the spherical triangles: the polish is of the chord ones */
   double polish_cells;  /* the polish's weight of the vertex cells against the faces (default 1) */
+  int staged_retry;     /* > 0: a map that misses its tolerance with at least 1% of the surface in vertex
+                           cells under 1/e of their share (squeezed protrusions the flow did not open up,
+                           au__metrics_squeezed) flows again from itself in stages, each towards a part
+                           of the way (au_sphere_map.c), at most this many, then once towards the
+                           surface's areas; kept if its chord vertex error is lower (default 8; 0 off).
+                           Not with a density (flow.weight, flow.face_weight) */
 } au_sphere_opts;
 
 au_sphere_opts au_sphere_opts_default(void);
@@ -52,6 +58,10 @@ typedef struct au_sphere_report {
                              twisted start (au_sphere_twisted_strong; P0 is that start) */
   int twist_faces;        /* with a twisted retry: the faces its start sheared */
   double twist_err;       /* with a twisted retry: its map's chord vertex error */
+  int staged;             /* 0: no staged retry; 1: it ran and its map was discarded; 2: its map was kept */
+  int staged_stages;      /* with a staged retry: the stages it ran (the last run, towards the surface's
+                             areas, not counted) */
+  double staged_err[2];   /* with a staged retry: the chord vertex error before it and of its map */
   int refine_kept_input;  /* au_sphere_refine: 1 if neither refinement beat the input's map */
   int polish;             /* 0: no vertex polish; 1: it ran and was discarded; 2: it was kept */
   int polish_sweeps;      /* with a polish: its sweeps */

@@ -161,7 +161,7 @@ au_cli_test(refine_mesh.cow refine_mesh.sh cow.off)
 au_cli_test(refine_mesh.nothing refine_nothing.sh)
 # --refine-budget: a larger face budget than the default 2x on the generated coil (issue 21).
 au_cli_test(refine_budget refine_budget.sh)
-# A map that misses its tolerance with squeezed protrusions says how much of the surface they are.
+# Squeezed limbs (tpose): the staged retry, and the warning when they stay squeezed.
 au_cli_test(squeezed squeezed.sh)
 au_cli_test(thin_limbs.cow thin_limbs.sh cow.off)
 au_cli_test(thin_limbs.cheburashka thin_limbs.sh cheburashka.off)

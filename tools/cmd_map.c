@@ -203,15 +203,19 @@ static void summary(int cmd, const au_result *r, double seconds) {
   const au_metrics *f = &r->metrics;
   if (cmd == CLI_SPHERE) {
     /* The retries that ran: " (lantern retry discarded; twisted start kept)". */
-    const char *lr = r->conv.lantern_retry == 2 ? "lantern retry kept" : r->conv.lantern_retry == 1 ? "lantern retry discarded" : "";
-    const char *tw = r->conv.twist_retry == 3   ? "twisted start: the conformal one folded"
-                     : r->conv.twist_retry == 2 ? "twisted start kept"
-                     : r->conv.twist_retry == 1 ? "twisted start discarded"
-                                                : "";
-    const char *vp = r->conv.vertex_polish == 2 ? "vertex polish kept" : r->conv.vertex_polish == 1 ? "vertex polish discarded" : "";
-    char tail[120] = "";
-    if (*lr || *tw || *vp)
-      snprintf(tail, sizeof tail, " (%s%s%s%s%s)", lr, *lr && (*tw || *vp) ? "; " : "", tw, *tw && *vp ? "; " : "", vp);
+    const char *part[4] = {
+        r->conv.lantern_retry == 2 ? "lantern retry kept" : r->conv.lantern_retry == 1 ? "lantern retry discarded" : "",
+        r->conv.twist_retry == 3   ? "twisted start: the conformal one folded"
+        : r->conv.twist_retry == 2 ? "twisted start kept"
+        : r->conv.twist_retry == 1 ? "twisted start discarded"
+                                   : "",
+        r->conv.staged_retry == 2 ? "staged retry kept" : r->conv.staged_retry == 1 ? "staged retry discarded" : "",
+        r->conv.vertex_polish == 2 ? "vertex polish kept" : r->conv.vertex_polish == 1 ? "vertex polish discarded" : ""};
+    char tail[160] = "";
+    size_t len = 0;
+    for (int k = 0; k < 4; k++)
+      if (*part[k]) len += (size_t)snprintf(tail + len, sizeof tail - len, "%s%s", len ? "; " : " (", part[k]);
+    if (len) snprintf(tail + len, sizeof tail - len, ")");
     fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs%s\n", r->nv,
             r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs, seconds, tail);
     return;

@@ -328,9 +328,11 @@ def summary(cmd, r, seconds):
     if cmd == "sphere":
         conv = r.info["convergence"]
         lr, tw, vp = conv.get("lantern_retry"), conv.get("twisted_start"), conv.get("vertex_polish")
+        sr = conv.get("staged_retry")
         parts = ([("lantern retry kept" if lr["kept"] else "lantern retry discarded")] if lr else []) + \
             ([("twisted start: the conformal one folded" if tw.get("conformal_start_folded")
                else "twisted start kept" if tw["kept"] else "twisted start discarded")] if tw else []) + \
+            ([("staged retry kept" if sr["kept"] else "staged retry discarded")] if sr else []) + \
             ([("vertex polish kept" if vp["kept"] else "vertex polish discarded")] if vp else [])
         tail = " (%s)" % "; ".join(parts) if parts else ""
         sys.stderr.write("%s time=%.2fs%s\n" % (head, seconds, tail))

@@ -79,7 +79,8 @@ class Convergence(ctypes.Structure):
                 ("resolved", c_int), ("start_jump", c_double), ("lantern_retry", c_int),
                 ("retry_err", c_double * 2), ("twist_retry", c_int), ("twist_faces", c_int),
                 ("twist_err", c_double), ("vertex_polish", c_int), ("polish_sweeps", c_int),
-                ("polish_err", c_double * 4)]
+                ("polish_err", c_double * 4), ("staged_retry", c_int), ("staged_stages", c_int),
+                ("staged_err", c_double * 2)]
 
 
 class Result(ctypes.Structure):

@@ -1,10 +1,12 @@
-# squeezed.sh - a map whose flow could not open up squeezed protrusions says how much of the surface is
-# left under 1/e of its area share (data/tpose.obj: limbs squeezed by e^-20 and more), and the figure
-# agrees with the map (barycentric vertex cells of the chord triangles, counted here with numpy); a
-# map without such cells (data/limbs4.obj) does not say it.
+# squeezed.sh - limbs squeezed by the start (data/tpose.obj: e^-20 and more, issue 21). By default the
+# staged retry opens them up: the report says it was kept, the map's vertex error (numpy, barycentric
+# cells of the chord triangles) falls below 0.5 from 6.9 before it (docs/hard-meshes.md), 0 folds,
+# and nothing is left under 1/e of its share. With the flow cut short (--steps 4) the map says how
+# much of the surface is left squeezed, a figure that agrees with the map. limbs4 (no squeezed cells)
+# gets neither the retry nor the warning.
 # sh squeezed.sh PROG SOURCE_DIR SHARED_DIR
 . "$(dirname "$0")/lib.sh"
-share() { # share OBJ_IN OBJ_MAP: percent of the surface area whose vertex cells are under 1/e of their share
+measure() { # measure OBJ_IN OBJ_MAP: squeezed percent of the surface, its vertex count, vertex error, folds
   $PY - "$1" "$2" <<'PYEOF'
 import sys
 import numpy as np
@@ -17,27 +19,38 @@ def load(p):
     return np.array(V), np.array(F)
 X, F = load(sys.argv[1])
 P, _ = load(sys.argv[2])
-cell = lambda Y: np.bincount(F.ravel(), np.repeat(0.5 * np.linalg.norm(np.cross(Y[F[:, 1]] - Y[F[:, 0]], Y[F[:, 2]] - Y[F[:, 0]]), axis=1) / 3, 3), len(Y))
+area = lambda Y: 0.5 * np.linalg.norm(np.cross(Y[F[:, 1]] - Y[F[:, 0]], Y[F[:, 2]] - Y[F[:, 0]]), axis=1)
+cell = lambda Y: np.bincount(F.ravel(), np.repeat(area(Y) / 3, 3), len(Y))
 a, b = cell(X), cell(P)
-low = np.log((b / b.sum()) / (a / a.sum())) < -1
-print("%.3f %d" % (100 * a[low].sum() / a.sum(), low.sum()))
+lr = np.log((b / b.sum()) / (a / a.sum()))
+low = lr < -1
+folds = int((np.einsum("ij,ij->i", P[F[:, 0]], np.cross(P[F[:, 1]], P[F[:, 2]])) <= 0).sum())
+print("%.3f %d %.4f %d" % (100 * a[low].sum() / a.sum(), low.sum(), np.abs(lr).mean(), folds))
 PYEOF
 }
 IN=$SRC/data/tpose.obj
 [ -f "$IN" ] || skip "data/tpose.obj is absent"
 run sphere "$IN" "$T/o/t.obj" --report "$T/o/t.json"
 expect_status 0
-expect_err "tolerance .* not reached"
+if grep -q 'of its area share' "$T/log/stderr"; then fail "tpose still warned of squeezed cells"; fi
+$PY - "$T/o/t.json" <<'PYEOF' || fail "the report's staged retry: $(grep -o '"staged_retry"[^}]*' "$T/o/t.json")"
+import json, sys
+s = json.load(open(sys.argv[1]))["convergence"]["staged_retry"]
+sys.exit(0 if s["kept"] and s["stages"] >= 2 and s["vertex_err_after"] < 0.1 * s["vertex_err_before"] else 1)
+PYEOF
+set -- $(measure "$IN" "$T/o/t.obj")
+$PY -c "import sys; p, n, e, f = map(float, sys.argv[1:]); sys.exit(0 if e < 0.5 and f == 0 and p < 1 else 1)" "$@" ||
+  fail "tpose: vertex error $3, $4 folds, $1% under 1/e"
+run sphere "$IN" "$T/o/s.obj" --steps 4
+expect_status 0
 said=$(sed -n 's/.*warning: .*: \([0-9.]*\)% of the surface (\([0-9]*\) vertices) is mapped to less than 1\/e of its area share.*/\1 \2/p' "$T/log/stderr")
-[ -n "$said" ] || fail "no warning of the squeezed share on tpose"
-grep -q 'less than 1/e of its area share' "$T/o/t.json" || fail "the report lacks the warning"
-set -- $said $(share "$IN" "$T/o/t.obj")
+[ -n "$said" ] || fail "no warning of the squeezed share on tpose cut to 4 steps"
+set -- $said $(measure "$IN" "$T/o/s.obj")
 # The warning rounds to two digits; the vertex count is exact.
-$PY -c "import sys; s, n, c, m = map(float, sys.argv[1:]); sys.exit(0 if abs(s - c) <= 0.01 * c + 0.5 and n == m and s >= 50 else 1)" "$@" ||
+$PY -c "import sys; s, n, c, m = map(float, sys.argv[1:5]); sys.exit(0 if abs(s - c) <= 0.01 * c + 0.5 and n == m and s >= 50 else 1)" "$@" ||
   fail "warning says $1% ($2 vertices); the map has $3% ($4 vertices)"
-run sphere "$SRC/data/limbs4.obj" "$T/o/l.obj"
+run sphere "$SRC/data/limbs4.obj" "$T/o/l.obj" --report "$T/o/l.json"
 expect_status 0
 if grep -q 'of its area share' "$T/log/stderr"; then fail "limbs4 warned of squeezed cells"; fi
-set -- $(share "$SRC/data/limbs4.obj" "$T/o/l.obj")
-$PY -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1 else 1)" "$1" || fail "limbs4 has $1% of its surface under 1/e"
+if grep -q 'staged_retry' "$T/o/l.json"; then fail "limbs4 ran the staged retry"; fi
 exit 0
