@@ -91,6 +91,7 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
                       AU_REFINE_DEFAULT_FACES);
   if (o->expert && (o->expert->vertex_polish < 0 || !(o->expert->polish_cells >= 0) || isinf(o->expert->polish_cells)))
     return au_msg_set(msg, AU_E_ARG, "expert vertex_polish: expected sweeps >= 0 and polish_cells >= 0");
+  if (o->expert && o->expert->staged_retry < 0) return au_msg_set(msg, AU_E_ARG, "expert staged_retry: expected stages >= 0");
   if (!(o->inner_radius >= 0 && o->inner_radius < 1))
     return au_msg_set(msg, AU_E_ARG, "inner_radius: expected 0 < r < 1 (0: the conformal modulus's)");
   if (o->boundary != AU_BOUNDARY_SLIDE && o->boundary != AU_BOUNDARY_FIXED)
@@ -116,6 +117,7 @@ static void flow_options(au_target t, const au_options *o, progress_ctx *pc, au_
     const au_expert *e = o->expert;
     sphere->lantern_retry = e->lantern_retry, sphere->retry_above = e->retry_above, sphere->twist_retry = e->twist_retry;
     sphere->vertex_polish = e->vertex_polish, sphere->polish_cells = e->polish_cells;
+    sphere->staged_retry = e->staged_retry;
   }
   if (o->expert) au__flow_from_expert(o->expert, f);
   if (o->max_steps > 0) f->max_steps = o->max_steps;
@@ -465,7 +467,9 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
          "lowers that error",
          r->metrics.chord_floor_faces, 100 * r->metrics.chord_floor_excess);
   int nfar = 0;
-  double far = not_converged ? au__metrics_squeezed(r->nv, r->nf, r->X, r->P, r->F, &nfar) : 0;
+  /* Against the surface's own areas: with a density, cells are meant to be small (not measured). */
+  const int density = x->flow.weight || x->flow.face_weight;
+  double far = not_converged && !density ? au__metrics_squeezed(r->nv, r->nf, r->X, r->P, r->F, &nfar) : 0;
   if (far >= AU_SQUEEZED_WARN_SHARE)
     warn(r,
          "%.2g%% of the surface (%d vertices) is mapped to less than 1/e of its area share: long protrusions "

@@ -447,6 +447,10 @@ struct au_expert {
   double angle_trust;     /* angle steps: Levenberg-Marquardt term (1) */
   double angle_switch;    /* sphere: the angle steps begin at this vertex error (0.01; planar and
                              refine_faces 0: after the flow) */
+  int staged_retry;       /* sphere: a map still missing tol with at least 1% of the surface in vertex
+                             cells under 1/e of their share (squeezed limbs) is mapped again from its
+                             start in at most this many stages, each towards part of the way, the better
+                             map kept (8; 0 off; docs/hard-meshes.md) */
 };
 
 /* The tuning au_map uses for target t, with or without refine_faces. */

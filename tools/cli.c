@@ -70,10 +70,30 @@ int cli_parse_nonneg(const char *s, double *out) {
   return 0;
 }
 
+/* The directory path names its file in (stat into st) and the name's last part (*base). 0 if the
+ * directory cannot be stat'ed. */
+static int parent_dir(const char *path, struct stat *st, const char **base) {
+  const char *slash = strrchr(path, '/');
+  *base = slash ? slash + 1 : path;
+  if (!slash) return stat(".", st) == 0;
+  size_t n = slash == path ? 1 : (size_t)(slash - path);
+  char *dir = malloc(n + 1);
+  if (!dir) return 0;
+  memcpy(dir, path, n);
+  dir[n] = '\0';
+  int ok = stat(dir, st) == 0;
+  free(dir);
+  return ok;
+}
+
 int cli_same_file(const char *a, const char *b) {
   struct stat sa, sb;
+  const char *na, *nb;
   if (strcmp(a, b) == 0) return 1;
-  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  int ea = stat(a, &sa) == 0, eb = stat(b, &sb) == 0;
+  if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  return parent_dir(a, &sa, &na) && parent_dir(b, &sb, &nb) && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino &&
+         *na && strcmp(na, nb) == 0;
 }
 
 int cli_check_writable_path(const char *help, const char *path, const char *what) {
@@ -359,7 +379,7 @@ int cli_load(const char *in, au_target t, au_mesh **m, au_io_meta **meta, cli_wa
 
 /* The temporary name OUT is first written under: a hidden sibling with the same extension (the
  * writer picks the format by it). */
-static char *temp_name(const char *out) {
+char *cli_temp_name(const char *out) {
   const char *slash = strrchr(out, '/');
   size_t dirlen = slash ? (size_t)(slash - out + 1) : 0, n = strlen(out) + 64;
   char *t = malloc(n);
@@ -379,6 +399,15 @@ void cli_expect_output(const char *path) {
   for (int i = 0; path && i < CLI_MAX_OUTPUTS; i++)
     if (!cleanup_used[i]) {
       if (au_temp_path(path, cleanup_name[i], sizeof cleanup_name[i]) == AU_OK) cleanup_used[i] = 1;
+      return;
+    }
+}
+
+void cli_expect_temp(const char *path) {
+  for (int i = 0; path && i < CLI_MAX_OUTPUTS; i++)
+    if (!cleanup_used[i]) {
+      snprintf(cleanup_name[i], sizeof cleanup_name[i], "%s", path);
+      cleanup_used[i] = 1;
       return;
     }
 }
@@ -411,7 +440,7 @@ int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, 
   au_msg msg = {{0}};
   double t0 = cli_now();
   int rc = EXIT_INTERNAL;
-  char *tmp = temp_name(out), *json = NULL;
+  char *tmp = cli_temp_name(out), *json = NULL;
   if (!tmp) return cli_fail(out, AU_E_NOMEM, NULL);
   cli_expect_output(tmp);
   cli_expect_output(report);

@@ -66,7 +66,8 @@ int cli_fail(const char *path, au_status st, const au_msg *msg);
 int cli_parse_int(const char *s, long lo, long hi, int *out);
 /* Whole-string finite number >= 0; 0 on success. */
 int cli_parse_nonneg(const char *s, double *out);
-/* 1 if a and b name the same file: the same string, or the same inode when both exist. */
+/* 1 if a and b name the same file: the same string, the same inode when both exist, or else the same
+ * name in the same directory (a file not made yet: out.obj and ./out.obj). */
 int cli_same_file(const char *a, const char *b);
 /* 1 if path's extension is ext (".png"), any case. */
 int cli_has_ext(const char *path, const char *ext);
@@ -139,6 +140,11 @@ int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, 
 /* Remember that path is about to be written, so that a fatal signal removes its temporary
  * (au_temp_path) and a run interrupted at any point leaves no file behind. At most 16 paths. */
 void cli_expect_output(const char *path);
+/* The same for a temporary of the program's own (cli_temp_name): a fatal signal removes path itself. */
+void cli_expect_temp(const char *path);
+/* A temporary name beside path that keeps its extension (DIR/.authalic-PID-NAME); malloc'ed, NULL out
+ * of memory. */
+char *cli_temp_name(const char *path);
 
 /* Install SIGINT/SIGTERM/SIGHUP handlers that remove the temporaries of the outputs being written,
  * then die of the signal as before. */

@@ -157,6 +157,7 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
   if (!rc && sf && !au_mesh_can_write(sf))
     rc = cli_usage_error(a->help, "--refine-mesh '%s': cannot write that extension (use .obj, .off, .ply or .gii)", sf);
   if (!rc && sf) rc = cli_check_writable_path(a->help, sf, "--refine-mesh");
+  if (!rc && sf) rc = cli_check_writable_path(a->help, parents, "--refine-mesh's parents file");
   if (!rc && cmd == CLI_TORUS && !cli_has_ext(a->pos[1], ".obj"))
     return cli_usage_error(a->help, "%s: the torus map is written as .obj (its seamless `vt` need OBJ)", a->pos[1]);
   const char *pv = a->val[OPT_PREVIEW];
@@ -240,12 +241,14 @@ static void summary(int cmd, const au_result *r, double seconds) {
           r->boundary_dev, extra, r->init_method ? r->init_method : "?", seconds);
 }
 
-/* --refine-mesh SURF: the refined surface, and SURF.parents.txt (each an atomic write of the library's).
- * -1 to go on, else the exit code (nothing of either left behind). */
-static int write_refined(const char *surf, const char *parents, const au_result *r) {
+/* --refine-mesh SURF: the refined surface and SURF.parents.txt, written to their temporaries surf and
+ * parents (each an atomic write of the library's), renamed into place once OUT is. -1 to go on, else
+ * the exit code (neither temporary left behind). */
+static int write_refined(const char *surf, const char *parents, const char *surf_name, const char *parents_name,
+                         const au_result *r) {
   au_msg msg = {{0}};
   au_status st = au_mesh_write(surf, r->nv, r->X, r->nf, r->F, NULL, &msg);
-  if (st < 0) return cli_fail(surf, st, &msg);
+  if (st < 0) return cli_fail(surf_name, st, &msg);
   /* A line is at most 3 ints and a %.17g: 80 bytes with room. */
   size_t cap = 80 * (size_t)(r->nrefined > 0 ? r->nrefined : 1), len = 0;
   char *text = malloc(cap);
@@ -256,7 +259,7 @@ static int write_refined(const char *surf, const char *parents, const au_result 
   free(text);
   if (st < 0) {
     unlink(surf);
-    return cli_fail(parents, st, &msg);
+    return cli_fail(parents_name, st, &msg);
   }
   return -1;
 }
@@ -275,6 +278,9 @@ static int run_map(const cli_args *a, au_options *o) {
   const char *distortion = a->val[OPT_DISTORTION], *surf = a->val[OPT_REFINE_MESH];
   char parents[4200];
   snprintf(parents, sizeof parents, "%s.parents.txt", surf ? surf : "");
+  /* The refined surface and its parents wait under temporary names until OUT is published: a run that
+   * fails later leaves a user's earlier SURF as it was. */
+  char *surf_tmp = surf ? cli_temp_name(surf) : NULL, *parents_tmp = surf ? cli_temp_name(parents) : NULL;
   int wrote_surf = 0;
   double *density = NULL;
   au_msg msg = {{0}};
@@ -290,7 +296,11 @@ static int run_map(const cli_args *a, au_options *o) {
   if (t != AU_TARGET_TORUS && (rc = cli_output_format(a->help, out, au_io_format_parse(a->val[OPT_FORMAT]), meta, &ofmt)))
     goto done;
   cli_expect_output(distortion);
-  if (surf) cli_expect_output(surf), cli_expect_output(parents);
+  if (surf && (!surf_tmp || !parents_tmp)) {
+    rc = cli_fail(surf, AU_E_NOMEM, NULL);
+    goto done;
+  }
+  if (surf) cli_expect_output(surf_tmp), cli_expect_output(parents_tmp), cli_expect_temp(surf_tmp), cli_expect_temp(parents_tmp);
   if (a->val[OPT_DENSITY]) {
     int nval = 0;
     rc = read_density(a->val[OPT_DENSITY], m->nv, m->nf, &density, &nval);
@@ -330,7 +340,7 @@ static int run_map(const cli_args *a, au_options *o) {
   if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
   w.format = ofmt, w.meta = meta, w.geometric_type = t == AU_TARGET_SPHERE ? "Spherical" : "Flat";
   if (a->val[OPT_RADIUS]) cli_parse_nonneg(a->val[OPT_RADIUS], &w.radius); /* checked when parsed */
-  if (surf && (rc = write_refined(surf, parents, r)) >= 0) goto done;
+  if (surf && (rc = write_refined(surf_tmp, parents_tmp, surf, parents, r)) >= 0) goto done;
   wrote_surf = surf != NULL;
   /* The distortion file first (its own atomic write), removed again if OUT cannot be published. */
   if (distortion) {
@@ -352,10 +362,16 @@ static int run_map(const cli_args *a, au_options *o) {
   rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
   if (rc != EXIT_OK && distortion) unlink(distortion);
   if (rc != EXIT_OK && preview) unlink(preview);
-  /* So is a refined surface (at done: the distortion's and the preview's failures jump there). */
+  if (rc == EXIT_OK && wrote_surf && (rename(surf_tmp, surf) != 0 || rename(parents_tmp, parents) != 0)) {
+    fprintf(stderr, "authalic: error: %s: cannot rename the refined surface or its parents into place: %s\n", surf,
+            strerror(errno));
+    rc = EXIT_INTERNAL;
+  }
   if (rc == EXIT_OK && !quiet) summary(a->cmd, r, cli_now() - t_start);
 done:
-  if (rc != EXIT_OK && wrote_surf) unlink(surf), unlink(parents);
+  /* Temporaries not renamed (a failure anywhere after they were written) go. */
+  if (wrote_surf) unlink(surf_tmp), unlink(parents_tmp);
+  free(surf_tmp), free(parents_tmp);
   cli_progress_end(&prog);
   au_result_free(&r);
   au_io_meta_free(&meta);

@@ -218,16 +218,29 @@ def map_kwargs(cmd, vals):
 
 
 def same_file(a, b):
+    """The same string, the same file when both exist, or else the same name in the same directory (a
+    file not made yet: out.obj and ./out.obj)."""
     if a == b:
         return True
     try:
         return os.path.samefile(a, b)
+    except OSError:
+        pass
+    try:
+        (da, na), (db, nb) = os.path.split(a), os.path.split(b)
+        return bool(na) and na == nb and os.path.samefile(da or ".", db or ".")
     except OSError:
         return False
 
 
 def parents_name(surf):
     return surf + ".parents.txt"
+
+
+def temp_name(path):
+    """A temporary name beside path that keeps its extension, as the program's."""
+    d, base = os.path.split(path)
+    return os.path.join(d, ".authalic-%d-%s" % (os.getpid(), base))
 
 
 def check_outputs(src, out, report, surf=None, density=None):
@@ -249,7 +262,8 @@ def check_outputs(src, out, report, surf=None, density=None):
                             (surf, "it" if f == surf else f))
         if not authalic._L.au_mesh_can_write(os.fsencode(surf)):
             raise Usage("--refine-mesh '%s': cannot write that extension (use .obj, .off, .ply or .gii)" % surf)
-    for path, what in ((out, "output"), (report, "report"), (surf, "--refine-mesh")):
+    for path, what in ((out, "output"), (report, "report"), (surf, "--refine-mesh"),
+                       (surf and parents_name(surf), "--refine-mesh's parents file")):
         if not path:
             continue
         if os.path.isdir(path):
@@ -388,25 +402,24 @@ def run(cmd, src, out, vals):
             prog.end()
     for w in r.warnings:
         sys.stderr.write("authalic: warning: %s: %s\n" % (src, w))
-    # The refined surface and its parents first (each an atomic write), removed again if OUT is not
-    # published; then OUT under a temporary name, renamed into place only when the report is written too.
-    wrote_surf = False
+    # The refined surface and its parents under temporary names (each an atomic write), renamed into
+    # place once OUT is: a run that fails later leaves a user's earlier SURF as it was. OUT likewise,
+    # renamed into place only when the report is written too.
+    temps = [temp_name(surf), temp_name(parents_name(surf))] if surf else []
     if surf:
         try:
-            authalic.write_mesh(surf, r.X, r.F)
+            authalic.write_mesh(temps[0], r.X, r.F)
         except authalic.Error as e:
             return fail(surf, str(e), isinstance(e, authalic.BadInputError))
-        wrote_surf = True
         nv_in = r.X.shape[0] - (0 if r.parent is None else r.parent.shape[0])
         lines = "".join("%d %d %d %.17g\n" % (nv_in + k, a, b, t) for k, ((a, b), t) in
                         enumerate(zip(r.parent.tolist(), r.parent_t.tolist()))) if r.parent is not None else ""
         msg, data = _lib.Msg(), lines.encode()
-        if authalic._L.au_write_text(os.fsencode(parents_name(surf)), data, len(data), msg) < 0:
-            os.unlink(surf)
-            return fail(parents_name(surf), msg.text.decode() or "cannot write", False)
-    d, base = os.path.split(out)
-    tmp = os.path.join(d, ".authalic-%d-%s" % (os.getpid(), base))
-    published = False
+        st = authalic._L.au_write_text(os.fsencode(temps[1]), data, len(data), msg)
+        if st < 0:
+            os.unlink(temps[0])
+            return fail(parents_name(surf), msg.text.decode() or "cannot write", authalic._L.au_status_is_input_error(st))
+    tmp = temp_name(out)
     try:
         t0 = time.monotonic()
         try:
@@ -436,14 +449,13 @@ def run(cmd, src, out, vals):
                 return fail(report, msg.text.decode() or "cannot write the report", authalic._L.au_status_is_input_error(st))
         os.replace(tmp, out)
         tmp = None
-        published = True
+        if surf:
+            os.replace(temps[0], surf)
+            os.replace(temps[1], parents_name(surf))
     finally:
-        if tmp and os.path.exists(tmp):
-            os.unlink(tmp)
-        if wrote_surf and not published:
-            for f in (surf, parents_name(surf)):
-                if os.path.exists(f):
-                    os.unlink(f)
+        for f in [tmp] + temps:
+            if f and os.path.exists(f):
+                os.unlink(f)
     if not quiet:
         summary(cmd, r, time.monotonic() - t_start)
     return EXIT_OK

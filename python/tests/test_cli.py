@@ -104,6 +104,19 @@ def test_refine_mesh_same_files_as_the_program(tmp_path):
     assert a.stderr == b.stderr
 
 
+def test_refine_mesh_outputs_checked_before_the_run(tmp_path):
+    """SURF under another name for OUT, and a parents file that is a directory: refused before the run,
+    nothing written; a user's earlier SURF is left as it was."""
+    (tmp_path / "s.obj").write_text("user")
+    (tmp_path / "s.obj.parents.txt").mkdir()
+    for surf, words in ((str(tmp_path) + "/./o.obj", "also another input or output file"),
+                        (tmp_path / "s.obj", "parents file")):
+        r = run_py("sphere", STAR, tmp_path / "o.obj", "--refine-mesh", surf)
+        assert r.returncode == 2 and words in r.stderr and r.stderr.count("\n") == 1, r.stderr
+    assert sorted(os.listdir(tmp_path)) == ["s.obj", "s.obj.parents.txt"]
+    assert (tmp_path / "s.obj").read_text() == "user"
+
+
 def test_density_file_and_bad_values(tmp_path):
     V, F = authalic.read_mesh(STAR)
     good, bad = tmp_path / "d.txt", tmp_path / "bad.txt"

@@ -104,6 +104,12 @@ refine_outputs)
   [ "$(cksum <"$T/in.obj")" = "$sum" ] || fail "--refine-mesh IN changed the input"
   run sphere "$IN" "$OUT" --refine-mesh "$OUT"
   expect_rejected 'is also another input or output file'
+  # The same file under another name, before either exists.
+  run sphere "$IN" "$OUT" --refine-mesh "$T/o/./out.obj"
+  expect_rejected 'is also another input or output file'
+  mkdir "$T/p.obj.parents.txt"
+  run sphere "$IN" "$OUT" --refine-mesh "$T/p.obj"
+  expect_rejected "parents file '$T/p.obj.parents.txt' is a directory"
   run sphere "$IN" "$OUT" --refine-mesh "$T/o/r.json" --report "$T/o/r.json"
   expect_rejected 'is also another input or output file'
   run sphere "$T/in.obj" "$OUT" --refine-mesh "$T/in"
