@@ -3,7 +3,7 @@
 # cells of the chord triangles) falls below 0.5 from 6.9 before it (docs/hard-meshes.md), 0 folds,
 # and nothing is left under 1/e of its share. With the flow cut short (--steps 4) the map says how
 # much of the surface is left squeezed, a figure that agrees with the map. limbs4 (no squeezed cells)
-# gets neither the retry nor the warning.
+# gets neither the retry nor the warning, nor does a map with a density.
 # sh squeezed.sh PROG SOURCE_DIR SHARED_DIR
 . "$(dirname "$0")/lib.sh"
 measure() { # measure OBJ_IN OBJ_MAP: squeezed percent of the surface, its vertex count, vertex error, folds
@@ -53,4 +53,10 @@ run sphere "$SRC/data/limbs4.obj" "$T/o/l.obj" --report "$T/o/l.json"
 expect_status 0
 if grep -q 'of its area share' "$T/log/stderr"; then fail "limbs4 warned of squeezed cells"; fi
 if grep -q 'staged_retry' "$T/o/l.json"; then fail "limbs4 ran the staged retry"; fi
+# With a density, small cells are what was asked for: no warning (limbs4 with 0.05 on its first half
+# of faces warned of 38% when the shares were the surface's own).
+awk '/^f /{n++} END{for(i=0;i<n;i++) print (i < n / 2 ? 0.05 : 1)}' "$SRC/data/limbs4.obj" >"$T/d.txt"
+run sphere "$SRC/data/limbs4.obj" "$T/o/d.obj" --density "$T/d.txt"
+expect_status 0
+if grep -q 'of its area share' "$T/log/stderr"; then fail "a density map warned of squeezed cells"; fi
 exit 0
