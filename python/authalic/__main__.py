@@ -8,6 +8,8 @@ or bad input, with one error line; 1 internal or numerical failure). OUT and the
 written only when the whole run succeeded; an interrupted run (Ctrl-C) removes its temporary file
 and dies by the signal, as the program does.
 """
+import ctypes
+import errno
 import json
 import math
 import os
@@ -138,23 +140,38 @@ def parse(argv):
     return cmd, pos[0], pos[1], vals
 
 
+# Numbers are read by the C library's strtol and strtod, as the program reads them (cli_parse_int,
+# cli_parse_nonneg): Python's int and float take other spellings (1_5, non-ASCII digits) and refuse
+# some of C's (leading blanks, 0x4), and the two programs must accept the same arguments.
+_libc = ctypes.CDLL(None, use_errno=True)
+_libc.strtol.restype, _libc.strtol.argtypes = ctypes.c_long, [ctypes.c_char_p, ctypes.POINTER(ctypes.c_char_p), ctypes.c_int]
+_libc.strtod.restype, _libc.strtod.argtypes = ctypes.c_double, [ctypes.c_char_p, ctypes.POINTER(ctypes.c_char_p)]
+
+
+def c_number(v, integer):
+    """The whole string v read by strtol (base 10) or strtod, or None (empty, trailing text, out of
+    range)."""
+    b = os.fsencode(v)
+    if not b or b"\0" in b:
+        return None
+    buf, end = ctypes.create_string_buffer(b), ctypes.c_char_p()
+    ctypes.set_errno(0)
+    x = _libc.strtol(buf, ctypes.byref(end), 10) if integer else _libc.strtod(buf, ctypes.byref(end))
+    used = ctypes.cast(end, ctypes.c_void_p).value - ctypes.addressof(buf)
+    return None if used != len(b) or ctypes.get_errno() == errno.ERANGE else x
+
+
 def whole(name, v, lo, hi):
-    try:
-        x = int(v, 10)
-        if lo <= x <= hi and v.strip() == v:
-            return x
-    except ValueError:
-        pass
+    x = c_number(v, True)
+    if x is not None and lo <= x <= hi:
+        return x
     raise Usage("--%s '%s': expected a whole number from %d to %d" % (name, v, lo, hi))
 
 
 def nonneg(name, v, hi=None, what=None):
-    try:
-        x = float(v)
-        if math.isfinite(x) and x >= 0 and (hi is None or x <= hi) and v.strip() == v:
-            return x
-    except ValueError:
-        pass
+    x = c_number(v, False)
+    if x is not None and math.isfinite(x) and x >= 0 and (hi is None or x <= hi):
+        return x
     raise Usage("--%s '%s': %s" % (name, v, what or "expected a finite number >= 0"))
 
 
@@ -173,12 +190,9 @@ def map_kwargs(cmd, vals):
     if "refine-mesh" in vals:
         kw["refine_mesh"] = True
     if "refine-budget" in vals:
-        v, k = vals["refine-budget"], None
-        try:
-            k = float(v)
-        except ValueError:
-            pass
-        if k is None or not (1 < k <= _lib.AU_REFINE_MAX_FACES) or v.strip() != v:
+        v = vals["refine-budget"]
+        k = c_number(v, False)
+        if k is None or not (1 < k <= _lib.AU_REFINE_MAX_FACES):
             raise Usage("--refine-budget '%s': expected a number above 1 and at most %d" % (v, _lib.AU_REFINE_MAX_FACES))
         kw["refine_budget"] = k
     kw["init_only"] = "init-only" in vals
