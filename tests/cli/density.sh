@@ -12,13 +12,7 @@ half)
   expect_status 0
   $PY - "$IN" "$OUT" <<'PYEOF' || fail "the dense half does not get 4x the area"
 import sys
-def load(p):
-    V, F = [], []
-    for l in open(p):
-        t = l.split()
-        if t and t[0] == "v": V.append([float(x) for x in t[1:4]])
-        if t and t[0] == "f": F.append([int(x.split("/")[0]) - 1 for x in t[1:4]])
-    return V, F
+from objmesh import load
 def area(V, f):
     a, b, c = (V[i] for i in f)
     u = [b[k] - a[k] for k in range(3)]; v = [c[k] - a[k] for k in range(3)]

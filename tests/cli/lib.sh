@@ -13,6 +13,9 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/authalic-cli.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
 mkdir "$T/o" "$T/log" "$T/in" || exit 1
 PY=/usr/bin/python3
+# The Python checks' shared helpers (objmesh.py) beside the scripts.
+PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
+export PYTHONPATH
 
 # The test's verdict, with the program's output for the log.
 fail() {

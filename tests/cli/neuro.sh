@@ -32,13 +32,7 @@ nibabel_reads)
   expect_status 0
   $PY - "$IN" "$T/o" <<'PYEOF' || fail "nibabel does not read our files with the right values"
 import sys, numpy as np, nibabel as nib, nibabel.freesurfer as fs
-def obj(p):
-    V, F = [], []
-    for l in open(p):
-        t = l.split()
-        if t and t[0] == "v": V.append([float(x) for x in t[1:4]])
-        if t and t[0] == "f": F.append([int(x.split("/")[0]) - 1 for x in t[1:4]])
-    return np.array(V), np.array(F)
+from objmesh import load as obj
 X, F = obj(sys.argv[1]); o = sys.argv[2]
 P, PF = obj(o + "/map.obj")
 v, f, stamp = fs.read_geometry(o + "/lh.sphere", read_stamp=True)

@@ -10,13 +10,7 @@ measure() { # measure OBJ_IN OBJ_MAP: squeezed percent of the surface, its verte
   $PY - "$1" "$2" <<'PYEOF'
 import sys
 import numpy as np
-def load(p):
-    V, F = [], []
-    for line in open(p):
-        s = line.split()
-        if s and s[0] == "v": V.append([float(x) for x in s[1:4]])
-        if s and s[0] == "f": F.append([int(x.split("/")[0]) - 1 for x in s[1:4]])
-    return np.array(V), np.array(F)
+from objmesh import load
 X, F = load(sys.argv[1])
 P, _ = load(sys.argv[2])
 area = lambda Y: 0.5 * np.linalg.norm(np.cross(Y[F[:, 1]] - Y[F[:, 0]], Y[F[:, 2]] - Y[F[:, 0]]), axis=1)
