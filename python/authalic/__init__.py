@@ -664,15 +664,18 @@ def _run_map(Va, Fa, tcode, o, call, target, extra, keep, done=None):
 
 
 def _wait(thread, done, call):
-    """Wait, in the main thread, for the map's thread to set done. The wait is timed, so a signal
-    handled on any thread is seen within 0.1 s; an exception its handler raises (KeyboardInterrupt)
-    sets the cancel flag and the wait goes on until the map has stopped; the first such exception
-    is returned. (Not Thread.join: in Python 3.11 a join interrupted by KeyboardInterrupt can mark a
-    running thread as stopped.)"""
+    """Wait, in the main thread, for the map's thread to set done. The wait polls in short sleeps, so
+    a signal is seen within 0.05 s; an exception its handler raises (KeyboardInterrupt) sets the
+    cancel flag and the wait goes on until the map has stopped; the first such exception is
+    returned. No lock is waited on where the exception can land: not Thread.join (in Python 3.11 a
+    join interrupted by KeyboardInterrupt can mark a running thread as stopped), and not done.wait,
+    an Event's condition lock (suspected: one CI run of session 16 waited 300 s for `python -m
+    authalic` to end after a SIGINT, with done.wait here; 25 runs of that test here did not repeat
+    it)."""
     pending = None
     while not done.is_set():
         try:
-            done.wait(0.1)
+            _time.sleep(0.05)
         except BaseException as e:  # noqa: B902 - re-raised by the caller once the map has stopped
             call.cancel.value = 1
             if pending is None:
