@@ -105,6 +105,11 @@ static int map_options(const cli_args *a, au_options *o) {
   return -1;
 }
 
+/* The parents file of --refine-mesh SURF, SURF.parents.txt, into buf ("" without SURF). */
+static void parents_name(const char *surf, char *buf, size_t n) {
+  snprintf(buf, n, "%s%s", surf ? surf : "", surf ? ".parents.txt" : "");
+}
+
 /* Parse `authalic CMD ...`; -1 to go on, else the exit code. */
 static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o) {
   char usage[2048];
@@ -147,7 +152,7 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
    * OUT, or refused only after the whole map was made. Its parents file too. */
   const char *sf = a->val[OPT_REFINE_MESH];
   char parents[4200];
-  snprintf(parents, sizeof parents, "%s.parents.txt", sf ? sf : "");
+  parents_name(sf, parents, sizeof parents);
   for (int k = 0; !rc && sf && k < 2; k++) {
     const char *f = k ? parents : sf;
     if (cli_same_file(f, a->pos[0]) || cli_same_file(f, a->pos[1]) || (a->val[OPT_REPORT] && cli_same_file(f, a->val[OPT_REPORT])) ||
@@ -277,7 +282,7 @@ static int run_map(const cli_args *a, au_options *o) {
   au_io_meta *meta = NULL;
   const char *distortion = a->val[OPT_DISTORTION], *surf = a->val[OPT_REFINE_MESH];
   char parents[4200];
-  snprintf(parents, sizeof parents, "%s.parents.txt", surf ? surf : "");
+  parents_name(surf, parents, sizeof parents);
   /* The refined surface and its parents wait under temporary names until OUT is published: a run that
    * fails later leaves a user's earlier SURF as it was. */
   char *surf_tmp = surf ? cli_temp_name(surf) : NULL, *parents_tmp = surf ? cli_temp_name(parents) : NULL;
