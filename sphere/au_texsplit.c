@@ -17,8 +17,8 @@
  * keeps the mesh conforming. Area rounds stop after opts->max_rounds rounds, when the faces have
  * grown plan->growth times (8, or 32 with a target), or, with a target (the per-face texture error
  * the texture should reach: by default the map's own, issue 18's 1.25 x its per-face error + 0.002),
- * on the first fold-free round at or below it; fold rounds go on (up to AU_FOLD_ROUNDS) until no
- * fold is left.
+ * on the first fold-free round at or below it; fold rounds go on until no fold is left, or until
+ * the folds have not come down for AU_FOLD_STALL rounds.
  *
  * Exactness: the new vertex is the midpoint x of the edge on the input surface (so it lies on the
  * input's flat triangle and the surface area is kept to rounding), and its point on the sphere is
@@ -36,8 +36,13 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#define AU_FOLD_ROUNDS 64 /* rounds before giving up on a fold (the shared meshes need at most 12); with
-                             a target, after the last round of area splits */
+#define AU_FOLD_STALL 256 /* rounds without fewer folds than ever before after which the mending gives
+                             up (with a target, counted from the last round of area splits). Progress,
+                             not a count of rounds: on a map of needles (a limb stretched along its
+                             axis) splitting a fold turns the needle across the split edge over, and
+                             the fold walks around the limb's ring, a face every few rounds, before it
+                             is gone (docs/textures.md) */
+#define AU_FOLD_ROUNDS 4096 /* and after this many rounds in all (a safeguard: none needs it) */
 #define AU_TARGET_STALL 4 /* growth of the faces without a lower error after which a target is given up */
 #define AU_TARGET_STEP 4  /* with a target, a worst-first round grows the faces by at most 1/4, so the
                              splitting stops within a quarter of the faces the target needs */
@@ -502,6 +507,7 @@ typedef struct refine_state {
   double *straight;       /* with a target: each face's signed straight area in its chart (chart_error) */
   int *scan, nscan;       /* a repair round's faces: those the last splits touched */
   int last_folds, rising; /* folds of the last round; rounds in a row with more than the last */
+  int low_folds, low_round; /* the fewest folds since the area splitting, and the round they were seen */
 } refine_state;
 
 /* Look at the faces (all, or in a repair round the touched ones) and list the bad ones: folds, and
@@ -570,10 +576,11 @@ static au_status give_up(refine_state *r, int round, int since, int folds, au_ms
   const char *p = pname(r->opts->proj);
   r->rising = folds > r->last_folds ? r->rising + 1 : 0;
   r->last_folds = folds;
+  if (since == 0 || folds < r->low_folds) r->low_folds = folds, r->low_round = round;
   if (r->rising >= AU_FOLD_RUNAWAY)
     return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: projection %s: the folds multiply under splitting (%d after %d rounds)",
                       p, folds, round);
-  if (since >= AU_FOLD_ROUNDS)
+  if (round - r->low_round >= AU_FOLD_STALL || since >= AU_FOLD_ROUNDS)
     return au_msg_set(msg, AU_E_NUMERIC,
                       "au_tex_coords: projection %s: %d faces stay turned over in the texture after %d rounds of splitting "
                       "(a different texture axis, --axis auto, may avoid them)", p,

@@ -12,3 +12,7 @@ endforeach()
 foreach(c obj_cea laea bake_normal bake_scalar sample sample_csv bad_map mirrored on_the_fly on_the_fly_spherical area_target)
   au_cli_test(texture.${c} texture_runs.sh ${c})
 endforeach()
+# The thin-limbed family (issue 21): the fold mending goes on while it makes progress.
+foreach(m limbs4 limbs8 coil tpose)
+  au_cli_test(texture.limbs.${m} texture_limbs.sh ${m})
+endforeach()
