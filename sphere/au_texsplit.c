@@ -583,8 +583,8 @@ static au_status give_up(refine_state *r, int round, int since, int folds, au_ms
   if (round - r->low_round >= AU_FOLD_STALL || since >= AU_FOLD_ROUNDS)
     return au_msg_set(msg, AU_E_NUMERIC,
                       "au_tex_coords: projection %s: %d faces stay turned over in the texture after %d rounds of splitting "
-                      "(a different texture axis, --axis auto, may avoid them)", p,
-                      folds, round);
+                      "(%s may avoid them)", p, folds, round,
+                      r->opts->axis == AU_TEX_AXIS_AUTO ? "another projection" : "a different texture axis, --axis auto,");
   if (r->w->t->nf > AU_FOLD_GROWTH * r->nf0)
     return au_msg_set(msg, AU_E_NUMERIC,
                       "au_tex_coords: projection %s: %d faces stay turned over in the texture after splitting to %d faces", p,
