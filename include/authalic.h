@@ -525,7 +525,8 @@ typedef struct au_convergence {
   int resolved;      /* 1 if the flow ran its resolved schedule (a start the mesh resolves well) */
   double start_jump; /* the start's mean jump of log r across interior edges */
   int lantern_retry; /* sphere: 0 none; 1 the retry ran and was discarded; 2 its map was kept */
-  double retry_err[2]; /* the first map's and the retry's chord vertex error */
+  double retry_err[2]; /* the first map's and the retry's chord vertex error (the retries' errors are of
+                          the spherical triangles for a map of spherical areas only, sphere_areas 2) */
   int twist_retry;   /* sphere: 0 none; 1 the twisted retry ran and was discarded; 2 its map was kept;
                         3 the conformal start folded and the map comes from the strong twisted start */
   int twist_faces;   /* with a twisted retry: the faces its start sheared */

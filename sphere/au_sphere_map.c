@@ -17,7 +17,8 @@
  * tpose from its flow's map (vertex error 7.86) ends 0.54 with 0.6, 0.89 with 0.5 in 10 stages, and
  * stalls at 4.7 with 0.3 (docs/hard-meshes.md). */
 #define AU_STAGED_PART 0.6
-/* The stages end once two in a row lower the chord vertex error by less than this fraction. */
+/* The stages end once two in a row lower the map's vertex error (map_vertex_error) by less than this
+ * fraction. */
 #define AU_STAGED_GAIN 0.05
 
 au_sphere_opts au_sphere_opts_default(void) {
@@ -67,16 +68,24 @@ static double density_of(const au_mesh *m, const au_advect_opts *fo, int f) {
                          : 1.0;
 }
 
-/* The vertex mean |log ratio| of the chord triangles (the measure of au_metrics and param-eval), with
- * the flow's targets: a third of each face's surface area times its density. */
-static double chord_vertex_error(const au_mesh *m, const au_topo *t, const au_advect_opts *fo, const double *P) {
+/* The face areas of the map P in the measure it is made for: its chord triangles (au_metrics and
+ * param-eval measure those), or for a map of spherical areas only (sphere_areas 2, the texture
+ * command's: a texture's straight triangles tend to the spherical ones) its spherical triangles. */
+static void map_face_areas(int nf, const int *F, const au_advect_opts *fo, const double *P, double *area) {
+  if (fo->sphere_areas == 2) au_dec_sphere_face_areas(nf, F, P, area);
+  else au_dec_face_areas(nf, F, P, area);
+}
+
+/* The vertex mean |log ratio| of the map's triangles (map_face_areas), with the flow's targets: a third
+ * of each face's surface area times its density. The retries compare maps by it. */
+static double map_vertex_error(const au_mesh *m, const au_topo *t, const au_advect_opts *fo, const double *P) {
   const int nv = m->nv, nf = m->nf, *F = m->F;
   double *as = malloc(sizeof(double) * (size_t)nf), *ad = malloc(sizeof(double) * (size_t)nf);
   double *vs = calloc((size_t)nv, sizeof(double)), *vd = calloc((size_t)nv, sizeof(double));
   double err = INFINITY;
   if (as && ad && vs && vd) {
     au_dec_face_areas(nf, F, m->X, as);
-    au_dec_face_areas(nf, F, P, ad);
+    map_face_areas(nf, F, fo, P, ad);
     double ss = 0, sd = 0;
     for (int f = 0; f < nf; f++) {
       const int *c = F + 3 * f;
@@ -134,8 +143,8 @@ au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphe
   au_polish_opts po = {o->vertex_polish, o->polish_cells, o->flow.tol, o->flow.cancel};
   au_status st = au_sphere_vertex_polish(m, t, w, P2, &po, &rep->polish_sweeps, msg);
   if (st == AU_OK) {
-    rep->polish_err[0] = chord_vertex_error(m, t, &o->flow, P);
-    rep->polish_err[1] = chord_vertex_error(m, t, &o->flow, P2);
+    rep->polish_err[0] = map_vertex_error(m, t, &o->flow, P);
+    rep->polish_err[1] = map_vertex_error(m, t, &o->flow, P2);
     rep->polish_err[2] = chord_face_error(m, w, P);
     rep->polish_err[3] = chord_face_error(m, w, P2);
     rep->polish = 1;
@@ -164,9 +173,9 @@ static double chord_floor_excess(const au_mesh *m, const double *P) {
   return excess;
 }
 
-/* A retry's outcome against the map kept so far (P, its chord vertex error e, *st): a cancelled retry
- * ends the map with its status; one whose map P2 has the lower error e2 replaces P, the report's flow
- * (r2) and the status. Returns 1 if it replaced. */
+/* A retry's outcome against the map kept so far (P, its vertex error e by map_vertex_error, *st): a
+ * cancelled retry ends the map with its status; one whose map P2 has the lower error e2 replaces P, the
+ * report's flow (r2) and the status. Returns 1 if it replaced. */
 static int keep_better(int nv, au_status st2, double e2, const double *P2, const au_advect_report *r2, const au_msg *msg2,
                        double e, double *P, au_sphere_report *rep, au_status *st, au_msg *msg) {
   if (st2 == AU_E_CANCELLED) {
@@ -188,7 +197,7 @@ static int keep_better(int nv, au_status st2, double e2, const double *P2, const
  * still (tpose; docs/hard-meshes.md). A flow towards a part of the way, run to its end, then the next
  * from there, keeps going. Each stage's targets are the map's own face areas times (share / area)^part;
  * the last run asks for the shares themselves, from the best stage's map. Its map replaces P (with its
- * report and status) if its chord vertex error is lower. */
+ * report and status) if its vertex error (map_vertex_error) is lower. */
 static void staged_retry(const au_mesh *m, const au_topo *t, au_advect_plan *plan, const au_advect_domain *dom,
                          const au_sphere_opts *o, const double *Pstart, double *P, au_sphere_report *rep, au_status *st,
                          au_msg *msg) {
@@ -199,7 +208,7 @@ static void staged_retry(const au_mesh *m, const au_topo *t, au_advect_plan *pla
   au_advect_report *r2 = malloc(sizeof *r2);
   au_msg m2 = {0};
   if (!P2 || !Pb || !w || !as || !ad || !r2) goto done; /* out of memory: the map stays as it is */
-  const double e0 = chord_vertex_error(m, t, &o->flow, P);
+  const double e0 = map_vertex_error(m, t, &o->flow, P);
   double eb = e0;
   int stages = 0, idle = 0;
   memcpy(P2, Pstart ? Pstart : P, sizeof(double) * 3 * (size_t)nv);
@@ -210,7 +219,7 @@ static void staged_retry(const au_mesh *m, const au_topo *t, au_advect_plan *pla
   au_advect_opts fo = o->flow;
   au_status s2 = AU_OK;
   for (int k = 0; k < o->staged_retry && idle < 2; k++) {
-    au_dec_face_areas(nf, m->F, P2, ad);
+    map_face_areas(nf, m->F, &o->flow, P2, ad);
     double sd = 0;
     for (int f = 0; f < nf; f++) sd += ad[f];
     /* (area / share)^(1 - part) as the density: the target area is area^(1 - part) share^part. A face
@@ -221,7 +230,7 @@ static void staged_retry(const au_mesh *m, const au_topo *t, au_advect_plan *pla
     if (s2 == AU_E_CANCELLED) break;
     if (s2 < 0) break; /* a numerical failure: the best stage so far stands */
     stages++;
-    double e = chord_vertex_error(m, t, &o->flow, P2);
+    double e = map_vertex_error(m, t, &o->flow, P2);
     if (e < (1 - AU_STAGED_GAIN) * eb) idle = 0;
     else idle++;
     if (e < eb) eb = e, memcpy(Pb, P2, sizeof(double) * 3 * (size_t)nv);
@@ -236,7 +245,7 @@ static void staged_retry(const au_mesh *m, const au_topo *t, au_advect_plan *pla
   /* The last run, towards the shares themselves. */
   memcpy(P2, Pb, sizeof(double) * 3 * (size_t)nv);
   s2 = au_advect_run_plan(plan, dom, &o->flow, P2, r2, &m2);
-  double e = s2 == AU_OK || s2 == AU_W_NOT_CONVERGED ? chord_vertex_error(m, t, &o->flow, P2) : INFINITY;
+  double e = s2 == AU_OK || s2 == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o->flow, P2) : INFINITY;
   rep->staged_err[1] = e;
   if (keep_better(nv, s2, e, P2, r2, &m2, e0, P, rep, st, msg)) rep->staged = 2;
 done:
@@ -276,7 +285,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
     if (Pstart) memcpy(Pstart, P, sizeof(double) * 3 * (size_t)m->nv);
     if (st == AU_OK) st = au_advect_run_plan(plan, &dom, &o.flow, P, &rep->flow, msg);
     /* The lantern retry (au_sphere_opts.lantern_retry): only for a map that misses its tolerance well. */
-    double e0 = st == AU_W_NOT_CONVERGED ? chord_vertex_error(m, t, &o.flow, P) : 0;
+    double e0 = st == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o.flow, P) : 0;
     if (st == AU_W_NOT_CONVERGED && Pstart && e0 > o.retry_above * o.flow.tol) {
       au_advect_report *r2 = malloc(sizeof *r2);
       double *P2 = malloc(sizeof(double) * 3 * (size_t)m->nv);
@@ -286,7 +295,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
         o2.lantern = o.lantern_retry;
         memcpy(P2, Pstart, sizeof(double) * 3 * (size_t)m->nv);
         au_status st2 = au_advect_run_plan(plan, &dom, &o2, P2, r2, &msg2);
-        double e1 = st2 == AU_OK || st2 == AU_W_NOT_CONVERGED ? chord_vertex_error(m, t, &o.flow, P2) : INFINITY;
+        double e1 = st2 == AU_OK || st2 == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o.flow, P2) : INFINITY;
         rep->retry_err[0] = e0, rep->retry_err[1] = e1;
         rep->retry = 1 + keep_better(m->nv, st2, e1, P2, r2, &msg2, e0, P, rep, &st, msg);
       }
@@ -308,7 +317,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
       if (st3 == AU_OK && nsheared > 0) {
         if (o.balance) st3 = au_sphere_balance(m, t, P3, &msg3);
         if (st3 == AU_OK) st3 = au_advect_run_plan(plan, &dom, &o.flow, P3, r3, &msg3);
-        double e3 = st3 == AU_OK || st3 == AU_W_NOT_CONVERGED ? chord_vertex_error(m, t, &o.flow, P3) : INFINITY;
+        double e3 = st3 == AU_OK || st3 == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o.flow, P3) : INFINITY;
         rep->twist_faces = nsheared, rep->twist_err = e3;
         rep->twist = 1 + keep_better(m->nv, st3, e3, P3, r3, &msg3, ek, P, rep, &st, msg);
       }
