@@ -101,6 +101,16 @@ obj_faces() {
   awk '$1 == "f" { for (i = 2; i <= 4; i++) { split($i, c, "/"); printf "%s%s", c[1], (i < 4 ? " " : "\n") } }' "$1"
 }
 
+# No face of the OBJ file $1 (f v/vt corners) is turned over in (u, v): a zero or negative signed area
+# fails, with the count; $2 names the run in the message.
+expect_vt_upright() {
+  awk '$1 == "vt" { n++; u[n] = $2; v[n] = $3 }
+       $1 == "f" { for (i = 2; i <= 4; i++) { split($i, c, "/"); t[i] = c[2] }
+                   if ((u[t[3]] - u[t[2]]) * (v[t[4]] - v[t[2]]) - (u[t[4]] - u[t[2]]) * (v[t[3]] - v[t[2]]) <= 0) bad++ }
+       END { if (bad) { print bad " faces turned over in (u, v)"; exit 1 } }' "$1" >"$T/log/flips" 2>&1 \
+    || fail "$2$(cat "$T/log/flips")"
+}
+
 # Every `v` of an OBJ file lies on the unit sphere to within $2; prints the worst deviation if not.
 expect_on_sphere() {
   awk -v tol="$2" '
