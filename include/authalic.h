@@ -525,12 +525,14 @@ typedef struct au_convergence {
   int resolved;      /* 1 if the flow ran its resolved schedule (a start the mesh resolves well) */
   double start_jump; /* the start's mean jump of log r across interior edges */
   int lantern_retry; /* sphere: 0 none; 1 the retry ran and was discarded; 2 its map was kept */
-  double retry_err[2]; /* the first map's and the retry's chord vertex error (the retries' errors are of
-                          the spherical triangles for a map of spherical areas only, sphere_areas 2) */
+  double retry_err[2]; /* the first map's and the retry's vertex error: the mean |log r| of the vertex cells
+                          of the chord triangles, or of the spherical ones for a map of spherical areas
+                          only (sphere_areas 2, --spherical-areas): the retries compare maps by the areas
+                          the map is made for */
   int twist_retry;   /* sphere: 0 none; 1 the twisted retry ran and was discarded; 2 its map was kept;
                         3 the conformal start folded and the map comes from the strong twisted start */
   int twist_faces;   /* with a twisted retry: the faces its start sheared */
-  double twist_err;  /* with a twisted retry: its map's chord vertex error */
+  double twist_err;  /* with a twisted retry: its map's vertex error (as retry_err) */
   int vertex_polish; /* sphere: 0 none; 1 the vertex polish ran and was discarded; 2 it was kept */
   int polish_sweeps; /* with a vertex polish: its sweeps */
   double polish_err[4]; /* with a vertex polish: chord vertex error before and after it, per-face mean
@@ -538,7 +540,7 @@ typedef struct au_convergence {
   int staged_retry;  /* sphere: 0 none; 1 the staged retry (squeezed protrusions: the flow again from the
                         start, in stages) ran and was discarded; 2 its map was kept */
   int staged_stages; /* with a staged retry: its stages (the last run, to the shares, not counted) */
-  double staged_err[2]; /* with a staged retry: the chord vertex error before it and of its map */
+  double staged_err[2]; /* with a staged retry: the vertex error (as retry_err) before it and of its map */
 } au_convergence;
 
 #define AU_MAX_WARNINGS 8

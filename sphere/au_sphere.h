@@ -28,7 +28,7 @@ typedef struct au_sphere_opts {
   double twist_retry;   /* > 0: if the map (after the lantern retry) still misses retry_above x its
                            tolerance and its chord floor's excess (au_metrics.chord_floor_excess) is
                            above this, it is made again from the twisted start (au_sphere_twisted) and
-                           the map with the lower chord vertex error kept (default 0.02; 0 off) */
+                           the map with the lower vertex error kept (retry_err; default 0.02; 0 off) */
   int vertex_polish;    /* > 0: a map that misses its tolerance gets at most this many sweeps of the vertex
                            polish (au_sphere_vertex_polish), kept if its chord vertex error falls and its
                            per-face error does not rise (default 50; 0 off). Not with flow.sphere_areas
@@ -38,7 +38,7 @@ typedef struct au_sphere_opts {
                            cells under 1/e of their share (squeezed protrusions the flow did not open up,
                            au__metrics_squeezed) flows again from itself in stages, each towards a part
                            of the way (au_sphere_map.c), at most this many, then once towards the
-                           surface's areas; kept if its chord vertex error is lower (default 8; 0 off).
+                           surface's areas; kept if its vertex error (retry_err) is lower (default 8; 0 off).
                            Not with a density (flow.weight, flow.face_weight) */
 } au_sphere_opts;
 
@@ -50,18 +50,20 @@ typedef struct au_sphere_report {
   int init_folds;         /* folded triangles of the conformal map (must be 0) */
   au_advect_report flow;  /* steps, errors, step fractions (of the map kept) */
   int retry;              /* 0: no lantern retry; 1: it ran and its map was discarded; 2: its map was kept */
-  double retry_err[2];    /* with a retry: the vertex mean |log ratio| of the chord triangles of the first
-                             map and of the retry's */
+  double retry_err[2];    /* with a retry: the vertex mean |log ratio| of the first map and of the retry's,
+                             of their chord triangles or, for a map of spherical areas only
+                             (flow.sphere_areas 2), of their spherical ones: every retry compares maps by
+                             the areas the map is made for */
   int twist;              /* 0: no twisted retry; 1: it ran and its map was discarded; 2: its map was kept
                              (P0 stays the conformal start; the twisted start's time is in t_flow);
                              3: every conformal start folded and the map was made from the strong
                              twisted start (au_sphere_twisted_strong; P0 is that start) */
   int twist_faces;        /* with a twisted retry: the faces its start sheared */
-  double twist_err;       /* with a twisted retry: its map's chord vertex error */
+  double twist_err;       /* with a twisted retry: its map's vertex error (as retry_err) */
   int staged;             /* 0: no staged retry; 1: it ran and its map was discarded; 2: its map was kept */
   int staged_stages;      /* with a staged retry: the stages it ran (the last run, towards the surface's
                              areas, not counted) */
-  double staged_err[2];   /* with a staged retry: the chord vertex error before it and of its map */
+  double staged_err[2];   /* with a staged retry: the vertex error (as retry_err) before it and of its map */
   int refine_kept_input;  /* au_sphere_refine: 1 if neither refinement beat the input's map */
   int polish;             /* 0: no vertex polish; 1: it ran and was discarded; 2: it was kept */
   int polish_sweeps;      /* with a polish: its sweeps */

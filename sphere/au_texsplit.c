@@ -25,6 +25,7 @@
  * the image of x under the piecewise linear map: the middle of the edge's two chordal points C,
  * normalized. That is where the bake and the point location send that surface point, so the
  * texture and the located texels agree at every vertex, old or new. */
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -37,7 +38,7 @@
 #endif
 
 #define AU_FOLD_STALL 256 /* rounds without fewer folds than ever before after which the mending gives
-                             up (with a target, counted from the last round of area splits). Progress,
+                             up (counted afresh from a round of area splits or without folds). Progress,
                              not a count of rounds: on a map of needles (a limb stretched along its
                              axis) splitting a fold turns the needle across the split edge over, and
                              the fold walks around the limb's ring, a face every few rounds, before it
@@ -507,7 +508,8 @@ typedef struct refine_state {
   double *straight;       /* with a target: each face's signed straight area in its chart (chart_error) */
   int *scan, nscan;       /* a repair round's faces: those the last splits touched */
   int last_folds, rising; /* folds of the last round; rounds in a row with more than the last */
-  int low_folds, low_round; /* the fewest folds since the area splitting, and the round they were seen */
+  int low_folds, low_round; /* the fewest folds since the last round of area splits or without folds, and
+                               the round they were seen (or that round) */
 } refine_state;
 
 /* Look at the faces (all, or in a repair round the touched ones) and list the bad ones: folds, and
@@ -576,7 +578,10 @@ static au_status give_up(refine_state *r, int round, int since, int folds, au_ms
   const char *p = pname(r->opts->proj);
   r->rising = folds > r->last_folds ? r->rising + 1 : 0;
   r->last_folds = folds;
-  if (since == 0 || folds < r->low_folds) r->low_folds = folds, r->low_round = round;
+  /* A round of area splits, or one without folds (area splits only), starts the count again: the
+   * folds that follow are new ones. */
+  if (since == 0 || folds == 0) r->low_folds = INT_MAX, r->low_round = round;
+  else if (folds < r->low_folds) r->low_folds = folds, r->low_round = round;
   if (r->rising >= AU_FOLD_RUNAWAY)
     return au_msg_set(msg, AU_E_NUMERIC, "au_tex_coords: projection %s: the folds multiply under splitting (%d after %d rounds)",
                       p, folds, round);

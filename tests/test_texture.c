@@ -1029,7 +1029,7 @@ static int vt_quality(const char *name, int shared, int axis_auto) {
         fprintf(stderr, "%s proj %d area_tol auto: both rules refused, splits dropped\n", name, proj);
         AU_CHECK_INT(t->area_splits, ==, 0);
         AU_CHECK_DBL(e, ==, e_default);
-      } else if (!shared && proj == AU_TEX_CEA) {
+      } else if (!strcmp(name, "spiky_ico.obj") && proj == AU_TEX_CEA) {
         /* spiky_ico, cea: the area splits leave slivers along the spikes that the fold mending takes
          * past 64 rounds to turn back (it gave up there until session 17); the texture stays above the
          * bound (0.405 against 0.337) but below the default's 0.446 */

@@ -3,7 +3,8 @@
 # texture turns its neighbour over, round after round around the limb (docs/textures.md). With each
 # projection the texture must come out: exit 0, splits for folding made, no face turned over in
 # (u, v), the input's vertices first, two faces more per added vertex, the surface area kept.
-# Fails with the old cap of 64 rounds on every mesh here (limbs4 cea 3 folds left, tpose cea 7).
+# Fails with the old cap of 64 rounds on every mesh here (cea: limbs4 3 folds left, limbs8 36, coil 10,
+# tpose 94).
 # sh texture_limbs.sh PROG SOURCE_DIR SHARED_DIR MESH   (MESH: limbs4, limbs8, coil or tpose)
 . "$(dirname "$0")/lib.sh"
 [ -f "$SRC/data/$1.obj" ] || skip "data/$1.obj is absent"
