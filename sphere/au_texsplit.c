@@ -37,12 +37,13 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#define AU_FOLD_STALL 256 /* rounds without fewer folds than ever before after which the mending gives
+#define AU_FOLD_STALL 1024 /* rounds without fewer folds than ever before after which the mending gives
                              up (counted afresh from a round of area splits or without folds). Progress,
                              not a count of rounds: on a map of needles (a limb stretched along its
                              axis) splitting a fold turns the needle across the split edge over, and
                              the fold walks around the limb's ring, a face every few rounds, before it
-                             is gone (docs/textures.md) */
+                             is gone (docs/textures.md). 256 gave up on tpose's spherical-areas map in
+                             cea with 3 folds left: its longest wait for a new low is 308 rounds */
 #define AU_FOLD_ROUNDS 4096 /* and after this many rounds in all (a safeguard: none needs it) */
 #define AU_TARGET_STALL 4 /* growth of the faces without a lower error after which a target is given up */
 #define AU_TARGET_STEP 4  /* with a target, a worst-first round grows the faces by at most 1/4, so the
