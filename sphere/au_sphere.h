@@ -107,6 +107,7 @@ typedef struct au_polish_opts {
   double cell_weight; /* weight of the vertex cells against the faces (>= 0) */
   double tol;         /* stop once the vertex cells' mean |log ratio| is at most this */
   const int *cancel;  /* when *cancel is nonzero at the start of a sweep (read atomically): AU_E_CANCELLED */
+  int spherical;      /* 1: the spherical triangles' areas (a map of spherical areas only), 0: the chord ones' */
 } au_polish_opts;
 au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
                                   const au_polish_opts *po, int *sweeps, au_msg *msg);

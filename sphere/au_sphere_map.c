@@ -115,14 +115,14 @@ static int face_density(const au_mesh *m, const au_advect_opts *fo, double **w) 
   return 0;
 }
 
-/* The per-face mean |r - 1| of the chord triangles against the flow's targets (au_metrics'
- * r_mean_abs_dev, without its exclusion of degenerate faces). */
-static double chord_face_error(const au_mesh *m, const double *w, const double *P) {
+/* The per-face mean |r - 1| of the map's triangles (map_face_areas) against the flow's targets
+ * (au_metrics' r_mean_abs_dev, without its exclusion of degenerate faces). */
+static double map_face_error(const au_mesh *m, const au_advect_opts *fo, const double *w, const double *P) {
   const int nf = m->nf, *F = m->F;
   double *as = malloc(sizeof(double) * (size_t)nf), *ad = malloc(sizeof(double) * (size_t)nf), err = INFINITY;
   if (as && ad && nf > 0) {
     au_dec_face_areas(nf, F, m->X, as);
-    au_dec_face_areas(nf, F, P, ad);
+    map_face_areas(nf, F, fo, P, ad);
     double ss = 0, sd = 0, sum = 0;
     for (int f = 0; f < nf; f++) as[f] *= w ? w[f] : 1.0, ss += as[f], sd += ad[f];
     for (int f = 0; f < nf; f++) sum += as[f] > 0 ? fabs((ad[f] / sd) / (as[f] / ss) - 1) : 0;
@@ -140,13 +140,13 @@ au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphe
     return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
   }
   memcpy(P2, P, sizeof(double) * 3 * (size_t)m->nv);
-  au_polish_opts po = {o->vertex_polish, o->polish_cells, o->flow.tol, o->flow.cancel};
+  au_polish_opts po = {o->vertex_polish, o->polish_cells, o->flow.tol, o->flow.cancel, o->flow.sphere_areas == 2};
   au_status st = au_sphere_vertex_polish(m, t, w, P2, &po, &rep->polish_sweeps, msg);
   if (st == AU_OK) {
     rep->polish_err[0] = map_vertex_error(m, t, &o->flow, P);
     rep->polish_err[1] = map_vertex_error(m, t, &o->flow, P2);
-    rep->polish_err[2] = chord_face_error(m, w, P);
-    rep->polish_err[3] = chord_face_error(m, w, P2);
+    rep->polish_err[2] = map_face_error(m, &o->flow, w, P);
+    rep->polish_err[3] = map_face_error(m, &o->flow, w, P2);
     rep->polish = 1;
     if (rep->polish_err[1] < rep->polish_err[0] && rep->polish_err[3] <= rep->polish_err[2]) {
       memcpy(P, P2, sizeof(double) * 3 * (size_t)m->nv);
@@ -329,8 +329,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
         staged_retry(m, t, plan, &dom, &o, Pstart, P, rep, &st, msg);
     }
     free(Pstart);
-    /* The polish is of chord triangles: not for a map of the spherical ones (sphere_areas 2). */
-    if (st == AU_W_NOT_CONVERGED && o.vertex_polish > 0 && o.flow.sphere_areas != 2) {
+    if (st == AU_W_NOT_CONVERGED && o.vertex_polish > 0) {
       au_status sp = au_sphere_polish_map(m, t, &o, P, rep, msg);
       if (sp != AU_OK) st = sp;
       else if (rep->polish == 2 && rep->polish_err[1] <= o.flow.tol) st = AU_OK, rep->flow.converged = 1;

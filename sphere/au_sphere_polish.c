@@ -70,7 +70,16 @@ typedef struct polish_ctx {
   double *C;        /* current chord areas */
   double *cell;     /* current cells: a third of the chord areas of the faces around */
   double cw;        /* weight of a cell's residual */
+  int spherical;    /* the spherical triangles' areas instead of the chord ones' */
 } polish_ctx;
+
+/* The area of (p, b, c) in the polish's measure, and its gradient with respect to p if g is not NULL. */
+static double face_area_grad(const polish_ctx *x, const double *p, const double *b, const double *c, double *g) {
+  if (!x->spherical) return chord_area_grad(p, b, c, g);
+  double gall[9], a = au_dec_sphere_area(p, b, c, g ? gall : NULL);
+  if (g) memcpy(g, gall, 3 * sizeof(double));
+  return a;
+}
 
 /* Residuals of the star with v at p: the faces' C/T - 1, then the cells' cw log(cell/Tc); with J
  * (2 columns, tangent basis e1, e2) if J is not NULL. Returns the squared norm, or INFINITY if a face
@@ -91,7 +100,7 @@ static double star_eval(const polish_ctx *x, const star *s, const double *p, con
      * cea textures of spiky_ico's and armadillo's polished maps kept slivers turned over near the
      * poles; with 0.1 none do, and cow's vertex error is 0.0079 instead of 0.0077. */
     if (!(orient > 0) || !(orient >= POLISH_SPHERE_MIN * T || orient >= s->orient0[i])) return INFINITY;
-    double g[3], a = chord_area_grad(p, b, c, J ? g : NULL);
+    double g[3], a = face_area_grad(x, p, b, c, J ? g : NULL);
     if (!(a > 1e-9 * T)) return INFINITY;
     Cnew[i] = a;
     res[i] = a / T - 1;
@@ -199,12 +208,13 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
   au_dec_face_areas(nf, F, m->X, As);
   double sA = 0;
   for (int f = 0; f < nf; f++) As[f] *= face_w ? face_w[f] : 1.0, sA += As[f];
-  polish_ctx x = {F, P, T, Tc, C, cell, sqrt(cell_weight * (double)nf / (double)(nv > 0 ? nv : 1))};
+  polish_ctx x = {F, P, T, Tc, C, cell, sqrt(cell_weight * (double)nf / (double)(nv > 0 ? nv : 1)), po->spherical};
   double verr_last = INFINITY;
   for (int sweep = 0; sweep < max_sweeps; sweep++) {
     /* The shares are of the chord triangles' total, as the metrics measure them; it moves a little
      * with every vertex, so the targets follow it once a sweep. */
-    au_dec_face_areas(nf, F, P, C);
+    if (po->spherical) au_dec_sphere_face_areas(nf, F, P, C);
+    else au_dec_face_areas(nf, F, P, C);
     double sC = 0;
     for (int f = 0; f < nf; f++) sC += C[f];
     memset(cell, 0, sizeof(double) * (size_t)nv);

@@ -166,6 +166,10 @@ au_cli_test(squeezed squeezed.sh)
 au_cli_test(thin_limbs.cow thin_limbs.sh cow.off)
 au_cli_test(thin_limbs.cheburashka thin_limbs.sh cheburashka.off)
 au_cli_test(thin_limbs.hand_closed thin_limbs.sh hand_closed.obj)
+# The generated family's --spherical-areas maps meet the unrefined bounds on the spherical triangles.
+foreach(m limbs4 limbs8 coil tpose)
+  au_cli_test(thin_limbs.spherical.${m} thin_limbs_spherical.sh ${m})
+endforeach()
 
 # --density FILE (issue 6): per-face density 4 on half the ellipsoid, and bad density files.
 foreach(c half count negative missing)
