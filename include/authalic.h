@@ -421,8 +421,9 @@ struct au_expert {
   double face_gain;       /* refinement goes on while it gains this fraction in 4 steps (0.1;
                              refine_faces 0.02) */
   int sphere_areas;       /* sphere: 1 drive the spherical triangles' areas first, then polish the
-                             chord triangles' (1); 2 the spherical ones only (no polish); 0 chord
-                             triangles' throughout */
+                             chord triangles' (1); 2 the spherical ones only (no chord polish; the
+                             vertex polish is then of the spherical triangles); 0 chord triangles'
+                             throughout */
   double polish_gap;      /* sphere: polish only if the chord error exceeds the spherical one by more
                              than this fraction (0.1; refine_faces 0) */
   double restore;         /* sphere: shape restoring (0.1), as au_options.restore_shapes */
@@ -434,8 +435,9 @@ struct au_expert {
                              floor excess above this, is mapped again from the twisted start, the better
                              map kept (0.02; 0 off; docs/hard-meshes.md) */
   int vertex_polish;      /* sphere: a map still missing tol gets at most this many sweeps of the vertex
-                             polish (each vertex alone steps on its own triangles' chord areas), kept if
-                             its chord vertex error falls and per-face error does not rise (200; 0 off) */
+                             polish (each vertex alone steps on its own triangles' chord areas, or the
+                             spherical ones' with sphere_areas 2), kept if its vertex error falls and its
+                             per-face error does not rise, in that measure (200; 0 off) */
   double polish_cells;    /* sphere: the vertex polish's weight of the vertex cells against the faces (1) */
   double resolved_jump;   /* a start whose mean jump of log r across edges is at most this runs the
                              resolved schedule (0.1; refine_faces 0: never) */
@@ -535,8 +537,9 @@ typedef struct au_convergence {
   double twist_err;  /* with a twisted retry: its map's vertex error (as retry_err) */
   int vertex_polish; /* sphere: 0 none; 1 the vertex polish ran and was discarded; 2 it was kept */
   int polish_sweeps; /* with a vertex polish: its sweeps */
-  double polish_err[4]; /* with a vertex polish: chord vertex error before and after it, per-face mean
-                           |r - 1| before and after */
+  double polish_err[4]; /* with a vertex polish: vertex error before and after it, per-face mean |r - 1|
+                           before and after (of the spherical triangles for a map of spherical areas
+                           only, au_expert.sphere_areas 2; else of the chord ones) */
   int staged_retry;  /* sphere: 0 none; 1 the staged retry (squeezed protrusions: the flow again from the
                         start, in stages) ran and was discarded; 2 its map was kept */
   int staged_stages; /* with a staged retry: its stages (the last run, to the shares, not counted) */

@@ -30,9 +30,10 @@ typedef struct au_sphere_opts {
                            above this, it is made again from the twisted start (au_sphere_twisted) and
                            the map with the lower vertex error kept (retry_err; default 0.02; 0 off) */
   int vertex_polish;    /* > 0: a map that misses its tolerance gets at most this many sweeps of the vertex
-                           polish (au_sphere_vertex_polish), kept if its chord vertex error falls and its
-                           per-face error does not rise (default 50; 0 off). Not with flow.sphere_areas
-                           2, a map of the spherical triangles: the polish is of the chord ones */
+                           polish (au_sphere_vertex_polish), kept if its vertex error falls and its
+                           per-face error does not rise (default 200; 0 off); both of the chord
+                           triangles, or with flow.sphere_areas 2 (a map of the spherical triangles) of
+                           the spherical ones, for the polish's steps as for the comparison */
   double polish_cells;  /* the polish's weight of the vertex cells against the faces (default 1) */
   int staged_retry;     /* > 0: a map that misses its tolerance with at least 1% of the surface in vertex
                            cells under 1/e of their share (squeezed protrusions the flow did not open up,
@@ -67,8 +68,8 @@ typedef struct au_sphere_report {
   int refine_kept_input;  /* au_sphere_refine: 1 if neither refinement beat the input's map */
   int polish;             /* 0: no vertex polish; 1: it ran and was discarded; 2: it was kept */
   int polish_sweeps;      /* with a polish: its sweeps */
-  double polish_err[4];   /* with a polish: chord vertex error before and after, per-face mean |r - 1|
-                             before and after */
+  double polish_err[4];   /* with a polish: vertex error before and after, per-face mean |r - 1| before
+                             and after (the spherical triangles' with flow.sphere_areas 2, else chord) */
 } au_sphere_report;
 
 /* Fold-free spherical conformal map of a closed genus-0 mesh.
@@ -94,7 +95,8 @@ au_status au_sphere_twisted(const au_mesh *m, const au_topo *t, double *P, int *
 au_status au_sphere_twisted_strong(const au_mesh *m, const au_topo *t, double *P, int *nsheared, au_msg *msg);
 
 /* The vertex polish: after the flow, each vertex in turn takes a damped Gauss-Newton step in its
- * tangent plane on its own triangles' chord areas (C / T - 1, T the share of the chord triangles' total)
+ * tangent plane on its own triangles' chord areas (C / T - 1, T the share of the chord triangles' total;
+ * with po->spherical the spherical triangles' areas and 4 pi)
  * and its cells' (cell_weight x log of cell over share, scaled by faces per vertex), halved until that
  * falls with no triangle turned over; sweeps over all vertices until the vertex cells' mean |log ratio|
  * is at most tol or fell by less than 0.2% in the last sweep, at most max_sweeps. The flow moves every
@@ -113,8 +115,9 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
                                   const au_polish_opts *po, int *sweeps, au_msg *msg);
 
 /* au_sphere_vertex_polish with o->vertex_polish sweeps and o->polish_cells, on a copy of P, which
- * replaces P when its chord vertex error is lower and its per-face error not higher (au_sphere_map runs it
- * on a map that misses its tolerance). rep->polish, polish_sweeps and polish_err tell what happened.
+ * replaces P when its vertex error is lower and its per-face error not higher, both in the map's measure
+ * (the spherical triangles' for flow.sphere_areas 2, else the chord ones'; au_sphere_map runs it on a
+ * map that misses its tolerance). rep->polish, polish_sweeps and polish_err tell what happened.
  * o->flow.cancel is honoured between sweeps. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED (P
  * unchanged). */
 au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,

@@ -1,5 +1,6 @@
-/* au_sphere_polish.c - the vertex polish: a sphere map's chord triangles brought nearer their shares one
- * vertex at a time (nonlinear Gauss-Seidel), after the flow.
+/* au_sphere_polish.c - the vertex polish: a sphere map's chord triangles (or, for a map of spherical
+ * areas only, its spherical ones) brought nearer their shares one vertex at a time (nonlinear
+ * Gauss-Seidel), after the flow.
  *
  * Why: the flow moves the whole map along one velocity field, the gradient of a potential. Where long,
  * thin chord triangles sit on their floor (a leg's or a finger's base, docs/hard-meshes.md) the field
@@ -212,7 +213,8 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
   double verr_last = INFINITY;
   for (int sweep = 0; sweep < max_sweeps; sweep++) {
     /* The shares are of the chord triangles' total, as the metrics measure them; it moves a little
-     * with every vertex, so the targets follow it once a sweep. */
+     * with every vertex, so the targets follow it once a sweep (the spherical triangles' total is 4 pi
+     * throughout). */
     if (po->spherical) au_dec_sphere_face_areas(nf, F, P, C);
     else au_dec_face_areas(nf, F, P, C);
     double sC = 0;
