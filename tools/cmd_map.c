@@ -204,8 +204,9 @@ static int read_density(const char *path, int nv, int nf, double **out, int *cou
   return -1;
 }
 
-/* The one summary line on stderr. */
-static void summary(int cmd, const au_result *r, double seconds) {
+/* The one summary line on stderr; a map of spherical areas (--spherical-areas) also gives its own
+ * measure, the spherical triangles' (the chord figures of such a map stay far off on long edges). */
+static void summary(int cmd, const au_result *r, int spherical, double seconds) {
   const au_metrics *f = &r->metrics;
   if (cmd == CLI_SPHERE) {
     /* The retries that ran: " (lantern retry discarded; twisted start kept)". */
@@ -222,8 +223,11 @@ static void summary(int cmd, const au_result *r, double seconds) {
     for (int k = 0; k < 4; k++)
       if (*part[k]) len += (size_t)snprintf(tail + len, sizeof tail - len, "%s%s", len ? "; " : " (", part[k]);
     if (len) snprintf(tail + len, sizeof tail - len, ")");
-    fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g time=%.2fs%s\n", r->nv,
-            r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs, seconds, tail);
+    char sph[96] = "";
+    if (spherical)
+      snprintf(sph, sizeof sph, " sph|r-1|=%.3g sph vertex|log r|=%.3g", f->sph_r_mean_abs_dev, f->sph_vertex_logr_mean_abs);
+    fprintf(stderr, "authalic: sphere: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g%s time=%.2fs%s\n", r->nv,
+            r->nf, r->conv.steps, f->folds, f->r_mean_abs_dev, f->vertex_logr_mean_abs, sph, seconds, tail);
     return;
   }
   char extra[160] = "";
@@ -372,7 +376,7 @@ static int run_map(const cli_args *a, au_options *o) {
             strerror(errno));
     rc = EXIT_INTERNAL;
   }
-  if (rc == EXIT_OK && !quiet) summary(a->cmd, r, cli_now() - t_start);
+  if (rc == EXIT_OK && !quiet) summary(a->cmd, r, a->val[OPT_SPHERICAL_AREAS] != NULL, cli_now() - t_start);
 done:
   /* Temporaries not renamed (a failure anywhere after they were written) go. */
   if (wrote_surf) unlink(surf_tmp), unlink(parents_tmp);
