@@ -92,6 +92,8 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
   if (o->expert && (o->expert->vertex_polish < 0 || !(o->expert->polish_cells >= 0) || isinf(o->expert->polish_cells)))
     return au_msg_set(msg, AU_E_ARG, "expert vertex_polish: expected sweeps >= 0 and polish_cells >= 0");
   if (o->expert && o->expert->staged_retry < 0) return au_msg_set(msg, AU_E_ARG, "expert staged_retry: expected stages >= 0");
+  if (o->spherical_areas != 0 && o->spherical_areas != 1)
+    return au_msg_set(msg, AU_E_ARG, "spherical_areas %d: expected 0 or 1", o->spherical_areas);
   if (!(o->inner_radius >= 0 && o->inner_radius < 1))
     return au_msg_set(msg, AU_E_ARG, "inner_radius: expected 0 < r < 1 (0: the conformal modulus's)");
   if (o->boundary != AU_BOUNDARY_SLIDE && o->boundary != AU_BOUNDARY_FIXED)
@@ -120,6 +122,7 @@ static void flow_options(au_target t, const au_options *o, progress_ctx *pc, au_
     sphere->staged_retry = e->staged_retry;
   }
   if (o->expert) au__flow_from_expert(o->expert, f);
+  if (o->spherical_areas && t == AU_TARGET_SPHERE) f->sphere_areas = 2;
   if (o->max_steps > 0) f->max_steps = o->max_steps;
   if (o->tol >= 0) f->tol = o->tol;
   if (o->restore_shapes >= 0) f->restore = o->restore_shapes;

@@ -394,6 +394,11 @@ typedef struct au_options {
   double refine_max_faces; /* sphere with refine_mesh: the refined mesh has at most this many times the
                               input's faces, 1 < x <= AU_REFINE_MAX_FACES; 0 (default): 2. Long thin limbs gain from
                               more (docs/hard-meshes.md) */
+  int spherical_areas;    /* sphere: 1: equalize the spherical triangles' areas only, with no chord polish
+                             (the map `authalic texture` and `sample` make for themselves: texels and
+                             grid cells lie on the sphere; au_metrics' sph_ figures measure it, its chord
+                             figures stay higher on long edges); overrides expert->sphere_areas.
+                             0 (default): the chord triangles' areas, as param-eval's headline figures */
 } au_options;
 
 AU_API au_options au_options_default(void);

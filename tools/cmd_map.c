@@ -318,12 +318,7 @@ static int run_map(const cli_args *a, au_options *o) {
     else o->face_density = density;
   }
   /* --spherical-areas: the map the texture command computes for itself (cmd_texture.c, get_map). */
-  au_expert ex;
-  if (a->val[OPT_SPHERICAL_AREAS]) {
-    ex = au_expert_default(AU_TARGET_SPHERE, o->refine_faces);
-    ex.sphere_areas = 2;
-    o->expert = &ex;
-  }
+  o->spherical_areas = a->val[OPT_SPHERICAL_AREAS] != NULL;
   if (!quiet) o->progress = cli_progress, o->user = &prog;
   o->measure_start = report != NULL; /* only the report shows the start's metrics */
   au_status st = au_map(m->X, m->nv, m->F, m->nf, t, o, &r, &msg);

@@ -206,9 +206,7 @@ static int get_map(const tex_args *a, const au_mesh *m, double *P, cli_warnings 
      * spherical triangle's. So the flow drives the spherical areas only and skips the chord polish,
      * which trades spherical error for chordal (spot_lowres: spherical per-face 0.0401 with the
      * polish, 0.0089 without; docs/textures.md). `authalic sphere`'s maps are unchanged. */
-    au_expert ex = au_expert_default(AU_TARGET_SPHERE, 0);
-    ex.sphere_areas = 2;
-    opts.expert = &ex;
+    opts.spherical_areas = 1;
     if (!a->quiet) opts.progress = cli_progress, opts.user = &prog;
     au_result *r = NULL;
     st = au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &opts, &r, &msg);

@@ -519,10 +519,10 @@ def _real_opt(name, v, lo, hi, lo_open=False, hi_open=False):
 
 _PLANAR_ONLY = {"boundary": "disk, annulus and square", "inner_radius": "annulus", "outer_loop": "annulus",
                 "corners": "square", "restore_shapes": "sphere", "balance": "sphere", "lattice": "torus",
-                "refine_mesh": "sphere", "refine_budget": "sphere"}
+                "refine_mesh": "sphere", "refine_budget": "sphere", "spherical_areas": "sphere"}
 _APPLIES = {"boundary": ("disk", "annulus", "square"), "inner_radius": ("annulus",), "outer_loop": ("annulus",),
             "corners": ("square",), "restore_shapes": ("sphere",), "balance": ("sphere",), "lattice": ("torus",),
-            "refine_mesh": ("sphere",), "refine_budget": ("sphere",)}
+            "refine_mesh": ("sphere",), "refine_budget": ("sphere",), "spherical_areas": ("sphere",)}
 
 
 def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_only, extra):
@@ -599,6 +599,12 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
         if not extra.get("refine_mesh"):
             _bad("refine_budget: applies with refine_mesh=True only")
         o.refine_max_faces = _real_opt("refine_budget", v, 1, _lib.AU_REFINE_MAX_FACES, True)
+    v = extra.get("spherical_areas")
+    if v not in (None, False, True):
+        _bad("spherical_areas %r: expected True or False" % (v,))
+    if v:
+        o.spherical_areas = 1
+        flow_given.append("spherical_areas")
     v = extra.get("lattice")
     if v is not None:
         if v not in _lib.AU_LATTICES:
@@ -694,7 +700,7 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
 
     target: "sphere", "disk", "annulus", "square" or "torus". The other arguments are those of
     sphere(), disk(), annulus(), square() and torus(), whose manuals say more; the target-specific
-    keywords (restore_shapes, balance, refine_mesh, refine_budget; boundary; inner_radius, outer_loop;
+    keywords (restore_shapes, balance, refine_mesh, refine_budget, spherical_areas; boundary; inner_radius, outer_loop;
     corners; lattice) are accepted for their targets only. Use this rather than square() when the square may split edges (MapResult.F then
     has more faces than F, and MapResult.X the split midpoints).
 
@@ -777,9 +783,10 @@ _RETURNS_DOC = """
 
 
 def sphere(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=False, progress=False, *,
-           restore_shapes=None, balance=True, init_only=False):
+           restore_shapes=None, balance=True, spherical_areas=False, init_only=False):
     r = map_mesh(V, F, "sphere", steps, tol, density, angles, refine_faces, progress, init_only, _stacklevel=3,
-                 restore_shapes=restore_shapes, balance=None if balance else False)
+                 restore_shapes=restore_shapes, balance=None if balance else False,
+                 spherical_areas=spherical_areas or None)
     return r.P, r.info
 
 
@@ -793,6 +800,13 @@ sphere.__doc__ = """Map a closed genus-0 triangle mesh onto the unit sphere with
     restore_shapes: while the spherical areas are driven, each step's shear aims this fraction
         (0..1) back at the surface's triangle shapes (None: 0.1; 0: off).
     balance: Moebius-balance the conformal start (default True).
+    spherical_areas: True to equalize the spherical triangles' areas only, with no chord polish: the
+        map `authalic texture` and `sample` make for themselves (texels and grid cells lie on the
+        sphere). info["metrics"]["sph_r_mean_abs_dev"] and ["sph_vertex_logr_mean_abs"] measure it;
+        its chord figures (r_mean_abs_dev, vertex_logr_mean_abs) stay higher on long edges. On long,
+        thin limbs the difference is large (data/tpose.obj: spherical 0.0118 / 0.0028, chord 0.53 /
+        0.38; docs/hard-meshes.md). False (default): the chord triangles' areas, param-eval's
+        headline figures.
 
     Returns (S, info): S float64 (nv, 3), the map, unit vectors in the order of V (unreferenced
     vertices stay at (0, 0, 1)); with the program's OMP_THREAD_LIMIT=1 OPENBLAS_NUM_THREADS=1 (the

@@ -55,6 +55,9 @@ OPTIONS = [
     ("refine-budget", "K", ("sphere",), "with --refine-mesh: at most K times the input's faces instead of twice (K "
                                         "above 1, at most %d)" % _lib.AU_REFINE_MAX_FACES),
     ("no-balance", None, ("sphere",), "skip the Moebius balancing of the conformal start"),
+    ("spherical-areas", None, ("sphere",), "equalize the spherical triangles' areas and skip the chord polish: the "
+                                           "map `texture` and `sample` make for themselves (closer texture areas; "
+                                           "param-eval's chord figures are higher)"),
     ("lattice", "SHAPE", ("torus",), "conformal (default): the conformal modulus's lattice, area 1; square: the unit "
                                      "square's"),
     ("init-only", None, COMMANDS, "stop after the initial (conformal or harmonic) map, for comparison"),
@@ -62,7 +65,7 @@ OPTIONS = [
     ("help", None, COMMANDS, "this text"),
 ]
 FLOW_ONLY = ("steps", "tol", "density", "refine-faces", "refine-mesh", "refine-budget", "restore-shapes", "angles",
-             "boundary")
+             "spherical-areas", "boundary")
 
 
 class Usage(Exception):
@@ -132,7 +135,7 @@ def parse(argv):
         raise Usage("empty file name")
     if "init-only" in vals and any(k in vals for k in FLOW_ONLY):
         raise Usage("--init-only runs no advection: --steps, --tol, --density, --boundary, --refine-faces, "
-                    "--refine-mesh, --refine-budget, --restore-shapes and --angles do not apply")
+                    "--refine-mesh, --refine-budget, --restore-shapes, --angles and --spherical-areas do not apply")
     if "refine-budget" in vals and "refine-mesh" not in vals:
         raise Usage("--refine-budget applies to --refine-mesh, which is not given")
     if "refine-mesh" in vals and "density" in vals:
@@ -198,6 +201,8 @@ def map_kwargs(cmd, vals):
     kw["init_only"] = "init-only" in vals
     if "no-balance" in vals:
         kw["balance"] = False
+    if "spherical-areas" in vals:
+        kw["spherical_areas"] = True
     if "boundary" in vals:
         if vals["boundary"] not in ("slide", "fixed"):
             raise Usage("--boundary '%s': expected slide or fixed" % vals["boundary"])
@@ -343,7 +348,7 @@ class Progress:
         self.drawn = False
 
 
-def summary(cmd, r, seconds):
+def summary(cmd, r, seconds, spherical=False):
     m = r.info["metrics"]
     head = "authalic: %s: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g" % (
         cmd, r.P.shape[0], r.F.shape[0], r.info["steps"], m["folds"], m["r_mean_abs_dev"] or math.nan,
@@ -363,6 +368,9 @@ def summary(cmd, r, seconds):
             ([("staged retry kept" if sr["kept"] else "staged retry discarded")] if sr else []) + \
             ([("vertex polish kept" if vp["kept"] else "vertex polish discarded")] if vp else [])
         tail = " (%s)" % "; ".join(parts) if parts else ""
+        if spherical:
+            head += " sph|r-1|=%.3g sph vertex|log r|=%.3g" % (m["sph_r_mean_abs_dev"] or math.nan,
+                                                               m["sph_vertex_logr_mean_abs"] or math.nan)
         sys.stderr.write("%s time=%.2fs%s\n" % (head, seconds, tail))
         return
     extra = ""
@@ -471,7 +479,7 @@ def run(cmd, src, out, vals):
             if f and os.path.exists(f):
                 os.unlink(f)
     if not quiet:
-        summary(cmd, r, time.monotonic() - t_start)
+        summary(cmd, r, time.monotonic() - t_start, "spherical-areas" in vals)
     return EXIT_OK
 
 

@@ -163,6 +163,9 @@ def test_bad_input_errors(tmp_path, star):
     (lambda V, F: authalic.map_mesh(V, F, "disk", refine_mesh=True), "sphere"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh="no"), "refine_mesh"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, density=np.ones(V.shape[0])), "density"),
+    (lambda V, F: authalic.map_mesh(V, F, "disk", spherical_areas=True), "sphere"),
+    (lambda V, F: authalic.sphere(V, F, spherical_areas="yes"), "spherical_areas"),
+    (lambda V, F: authalic.sphere(V, F, spherical_areas=True, init_only=True), "init_only"),
 ])
 def test_bad_arguments(star, call, match):
     with pytest.raises(authalic.BadInputError, match=match):

@@ -32,7 +32,8 @@ def keys(d, prefix=""):
 
 
 @pytest.mark.parametrize("cmd, src, opts", [("sphere", STAR, []), ("disk", DISK, ["--steps", "6"]),
-                                            ("square", DISK, ["--boundary", "fixed"])])
+                                            ("square", DISK, ["--boundary", "fixed"]),
+                                            ("sphere", STAR, ["--spherical-areas"])])
 def test_same_output_and_report_as_the_program(tmp_path, cmd, src, opts):
     prog = cli()
     a = subprocess.run([prog, cmd, src, tmp_path / "c.obj", "--report", tmp_path / "c.json"] + opts,
@@ -60,6 +61,7 @@ def test_same_output_and_report_as_the_program(tmp_path, cmd, src, opts):
     (["sphere", STAR, "o.obj", "--corners", "1,2,3,4"], "unknown option"),
     (["sphere", STAR, "o.obj", "--steps", "3", "--steps", "4"], "twice"),
     (["sphere", STAR, "o.obj", "--init-only", "--steps", "3"], "--init-only"),
+    (["sphere", STAR, "o.obj", "--init-only", "--spherical-areas"], "--spherical-areas do not apply"),
     (["sphere", STAR, "o.xyz"], "cannot write"),
     (["sphere", STAR, STAR], "input file"),
     (["sphere", "missing.obj", "o.obj"], "missing.obj"),
