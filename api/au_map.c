@@ -94,6 +94,11 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
   if (o->expert && o->expert->staged_retry < 0) return au_msg_set(msg, AU_E_ARG, "expert staged_retry: expected stages >= 0");
   if (o->spherical_areas != 0 && o->spherical_areas != 1)
     return au_msg_set(msg, AU_E_ARG, "spherical_areas %d: expected 0 or 1", o->spherical_areas);
+  /* The refinement splits where chord triangles cannot shrink to their shares and judges by chord
+   * errors; a map of spherical areas has no such floor (and its refined maps read worse in chord
+   * terms: docs/hard-meshes.md, session 18). */
+  if (o->refine_mesh && (o->spherical_areas || (o->expert && o->expert->sphere_areas == 2)))
+    return au_msg_set(msg, AU_E_ARG, "refine_mesh does not take spherical_areas (spherical triangles have no chord floor to refine)");
   if (!(o->inner_radius >= 0 && o->inner_radius < 1))
     return au_msg_set(msg, AU_E_ARG, "inner_radius: expected 0 < r < 1 (0: the conformal modulus's)");
   if (o->boundary != AU_BOUNDARY_SLIDE && o->boundary != AU_BOUNDARY_FIXED)

@@ -28,9 +28,7 @@ int main(int argc, char **argv) {
   au_msg msg = {{0}};
   if (au_mesh_read(argv[1], &m, &msg) < 0) return fprintf(stderr, "%s\n", msg.text), 2;
   au_options o = au_options_default();
-  au_expert ex = au_expert_default(AU_TARGET_SPHERE, 0);
-  ex.sphere_areas = 2;
-  o.expert = &ex;
+  o.spherical_areas = 1;
   au_status st = au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &r, &msg);
   if (st < 0) return fprintf(stderr, "%s: %s\n", argv[1], msg.text), au_status_is_input_error(st) ? 2 : 1;
   if (au_mesh_write(argv[2], r->nv, r->P, r->nf, r->F, NULL, &msg) < 0) return fprintf(stderr, "%s\n", msg.text), 1;

@@ -81,8 +81,9 @@ typedef struct au_advect_opts {
   /* ---- sphere only (least shear) ---- */
   int sphere_areas;     /* 1: the flow drives the areas of the spherical triangles, then polishes those of
                            the chord triangles (the ones param-eval measures); 0: chord areas throughout
-                           (1); 2: spherical areas only, no polish (for textures, whose straight
-                           triangles tend to the spherical ones). A chord triangle keeps a sizeable
+                           (1); 2: spherical areas only, no chord polish (for textures, whose straight
+                           triangles tend to the spherical ones; au_sphere_map's vertex polish is then
+                           of the spherical triangles too). A chord triangle keeps a sizeable
                            area when its corners come onto one great circle, so a chord-area flow
                            cannot see that sliver forming and jams on it */
   double polish_gap;    /* the chord polish runs only if the chord triangles' per-face error exceeds the
@@ -91,7 +92,8 @@ typedef struct au_advect_opts {
   double restore;       /* in the spherical part, each step's shear aims this fraction of the way back to
                            triangles similar to the surface's, fading out as the vertex error falls below
                            0.1 (0..1; 0.1; 0: off): fewer long, thin triangles. Not in the polish nor on
-                           planar domains, where it kept the areas from converging */
+                           planar domains, where it kept the areas from converging; with sphere_areas
+                           2, off for the rest of a run once a restoring step was undone */
   double lantern;       /* in the spherical part, once the vertex error is below 1: a face's shape restoring
                            is raised to min(1, restore (1 + lantern rho)), rho = l^3 / (16 share), l its
                            longest chord edge and share its target area. l^3 / 16 is the least chord area a

@@ -362,7 +362,8 @@ typedef struct au_options {
   const double *face_density;   /* [0..nf-1], the same per face; NULL (default) */
   double restore_shapes;  /* sphere: while the spherical areas are driven, each step's shear aims this
                              fraction (0..1) back at the surface's triangle shapes (fewer long, thin
-                             triangles); negative (default -1): 0.1 */
+                             triangles); negative (default -1): 0.1. With spherical_areas it goes off for
+                             the rest of a run once a restoring step was undone */
   int balance;            /* sphere: 1 (default) Moebius-balance the conformal start; 0 skip */
   int init_only;          /* 1: stop after the initial (conformal / harmonic) map; 0 (default) */
   au_boundary boundary;   /* planar targets: default AU_BOUNDARY_SLIDE */
@@ -397,8 +398,11 @@ typedef struct au_options {
   int spherical_areas;    /* sphere: 1: equalize the spherical triangles' areas only, with no chord polish
                              (the map `authalic texture` and `sample` make for themselves: texels and
                              grid cells lie on the sphere; au_metrics' sph_ figures measure it, its chord
-                             figures stay higher on long edges); overrides expert->sphere_areas.
-                             0 (default): the chord triangles' areas, as param-eval's headline figures */
+                             figures stay higher on long edges); overrides expert->sphere_areas. Not
+                             with refine_mesh (AU_E_ARG: spherical triangles have no chord floor to
+                             refine). With angle_steps, the angle steps hold the chord cells. 0
+                             (default): expert->sphere_areas, by default 1: the chord triangles'
+                             areas, param-eval's headline figures */
 } au_options;
 
 AU_API au_options au_options_default(void);
@@ -544,7 +548,8 @@ typedef struct au_convergence {
   int polish_sweeps; /* with a vertex polish: its sweeps */
   double polish_err[4]; /* with a vertex polish: vertex error before and after it, per-face mean |r - 1|
                            before and after (of the spherical triangles for a map of spherical areas
-                           only, au_expert.sphere_areas 2; else of the chord ones) */
+                           only, au_options.spherical_areas or au_expert.sphere_areas 2; else of the
+                           chord ones) */
   int staged_retry;  /* sphere: 0 none; 1 the staged retry (squeezed protrusions: the flow again from the
                         start, in stages) ran and was discarded; 2 its map was kept */
   int staged_stages; /* with a staged retry: its stages (the last run, to the shares, not counted) */
@@ -773,8 +778,9 @@ typedef struct au_tex_opts {
                           mean |r - 1| (spherical areas), at least 0.001 */
   int max_rounds;      /* rounds of splitting for area, 0..64 (16; with a target, rounds that split
                           for area); splitting for folds goes on until none is left, or gives up
-                          (AU_E_NUMERIC) after 64 rounds (with a target: after the last area split)
-                          or when the folds rise 8 rounds in a row */
+                          (AU_E_NUMERIC) when the folds have not come down to a new low for 1024
+                          rounds, after 4096 rounds (with a target: after the last area split), at
+                          64x the faces, or when the folds rise 8 rounds in a row */
   int area_rule;       /* with area splitting: 0 (default) both rules below and no area splits at all,
                           the best kept (au_tex_mesh.vt_err_mean, area_dropped): with a target, the
                           fewest faces among those that meet it, else the lowest per-face texture

@@ -6,7 +6,9 @@
  * thin chord triangles sit on their floor (a leg's or a finger's base, docs/hard-meshes.md) the field
  * that would shrink them also stretches their neighbours, and its steps shrink to nothing. A single
  * vertex has no such tie: moved alone in its tangent plane it can slide along a long edge towards one
- * end, which lowers that edge's chord floor, while every triangle around it stays the right way up. */
+ * end, which lowers that edge's chord floor, while every triangle around it stays the right way up.
+ * A map of spherical areas only (au_polish_opts.spherical) has no chord floor, but the same slides
+ * clear local errors the flow leaves (limbs8: spherical vertex error 0.0066 -> 0.0036). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,7 +54,7 @@ typedef struct star {
   int face[POLISH_MAX_DEGREE], b[POLISH_MAX_DEGREE], c[POLISH_MAX_DEGREE];
   int cellv[POLISH_MAX_DEGREE + 1];             /* vertex of each local cell; cellv[0] = v */
   int fcell[POLISH_MAX_DEGREE][3];              /* local cells of (v, b, c) */
-  double area0[POLISH_MAX_DEGREE];              /* chord areas before the move */
+  double area0[POLISH_MAX_DEGREE];              /* areas before the move (the polish's measure) */
   double orient0[POLISH_MAX_DEGREE];            /* spherical orientations (triple products) before it */
 } star;
 
@@ -66,10 +68,10 @@ static int local_cell(star *s, int u) {
 typedef struct polish_ctx {
   const int *F;
   double *P;
-  const double *T;  /* face targets (chord area) */
+  const double *T;  /* face targets (areas in the polish's measure: chord or spherical) */
   const double *Tc; /* cell targets */
-  double *C;        /* current chord areas */
-  double *cell;     /* current cells: a third of the chord areas of the faces around */
+  double *C;        /* current face areas, in that measure */
+  double *cell;     /* current cells: a third of the areas of the faces around */
   double cw;        /* weight of a cell's residual */
   int spherical;    /* the spherical triangles' areas instead of the chord ones' */
 } polish_ctx;

@@ -166,6 +166,9 @@ static int bad_options(void) {
   o = au_options_default(), o.spherical_areas = 2;
   AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &r, &msg), AU_E_ARG, &msg);
   AU_CHECK(strstr(msg.text, "spherical_areas") != NULL);
+  o = au_options_default(), o.spherical_areas = 1, o.refine_mesh = 1;
+  AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &r, &msg), AU_E_ARG, &msg);
+  AU_CHECK(strstr(msg.text, "refine_mesh does not take spherical_areas") != NULL);
   au_expert ex = au_expert_default(AU_TARGET_SPHERE, 0);
   ex.staged_retry = -1;
   o = au_options_default(), o.expert = &ex;
@@ -488,6 +491,12 @@ static int spherical_areas(void) {
   au_expert e = au_expert_default(AU_TARGET_SPHERE, 0);
   e.sphere_areas = 2;
   o = au_options_default(), o.expert = &e;
+  AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &b, NULL) >= 0);
+  AU_CHECK_INT(memcmp(a->P, b->P, sizeof(double) * 3 * (size_t)m->nv), ==, 0);
+  au_result_free(&b);
+  /* The option overrides the expert's sphere_areas. */
+  e.sphere_areas = 1;
+  o.spherical_areas = 1;
   AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &b, NULL) >= 0);
   AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, NULL, &c, NULL) >= 0);
   printf("limbs4 spherical areas: spherical %.4f / %.4f, chord %.4f / %.4f; default map chord %.4f / %.4f\n",

@@ -831,8 +831,11 @@ static int vertex_polish_spherical(void) {
           rep[1].polish_sweeps, rep[1].polish);
   AU_CHECK_INT(rep[0].polish, ==, 0);
   AU_CHECK_INT(rep[1].polish, ==, 2);
+  AU_CHECK_INT(rep[1].polish_sweeps, >=, 1);
   AU_CHECK_NEAR(rep[1].polish_err[0], q[0].sph_vertex_logr_mean_abs, 1e-9);
   AU_CHECK_NEAR(rep[1].polish_err[1], q[1].sph_vertex_logr_mean_abs, 1e-9);
+  AU_CHECK_NEAR(rep[1].polish_err[2], q[0].sph_r_mean_abs_dev, 1e-9);
+  AU_CHECK_NEAR(rep[1].polish_err[3], q[1].sph_r_mean_abs_dev, 1e-9);
   AU_CHECK_DBL(q[1].sph_vertex_logr_mean_abs, <=, 0.8 * q[0].sph_vertex_logr_mean_abs);
   AU_CHECK_DBL(q[1].sph_r_mean_abs_dev, <=, 0.9 * q[0].sph_r_mean_abs_dev);
   unload(&L);

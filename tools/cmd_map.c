@@ -135,6 +135,9 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
     return cli_usage_error(a->help, "--refine-budget applies to --refine-mesh, which is not given");
   if (a->val[OPT_REFINE_MESH] && a->val[OPT_DENSITY])
     return cli_usage_error(a->help, "--refine-mesh does not take --density (the new vertices and faces would have none)");
+  if (a->val[OPT_REFINE_MESH] && a->val[OPT_SPHERICAL_AREAS])
+    return cli_usage_error(a->help, "--refine-mesh does not take --spherical-areas (spherical triangles have no chord floor "
+                                    "to refine)");
   const char *v = a->val[OPT_FORMAT];
   if (v && au_io_format_parse(v) == AU_IO_FORMAT_AUTO)
     return cli_usage_error(a->help, "--format '%s': expected obj, off, ply, freesurfer or gifti", v);

@@ -786,7 +786,7 @@ def sphere(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=Fals
            restore_shapes=None, balance=True, spherical_areas=False, init_only=False):
     r = map_mesh(V, F, "sphere", steps, tol, density, angles, refine_faces, progress, init_only, _stacklevel=3,
                  restore_shapes=restore_shapes, balance=None if balance else False,
-                 spherical_areas=spherical_areas or None)
+                 spherical_areas=spherical_areas)
     return r.P, r.info
 
 

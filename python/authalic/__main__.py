@@ -140,6 +140,8 @@ def parse(argv):
         raise Usage("--refine-budget applies to --refine-mesh, which is not given")
     if "refine-mesh" in vals and "density" in vals:
         raise Usage("--refine-mesh does not take --density (the new vertices and faces would have none)")
+    if "refine-mesh" in vals and "spherical-areas" in vals:
+        raise Usage("--refine-mesh does not take --spherical-areas (spherical triangles have no chord floor to refine)")
     return cmd, pos[0], pos[1], vals
 
 

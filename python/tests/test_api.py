@@ -166,6 +166,7 @@ def test_bad_input_errors(tmp_path, star):
     (lambda V, F: authalic.map_mesh(V, F, "disk", spherical_areas=True), "sphere"),
     (lambda V, F: authalic.sphere(V, F, spherical_areas="yes"), "spherical_areas"),
     (lambda V, F: authalic.sphere(V, F, spherical_areas=True, init_only=True), "init_only"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", spherical_areas=True, refine_mesh=True), "refine_mesh"),
 ])
 def test_bad_arguments(star, call, match):
     with pytest.raises(authalic.BadInputError, match=match):

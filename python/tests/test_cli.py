@@ -62,6 +62,7 @@ def test_same_output_and_report_as_the_program(tmp_path, cmd, src, opts):
     (["sphere", STAR, "o.obj", "--steps", "3", "--steps", "4"], "twice"),
     (["sphere", STAR, "o.obj", "--init-only", "--steps", "3"], "--init-only"),
     (["sphere", STAR, "o.obj", "--init-only", "--spherical-areas"], "--spherical-areas do not apply"),
+    (["sphere", STAR, "o.obj", "--spherical-areas", "--refine-mesh", "s.obj"], "--refine-mesh does not take --spherical-areas"),
     (["sphere", STAR, "o.xyz"], "cannot write"),
     (["sphere", STAR, STAR], "input file"),
     (["sphere", "missing.obj", "o.obj"], "missing.obj"),

@@ -91,6 +91,10 @@ bad_combination)
   run sphere "$IN" "$OUT" --density "$T/d.txt" --refine-mesh "$T/o/surf.obj"
   expect_rejected '--refine-mesh does not take --density'
   [ ! -e "$T/o/surf.obj" ] || fail "a refused run wrote the refined surface"
+  # A map of spherical areas has no chord floor to refine.
+  run sphere "$IN" "$OUT" --spherical-areas --refine-mesh "$T/o/surf.obj"
+  expect_rejected '--refine-mesh does not take --spherical-areas'
+  [ ! -e "$T/o/surf.obj" ] || fail "a refused run wrote the refined surface"
   run sphere "$IN" "$OUT" --refine-budget 3
   expect_rejected '--refine-budget applies to --refine-mesh'
   ;;
