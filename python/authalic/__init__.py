@@ -525,6 +525,14 @@ _APPLIES = {"boundary": ("disk", "annulus", "square"), "inner_radius": ("annulus
             "refine_mesh": ("sphere",), "refine_budget": ("sphere",), "spherical_areas": ("sphere",)}
 
 
+def _flag_opt(name, v):
+    """A keyword that is True or False (None: not given, False); anything else (1, "no", an array) is
+    refused rather than read by its truth value."""
+    if v is not None and v is not True and v is not False:
+        _bad("%s %r: expected True or False" % (name, v))
+    return v is True
+
+
 def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_only, extra):
     """au_options from the keyword arguments, checked with the keywords' names; also returns the
     density array (to keep it alive during the call)."""
@@ -588,10 +596,7 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
             o.outer_loop = int(v)
         else:
             _bad("outer_loop %r: expected 'longer', 'shorter' or a vertex index" % (v,))
-    v = extra.get("refine_mesh")
-    if v not in (None, False, True):
-        _bad("refine_mesh %r: expected True or False" % (v,))
-    if v:
+    if _flag_opt("refine_mesh", extra.get("refine_mesh")):
         o.refine_mesh = 1
         flow_given.append("refine_mesh")
     v = extra.get("refine_budget")
@@ -599,10 +604,7 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
         if not extra.get("refine_mesh"):
             _bad("refine_budget: applies with refine_mesh=True only")
         o.refine_max_faces = _real_opt("refine_budget", v, 1, _lib.AU_REFINE_MAX_FACES, True)
-    v = extra.get("spherical_areas")
-    if v not in (None, False, True):
-        _bad("spherical_areas %r: expected True or False" % (v,))
-    if v:
+    if _flag_opt("spherical_areas", extra.get("spherical_areas")):
         o.spherical_areas = 1
         flow_given.append("spherical_areas")
     v = extra.get("lattice")

@@ -165,6 +165,8 @@ def test_bad_input_errors(tmp_path, star):
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, density=np.ones(V.shape[0])), "density"),
     (lambda V, F: authalic.map_mesh(V, F, "disk", spherical_areas=True), "sphere"),
     (lambda V, F: authalic.sphere(V, F, spherical_areas="yes"), "spherical_areas"),
+    (lambda V, F: authalic.sphere(V, F, spherical_areas=1), "spherical_areas"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=np.ones(2)), "refine_mesh"),
     (lambda V, F: authalic.sphere(V, F, spherical_areas=True, init_only=True), "init_only"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", spherical_areas=True, refine_mesh=True), "refine_mesh"),
 ])
