@@ -12,6 +12,9 @@ OUT=$T/o/map.obj
 run sphere "$IN" "$OUT" --spherical-areas --report "$T/o/r.json"
 expect_status 0
 expect_on_sphere "$OUT" 1e-12
+# The chord floor does not hold spherical triangles: no warning of it (limbs8 and tpose, which miss the
+# tolerance, had one before session 19).
+if grep -q 'chord area down' "$T/log/stderr"; then fail "a map of spherical areas warned of the chord floor"; fi
 said=$(sed -n 's/^authalic: sphere: .* sph|r-1|=\([^ ]*\) sph vertex|log r|=\([^ ]*\) time=.*/\1 \2/p' "$T/log/stderr")
 [ -n "$said" ] || fail "no spherical figures in the summary line"
 $PY - "$IN" "$OUT" "$T/o/r.json" $said <<'PYEOF' >"$T/log/sph" || fail "the spherical triangles of $1's map (above)"
