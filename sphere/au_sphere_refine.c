@@ -18,7 +18,11 @@
  * in one round. Where a limb's base is stretched around its ring (docs/hard-meshes.md, session 15),
  * its bands' corners stand over the ends of the long ring edges; splitting only a floor face's edge
  * puts the band's next face onto its floor, round after round, while splitting every long edge of a
- * band (ring edges and diagonals alike: they are about as long) keeps its corners over the ends. */
+ * band (ring edges and diagonals alike: they are about as long) keeps its corners over the ends.
+ *
+ * A fourth starts from the map of spherical areas (refine_spherical): there no face is held, and the
+ * faces whose chord triangles part most from their spherical ones are split, by their longest edges,
+ * again and again where they still part, before the flow runs once more. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,8 +34,9 @@
 /* A face counts as held by the floor when its chord floor exceeds this fraction of its share: from
  * there the polish's steps shrink towards nothing at it (docs/hard-meshes.md). The second candidate
  * also splits the band around such faces, whose floors are a tenth of their share and up; the third
- * (0) splits the longest edges of the map. */
-static const double refine_floor_share[] = {0.5, 0.1, 0};
+ * (0) splits the longest edges of the map, the fourth (-1) splits from the map of spherical areas
+ * (refine_spherical). The third and fourth run only where the first found a face held. */
+static const double refine_floor_share[] = {0.5, 0.1, 0, -1};
 
 /* Rounds of split and re-flow at most, each spending at most 1/AU_REFINE_SHARE of the face budget
  * left: after a re-flow the faces the floor holds are others than before, and a budget spent at once
@@ -199,6 +204,137 @@ static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const 
   return AU_OK;
 }
 
+/* The fourth candidate's splits (refine_spherical): the faces whose chord triangle is furthest from
+ * their spherical one in area, |ln(chord / spherical)| the most first, each by its longest edge, and
+ * the faces the splits make are candidates in turn, until the budget of cap faces is spent. m, P
+ * (a map of spherical areas) and the parents grow in place, as in split_round. */
+typedef struct kap_item {
+  double key;
+  int f, ver;
+} kap_item;
+
+static void kap_push(kap_item *h, int *n, kap_item it) {
+  int i = (*n)++;
+  while (i > 0 && h[(i - 1) / 2].key < it.key) h[i] = h[(i - 1) / 2], i = (i - 1) / 2;
+  h[i] = it;
+}
+
+static kap_item kap_pop(kap_item *h, int *n) {
+  kap_item top = h[0], last = h[--*n];
+  int i = 0;
+  for (;;) {
+    int c = 2 * i + 1;
+    if (c >= *n) break;
+    if (c + 1 < *n && h[c + 1].key > h[c].key) c++;
+    if (!(h[c].key > last.key)) break;
+    h[i] = h[c], i = c;
+  }
+  if (*n > 0) h[i] = last;
+  return top;
+}
+
+static double kap_key(const int *F, const double *P, int f) {
+  const double *a = P + 3 * F[3 * f], *b = P + 3 * F[3 * f + 1], *c = P + 3 * F[3 * f + 2];
+  double u[3], v[3];
+  for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], v[d] = c[d] - a[d];
+  double n0 = u[1] * v[2] - u[2] * v[1], n1 = u[2] * v[0] - u[0] * v[2], n2 = u[0] * v[1] - u[1] * v[0];
+  double chord = 0.5 * sqrt(n0 * n0 + n1 * n1 + n2 * n2), sph = fabs(au_dec_sphere_area(a, b, c, NULL));
+  return chord > 0 && sph > 0 ? fabs(log(chord / sph)) : INFINITY;
+}
+
+/* Replace face old by face nu among h's neighbours (h >= 0). */
+static void kap_relink(int *nb, int h, int old, int nu) {
+  for (int k = 0; h >= 0 && k < 3; k++)
+    if (nb[3 * h + k] == old) nb[3 * h + k] = nu;
+}
+
+static au_status split_by_kappa(au_mesh **mp, const au_topo *t, double **Pp, long cap, int **parent, double **param,
+                                int *nnew, au_msg *msg) {
+  const au_mesh *m = *mp;
+  const int nv = m->nv, nf = m->nf;
+  if (cap > 0x3fffffff) cap = 0x3fffffff;
+  const int nfmax = cap > nf ? (int)cap : nf, nvmax = nv + (nfmax - nf) / 2;
+  au_mesh *m2 = NULL;
+  double *P2 = malloc(sizeof(double) * 3 * (size_t)nvmax);
+  int *nb = malloc(sizeof(int) * 3 * (size_t)nfmax), *ver = calloc((size_t)nfmax, sizeof(int));
+  kap_item *h = malloc(sizeof *h * (3 * (size_t)nfmax));
+  int *par2 = realloc(*parent, sizeof(int) * 2 * (size_t)(*nnew + nvmax - nv + 1));
+  if (par2) *parent = par2;
+  double *prm2 = realloc(*param, sizeof(double) * (size_t)(*nnew + nvmax - nv + 1));
+  if (prm2) *param = prm2;
+  if (!P2 || !nb || !ver || !h || !par2 || !prm2 || au_mesh_alloc(nvmax, nfmax, &m2) != AU_OK) {
+    free(P2), free(nb), free(ver), free(h);
+    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  }
+  memcpy(m2->X, m->X, sizeof(double) * 3 * (size_t)nv);
+  memcpy(P2, *Pp, sizeof(double) * 3 * (size_t)nv);
+  memcpy(m2->F, m->F, sizeof(int) * 3 * (size_t)nf);
+  for (int f = 0; f < nf; f++)
+    for (int k = 0; k < 3; k++) {
+      int e = t->FE[3 * f + k];
+      nb[3 * f + k] = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+    }
+  int n = 0, vn = nv, fn = nf;
+  for (int f = 0; f < nf; f++) kap_push(h, &n, (kap_item){kap_key(m2->F, P2, f), f, 0});
+  int *F = m2->F;
+  while (n > 0 && fn + 2 <= nfmax) {
+    kap_item it = kap_pop(h, &n);
+    const int f = it.f;
+    if (it.ver != ver[f]) continue;
+    /* The longest chord edge of f, opposite its corner k: (u, v), c the corner; g across it, d its corner. */
+    int k = 0;
+    double lk = -1;
+    for (int q = 0; q < 3; q++) {
+      double l = dist3(P2 + 3 * F[3 * f + (q + 1) % 3], P2 + 3 * F[3 * f + (q + 2) % 3]);
+      if (l > lk) lk = l, k = q;
+    }
+    const int c = F[3 * f + k], u = F[3 * f + (k + 1) % 3], v = F[3 * f + (k + 2) % 3], g = nb[3 * f + k];
+    if (g < 0) continue;
+    int j = 0;
+    while (j < 3 && (F[3 * g + j] == u || F[3 * g + j] == v)) j++;
+    if (j == 3) continue;
+    const int d = F[3 * g + j];
+    /* f's neighbours across (c, u) and (v, c), g's across (d, v) and (u, d). */
+    const int f_cu = nb[3 * f + (k + 2) % 3], f_vc = nb[3 * f + (k + 1) % 3];
+    const int g_dv = nb[3 * g + (j + 2) % 3], g_ud = nb[3 * g + (j + 1) % 3];
+    const int mv = vn++, f2 = fn++, g2 = fn++;
+    double *x = m2->X + 3 * mv, *p = P2 + 3 * mv, r = 0;
+    for (int q = 0; q < 3; q++) {
+      x[q] = 0.5 * (m2->X[3 * u + q] + m2->X[3 * v + q]);
+      p[q] = P2[3 * u + q] + P2[3 * v + q];
+      r += p[q] * p[q];
+    }
+    r = sqrt(r);
+    for (int q = 0; q < 3; q++) p[q] /= r;
+    (*parent)[2 * *nnew] = u, (*parent)[2 * *nnew + 1] = v, (*param)[*nnew] = 0.5;
+    (*nnew)++;
+    /* f (c, u, v) -> f (c, u, m), f2 (c, m, v); g (d, v, u) -> g (d, v, m), g2 (d, m, u). Corner order
+     * keeps each face's orientation; neighbours are listed opposite corners 0, 1, 2. */
+#define FACE(q, a0, a1, a2, n0, n1, n2)                                                       \
+  (F[3 * (q)] = (a0), F[3 * (q) + 1] = (a1), F[3 * (q) + 2] = (a2), nb[3 * (q)] = (n0), \
+   nb[3 * (q) + 1] = (n1), nb[3 * (q) + 2] = (n2))
+    FACE(f, c, u, mv, g2, f2, f_cu);
+    FACE(f2, c, mv, v, g, f_vc, f);
+    FACE(g, d, v, mv, f2, g2, g_dv);
+    FACE(g2, d, mv, u, f, g_ud, g);
+#undef FACE
+    kap_relink(nb, f_vc, f, f2);
+    kap_relink(nb, g_ud, g, g2);
+    const int touched[4] = {f, f2, g, g2};
+    for (int q = 0; q < 4; q++) {
+      ver[touched[q]]++;
+      kap_push(h, &n, (kap_item){kap_key(F, P2, touched[q]), touched[q], ver[touched[q]]});
+    }
+  }
+  m2->nv = vn, m2->nf = fn;
+  free(nb), free(ver), free(h);
+  au_mesh_free(mp);
+  *mp = m2;
+  free(*Pp);
+  *Pp = P2;
+  return AU_OK;
+}
+
 /* One candidate: rounds of splits by floor_share and re-flows, from the map (m, P); with floor_share 0
  * (the longest edges) one round spending the whole budget: the longest edges after a re-flow are the
  * halves of the first round's (limbs4 at 2x the faces, from the flow's map: vertex error 0.0160 in one
@@ -276,6 +412,55 @@ static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_
   return st;
 }
 
+static double vertex_error(const au_mesh *m, const double *P);
+
+/* The fourth candidate, from the (polished) map (m, P): the flow and the polish of the spherical
+ * triangles' areas, then the splits where a face's chord triangle parts most from its spherical one
+ * (split_by_kappa, the whole budget in one go), the spherical flow again on the refined mesh, and the
+ * chord polish last. A map of spherical areas has no floor to fight, so its long, thin triangles come
+ * out where the chord and the sphere part, which is what the splits lift; the chord polish then moves
+ * the vertices the floor held (docs/hard-meshes.md, session 19: the thin-limbed family's refined maps,
+ * limbs8 at twice the faces 0.1219 / 0.0560 -> 0.0568 / 0.0246, tpose 0.2373 / 0.1134 -> 0.0976 /
+ * 0.0509). */
+static au_status refine_spherical(const au_mesh *m, const double *P, const au_sphere_opts *o, double max_faces,
+                                  au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
+                                  au_advect_report *ar, au_sphere_report *pol, au_msg *msg) {
+  au_mesh *mr = NULL;
+  au_status st = au_mesh_copy(m, &mr);
+  double *Pr = malloc(sizeof(double) * 3 * (size_t)m->nv);
+  if (st != AU_OK || !Pr) {
+    au_mesh_free(&mr), free(Pr);
+    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  }
+  memcpy(Pr, P, sizeof(double) * 3 * (size_t)m->nv);
+  au_advect_domain dom = au_sphere_domain();
+  au_sphere_opts os = *o;
+  os.flow.shear = os.flow.shear_tail; /* as refine_with: the map is near equal area already */
+  au_sphere_opts oc = os;
+  os.flow.sphere_areas = 2;
+  au_sphere_report sp;
+  memset(pol, 0, sizeof *pol);
+  au_topo *t = NULL;
+  if ((st = au_mesh_topology(mr, &t, msg)) == AU_OK) st = au_advect_run(mr, t, &dom, &os.flow, Pr, ar, msg);
+  if (st >= 0 && o->vertex_polish > 0) st = au_sphere_polish_map(mr, t, &os, Pr, &sp, msg);
+  if (st >= 0) st = split_by_kappa(&mr, t, &Pr, (long)(max_faces * m->nf), parent, param, nnew, msg);
+  au_topo_free(&t);
+  if (st >= 0 && (st = au_mesh_topology(mr, &t, msg)) == AU_OK) {
+    st = au_advect_run(mr, t, &dom, &os.flow, Pr, ar, msg);
+    if (st >= 0 && o->vertex_polish > 0) st = au_sphere_polish_map(mr, t, &oc, Pr, pol, msg);
+  }
+  au_topo_free(&t);
+  if (st < 0) {
+    au_mesh_free(&mr), free(Pr);
+    return st;
+  }
+  /* The spherical flow's report stands for the refined mesh's flow; converged means the chord vertex
+   * cells meet the tolerance, as for the other candidates. */
+  ar->converged = vertex_error(mr, Pr) <= o->flow.tol;
+  *out = mr, *Pout = Pr;
+  return ar->converged ? AU_OK : AU_W_NOT_CONVERGED;
+}
+
 /* The vertex cells' mean |ln(domain share / surface share)| of a sphere map (what the reports give as
  * vertex_logr_mean_abs); +inf when it cannot be measured. */
 static double vertex_error(const au_mesh *m, const double *P) {
@@ -345,7 +530,7 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   for (int c = 0; c < ncand; c++) {
     /* The longest edges are split only where some face is held by its floor: elsewhere the refinement
      * has nothing to lift, and the input stands without a search. */
-    if (refine_floor_share[c] == 0 && !held) break;
+    if (refine_floor_share[c] <= 0 && !held) break;
     au_mesh *mr = NULL;
     double *Pr = NULL, *prm = NULL;
     int *par = NULL, nn = 0;
@@ -357,7 +542,9 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
      * flow's map / the polished one: limbs4 0.0160 / 0.0141, coil 0.0156 / 0.0102, limbs8 0.0530 /
      * 0.0560). */
     const double *from = refine_floor_share[c] > 0 ? P : Pin;
-    au_status s2 = refine_with(m, from, &o, max_faces, refine_floor_share[c], &mr, &Pr, &par, &prm, &nn, ar, &pol, msg);
+    au_status s2 = refine_floor_share[c] < 0
+                       ? refine_spherical(m, from, &o, max_faces, &mr, &Pr, &par, &prm, &nn, ar, &pol, msg)
+                       : refine_with(m, from, &o, max_faces, refine_floor_share[c], &mr, &Pr, &par, &prm, &nn, ar, &pol, msg);
     if (s2 < 0) {
       free(par), free(prm);
       if (c > 0 && s2 != AU_E_NOMEM) continue; /* the first candidate's map stands */
