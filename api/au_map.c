@@ -468,17 +468,18 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
                       r->metrics.folds == 1 ? "" : "s",
                       not_converged ? " (the flow had not converged: more steps may grow them back)" : "");
   /* The floor holds chord triangles only: a map of the spherical triangles' areas is not held by it, and
-   * its tolerance was missed for another reason. The remedies are named by their option fields, which
-   * the C, Python and command-line interfaces share (refine_mesh is --refine-mesh). */
+   * its tolerance was missed for another reason. The remedies are named as the program spells them;
+   * Python's keywords are the same words (refine_mesh, refine_budget, spherical_areas), C's fields too
+   * but for refine_max_faces. */
   if (dom == AU_DOMAIN_SPHERE && not_converged && x->flow.sphere_areas != 2 && r->metrics.chord_floor_faces > 0 &&
       r->metrics.chord_floor_excess >= AU_FLOOR_WARN_EXCESS)
     warn(r,
          "%d long, thin triangles of the map cannot bring their chord area down to their share without shorter "
          "long edges (a long edge's chord runs under the sphere; excess %.2g%% of the area): %s; the spherical "
-         "triangles' areas are not held by it (spherical_areas)",
+         "triangles' areas are not held by it (--spherical-areas)",
          r->metrics.chord_floor_faces, 100 * r->metrics.chord_floor_excess,
-         x->o->refine_mesh ? "a larger face budget lowers that error (refine_max_faces)"
-                           : "a finer mesh there lowers that error (refine_mesh)");
+         x->o->refine_mesh ? "a larger face budget lowers that error (--refine-budget)"
+                           : "a finer mesh there lowers that error (--refine-mesh)");
   int nfar = 0;
   /* Against the surface's own areas: with a density, cells are meant to be small (not measured). */
   const int density = x->flow.weight || x->flow.face_weight;

@@ -873,32 +873,76 @@ static mode_t new_file_mode(void) {
 }
 
 
+/* The file a write to path replaces: for a symbolic link, the file it names (malloc'ed, the caller
+ * frees it; followed through further links, and also when that file does not exist yet), so the link
+ * stays; otherwise NULL, and path itself is replaced. */
+static char *link_target(const char *path) {
+  char cur[PATH_MAX], next[PATH_MAX];
+  if (snprintf(cur, sizeof cur, "%s", path) >= (int)sizeof cur) return NULL;
+  int links = 0;
+  for (struct stat ls; links < 40 && lstat(cur, &ls) == 0 && S_ISLNK(ls.st_mode); links++) {
+    ssize_t n = readlink(cur, next, sizeof next - 1);
+    if (n < 0) return NULL;
+    next[n] = '\0';
+    const char *slash = strrchr(cur, '/');
+    /* A relative target is relative to the link's directory. */
+    int dirlen = next[0] == '/' || !slash ? 0 : (int)(slash - cur + 1);
+    if (snprintf(cur + dirlen, sizeof cur - (size_t)dirlen, "%s", next) >= (int)(sizeof cur - (size_t)dirlen)) return NULL;
+  }
+  if (links == 0) return NULL;
+  size_t n = strlen(cur) + 1;
+  char *out = malloc(n);
+  if (out) memcpy(out, cur, n);
+  return out;
+}
+
+char *au_output_target(const char *path) {
+  char *real = path ? link_target(path) : NULL;
+  if (real || !path) return real;
+  size_t n = strlen(path) + 1;
+  real = malloc(n);
+  if (real) memcpy(real, path, n);
+  return real;
+}
+
 au_status au_temp_path(const char *path, char *buf, size_t len) {
   if (!path || !buf) return AU_E_ARG;
-  int n = snprintf(buf, len, "%s.tmp%ld", path, (long)getpid());
+  char *real = link_target(path);
+  int n = snprintf(buf, len, "%s.tmp%ld", real ? real : path, (long)getpid());
+  free(real);
   return n >= 0 && (size_t)n < len ? AU_OK : AU_E_ARG;
 }
 
-/* Write through emit into the temporary au_temp_path(path) beside path, then rename it over path. On
+/* Write through emit into the temporary au_temp_path(path) beside path, then rename it over path (over
+ * the file a symbolic link names, which keeps the link; a path that is not a regular file is refused). On
  * any failure the temporary is removed and an existing path is left as it was. The name is fixed for
  * the process, so that a program can remove it from a signal handler without the library keeping a
  * list; a file of that name is left only by a process of the same pid that died, so it is replaced. */
 au_status au_io__write_atomic(const char *path, au_io__emit_fn emit, const void *ctx, au_msg *msg) {
-  size_t n = strlen(path) + 32;
+  /* A device, a FIFO or a socket would be replaced by a plain file (as root, /dev/null itself). */
+  struct stat st0;
+  if (stat(path, &st0) == 0 && !S_ISREG(st0.st_mode))
+    return au_msg_set(msg, AU_E_IO, "cannot write '%s': not a regular file (a device, FIFO, socket or directory)", path);
+  char *real = link_target(path);
+  const char *dest = real ? real : path;
+  size_t n = strlen(dest) + 32;
   char *tmp = malloc(n);
-  if (!tmp) return au_msg_set(msg, AU_E_NOMEM, "out of memory writing '%s'", path);
+  if (!tmp) {
+    free(real);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory writing '%s'", path);
+  }
   au_temp_path(path, tmp, n);
   int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0 && errno == EEXIST && unlink(tmp) == 0) fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) {
     int err = errno;
-    free(tmp);
+    free(tmp), free(real);
     return au_msg_set(msg, AU_E_IO, "cannot create '%s': %s", path, strerror(err));
   }
   /* The file is made private (0600); the result should have the mode a plain fopen would give it, or
    * keep the mode of the file it replaces. */
   struct stat st;
-  mode_t mode = stat(path, &st) == 0 && S_ISREG(st.st_mode) ? (st.st_mode & 07777) : new_file_mode();
+  mode_t mode = stat(dest, &st) == 0 && S_ISREG(st.st_mode) ? (st.st_mode & 07777) : new_file_mode();
   FILE *fp = fchmod(fd, mode) == 0 ? fdopen(fd, "w") : NULL;
   int err = 0;
   const char *what = "write";
@@ -909,17 +953,17 @@ au_status au_io__write_atomic(const char *path, au_io__emit_fn emit, const void 
     if (emit(fp, ctx) != 0 || fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0) err = errno ? errno : EIO;
     if (fclose(fp) != 0 && !err) err = errno ? errno : EIO;
   }
-  if (!err && rename(tmp, path) != 0) {
+  if (!err && rename(tmp, dest) != 0) {
     err = errno;
     what = "replace";
   }
   if (err) {
     /* Best effort: the error being reported is the write's, and the name is ours alone. */
     unlink(tmp);
-    free(tmp);
+    free(tmp), free(real);
     return au_msg_set(msg, AU_E_IO, "cannot %s '%s': %s", what, path, strerror(err));
   }
-  free(tmp);
+  free(tmp), free(real);
   return AU_OK;
 }
 

@@ -253,7 +253,9 @@ AU_API au_write_opts au_write_opts_default(void);
 /* Write nv vertices V (nv x 3) with nf faces F (nf x 3) to path; the format follows the extension
  * (.obj .off .ply, ASCII). The file is written beside path under a temporary name
  * (au_temp_path) and renamed over path only when complete, so a failed write leaves neither a
- * partial file nor a clobbered old one. opts may be NULL.
+ * partial file nor a clobbered old one; a symbolic link stays and the file it names is replaced, and
+ * a path that exists but is not a regular file (a device such as /dev/null, a FIFO) is refused with
+ * AU_E_IO, since a rename would put a plain file in its place. opts may be NULL.
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO, AU_E_FORMAT (unknown extension). */
 AU_API au_status au_mesh_write(const char *path, int nv, const double *V, int nf, const int *F,
                                const au_write_opts *opts, au_msg *msg);
@@ -261,11 +263,17 @@ AU_API au_status au_mesh_write(const char *path, int nv, const double *V, int nf
 /* 1 if au_mesh_write can write path's extension, else 0. */
 AU_API int au_mesh_can_write(const char *path);
 
-/* The temporary name a write to path uses in this process ("<path>.tmp<pid>"), into buf (len
- * bytes). A program that wants an interrupted run to leave nothing behind computes these names
+/* The temporary name a write to path uses in this process ("<path>.tmp<pid>"; for a symbolic link to
+ * a file, beside that file, which the write replaces, keeping the link), into buf (len bytes). A program that wants an interrupted run to leave nothing behind computes these names
  * before it writes and removes them in its signal handler (unlink is async-signal-safe).
  * Returns AU_OK, AU_E_ARG (buf too short). */
 AU_API au_status au_temp_path(const char *path, char *buf, size_t len);
+
+/* The file a write to path replaces (au_mesh_write, au_write_text and every writer of the library):
+ * path itself, or for a symbolic link the file it names (through further links, also when that file
+ * does not exist yet), so that the link stays. Freed with au_free; NULL when out of memory or path is
+ * NULL. For programs that put their own temporaries in place, as the library does. */
+AU_API char *au_output_target(const char *path);
 
 /* Write len bytes of text to path atomically (as au_mesh_write does). Returns AU_OK, AU_E_ARG, AU_E_IO. */
 AU_API au_status au_write_text(const char *path, const char *text, size_t len, au_msg *msg);

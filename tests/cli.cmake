@@ -10,7 +10,8 @@ function(au_cli_test name script)
 endfunction()
 
 foreach(c help sphere_help version no_command unknown_command unknown_flag prefix_flag missing_args
-          missing_value bad_number duplicate_flag bad_combination refine_outputs extra_arg in_eq_out bad_extension)
+          missing_value bad_number duplicate_flag bad_combination refine_outputs extra_arg in_eq_out bad_extension
+          special_outputs)
   au_cli_test(${c} usage.sh ${c})
 endforeach()
 

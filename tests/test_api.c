@@ -9,6 +9,7 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "au_test.h"
@@ -439,6 +440,25 @@ static int files_and_names(void) {
   AU_CHECK_INT(memcmp(b->X, m->X, sizeof(double) * 3 * (size_t)m->nv), ==, 0);
   AU_CHECK_INT(memcmp(b->F, m->F, sizeof(int) * 3 * (size_t)m->nf), ==, 0);
   unlink(path);
+  /* A symbolic link stays and the file it names is written, also one not there yet; a FIFO (or a
+   * device) is refused, not replaced by a plain file. */
+  char link[4096], target[4096], fifo[4096];
+  snprintf(link, sizeof link, "%s/api_link.obj", AU_BINARY_DIR);
+  snprintf(target, sizeof target, "%s/api_link_target.obj", AU_BINARY_DIR);
+  snprintf(fifo, sizeof fifo, "%s/api_fifo.obj", AU_BINARY_DIR);
+  unlink(link), unlink(target), unlink(fifo);
+  AU_CHECK(symlink("api_link_target.obj", link) == 0);
+  char *real = au_output_target(link);
+  AU_CHECK(real && strcmp(real, target) == 0);
+  au_free(real);
+  AU_CHECK_STATUS(au_mesh_write(link, m->nv, m->X, m->nf, m->F, NULL, &msg), AU_OK, &msg);
+  struct stat ls;
+  AU_CHECK(lstat(link, &ls) == 0 && S_ISLNK(ls.st_mode) && stat(target, &ls) == 0 && S_ISREG(ls.st_mode));
+  AU_CHECK(mkfifo(fifo, 0600) == 0);
+  AU_CHECK_STATUS(au_write_text(fifo, "x", 1, &msg), AU_E_IO, &msg);
+  AU_CHECK(strstr(msg.text, "not a regular file") != NULL);
+  AU_CHECK(lstat(fifo, &ls) == 0 && S_ISFIFO(ls.st_mode));
+  unlink(link), unlink(target), unlink(fifo);
   AU_CHECK(au_mesh_can_write("a.obj") && !au_mesh_can_write("a.stl"));
   AU_CHECK(strcmp(au_target_name(AU_TARGET_ANNULUS), "annulus") == 0 && au_target_name((au_target)7) == NULL);
   AU_CHECK(strcmp(au_status_name(AU_E_CANCELLED), "AU_E_CANCELLED") == 0);

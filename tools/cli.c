@@ -99,6 +99,11 @@ int cli_same_file(const char *a, const char *b) {
 int cli_check_writable_path(const char *help, const char *path, const char *what) {
   struct stat st;
   if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) return cli_usage_error(help, "%s '%s' is a directory", what, path);
+  /* Every output is written whole under a temporary name and renamed into place: over a device, a FIFO
+   * or a socket that would put a plain file in its stead (as root, /dev/null itself). */
+  if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+    return cli_usage_error(help, "%s '%s' is not a regular file (a device, FIFO or socket); give a file name", what,
+                           path);
   const char *slash = strrchr(path, '/');
   if (!slash) return 0;
   size_t n = slash == path ? 1 : (size_t)(slash - path);
@@ -440,8 +445,11 @@ int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, 
   au_msg msg = {{0}};
   double t0 = cli_now();
   int rc = EXIT_INTERNAL;
-  char *tmp = cli_temp_name(out), *json = NULL;
-  if (!tmp) return cli_fail(out, AU_E_NOMEM, NULL);
+  char *dest = au_output_target(out), *tmp = dest ? cli_temp_name(dest) : NULL, *json = NULL;
+  if (!tmp) {
+    au_free(dest);
+    return cli_fail(out, AU_E_NOMEM, NULL);
+  }
   cli_expect_output(tmp);
   cli_expect_output(report);
   publishing = tmp;
@@ -452,7 +460,7 @@ int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, 
   }
   /* A result that replaces an earlier one keeps its permissions, as the library's own writes do. */
   struct stat old;
-  if (stat(out, &old) == 0 && S_ISREG(old.st_mode)) chmod(tmp, old.st_mode & 07777);
+  if (stat(dest, &old) == 0 && S_ISREG(old.st_mode)) chmod(tmp, old.st_mode & 07777);
   if (extra) extra->t_write = cli_now() - t0;
   if (report && r) {
     st = au_result_json(r, extra, &json, &msg);
@@ -462,7 +470,7 @@ int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, 
       goto done;
     }
   }
-  if (rename(tmp, out) != 0) {
+  if (rename(tmp, dest) != 0) {
     fprintf(stderr, "authalic: error: %s: cannot rename the finished output into place: %s\n", out, strerror(errno));
     rc = EXIT_USAGE;
     goto done;
@@ -471,7 +479,7 @@ int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, 
 done:
   if (rc != EXIT_OK) unlink(tmp); /* the temporary may not exist; then there is nothing to remove */
   publishing = NULL;
-  free(tmp);
+  free(tmp), au_free(dest);
   au_free(json);
   return rc;
 }

@@ -146,6 +146,7 @@ void cli_expect_temp(const char *path);
  * of memory. */
 char *cli_temp_name(const char *path);
 
+
 /* Install SIGINT/SIGTERM/SIGHUP handlers that remove the temporaries of the outputs being written,
  * then die of the signal as before. */
 void cli_install_signal_cleanup(void);

@@ -145,6 +145,9 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
   if ((v = a->val[OPT_RADIUS]) && (cli_parse_nonneg(v, &radius) || !(radius > 0) || radius > 1e30))
     return cli_usage_error(a->help, "--radius '%s': expected a positive number", v);
   rc = cli_check_outputs(a->help, a->pos[0], a->pos[1], a->val[OPT_REPORT]);
+  const char *dens = a->val[OPT_DENSITY];
+  if (!rc && dens && (cli_same_file(dens, a->pos[1]) || (a->val[OPT_REPORT] && cli_same_file(dens, a->val[OPT_REPORT]))))
+    rc = cli_usage_error(a->help, "--density '%s' is also an output file; refusing to overwrite it", dens);
   const char *d = a->val[OPT_DISTORTION];
   if (!rc && d && (cli_same_file(d, a->pos[0]) || cli_same_file(d, a->pos[1]) ||
                    (a->val[OPT_REPORT] && cli_same_file(d, a->val[OPT_REPORT])) ||
@@ -292,7 +295,8 @@ static int run_map(const cli_args *a, au_options *o) {
   parents_name(surf, parents, sizeof parents);
   /* The refined surface and its parents wait under temporary names until OUT is published: a run that
    * fails later leaves a user's earlier SURF as it was. */
-  char *surf_tmp = surf ? cli_temp_name(surf) : NULL, *parents_tmp = surf ? cli_temp_name(parents) : NULL;
+  char *surf_dest = surf ? au_output_target(surf) : NULL, *parents_dest = surf ? au_output_target(parents) : NULL;
+  char *surf_tmp = surf_dest ? cli_temp_name(surf_dest) : NULL, *parents_tmp = parents_dest ? cli_temp_name(parents_dest) : NULL;
   int wrote_surf = 0;
   double *density = NULL;
   au_msg msg = {{0}};
@@ -369,7 +373,7 @@ static int run_map(const cli_args *a, au_options *o) {
   rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
   if (rc != EXIT_OK && distortion) unlink(distortion);
   if (rc != EXIT_OK && preview) unlink(preview);
-  if (rc == EXIT_OK && wrote_surf && (rename(surf_tmp, surf) != 0 || rename(parents_tmp, parents) != 0)) {
+  if (rc == EXIT_OK && wrote_surf && (rename(surf_tmp, surf_dest) != 0 || rename(parents_tmp, parents_dest) != 0)) {
     fprintf(stderr, "authalic: error: %s: cannot rename the refined surface or its parents into place: %s\n", surf,
             strerror(errno));
     rc = EXIT_INTERNAL;
@@ -378,7 +382,7 @@ static int run_map(const cli_args *a, au_options *o) {
 done:
   /* Temporaries not renamed (a failure anywhere after they were written) go. */
   if (wrote_surf) unlink(surf_tmp), unlink(parents_tmp);
-  free(surf_tmp), free(parents_tmp);
+  free(surf_tmp), free(parents_tmp), au_free(surf_dest), au_free(parents_dest);
   cli_progress_end(&prog);
   au_result_free(&r);
   au_io_meta_free(&meta);

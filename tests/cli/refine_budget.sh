@@ -14,7 +14,7 @@ for k in 2 3; do
   expect_status 0
   expect_on_sphere "$T/o/map$k.obj" 1e-12
   # The refined map's chord-floor warning points at the budget, not at refine_mesh, which ran.
-  expect_err 'chord area down.*a larger face budget lowers that error \(refine_max_faces\)'
+  expect_err 'chord area down.*a larger face budget lowers that error \(--refine-budget\)'
   "$PE" "$T/o/surf$k.obj" "$T/o/map$k.obj" --json >"$T/log/pe$k.json" || fail "param-eval failed (budget $k)"
 done
 $PY - "$IN" "$T/log/pe2.json" "$T/log/pe3.json" <<'PYEOF' || fail "the refined maps (above)"

@@ -69,7 +69,7 @@ if grep -q 'of its area share' "$T/log/stderr"; then fail "limbs4 warned of sque
 if grep -q 'staged_retry' "$T/o/l.json"; then fail "limbs4 ran the staged retry"; fi
 # Its legs' chord triangles sit on their floor: the warning says so and names both ways out, the finer
 # mesh and the map of spherical areas (session 19; it named neither before).
-expect_err 'cannot bring their chord area down.*: a finer mesh there lowers that error \(refine_mesh\); the spherical triangles.* \(spherical_areas\)'
+expect_err 'cannot bring their chord area down.*: a finer mesh there lowers that error \(--refine-mesh\); the spherical triangles.* \(--spherical-areas\)'
 # With a density, small cells are what was asked for: no warning (limbs4 with 0.05 on its first half
 # of faces warned of 38% when the shares were the surface's own).
 awk '/^f /{n++} END{for(i=0;i<n;i++) print (i < n / 2 ? 0.05 : 1)}' "$SRC/data/limbs4.obj" >"$T/d.txt"

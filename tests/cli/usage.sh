@@ -131,6 +131,38 @@ extra_arg)
   run sphere "$IN" "$OUT" "$T/o/third.obj"
   expect_rejected "extra argument '$T/o/third.obj'"
   ;;
+special_outputs)
+  # Outputs are written whole and renamed into place: a FIFO or a device named as an output is refused
+  # (a rename would have put a plain file there: as root, /dev/null itself), before any work.
+  mkfifo "$T/fifo" || skip "mkfifo failed"
+  run sphere "$IN" "$T/fifo"
+  expect_status 2
+  expect_one_error_line
+  expect_err "output '.*fifo' is not a regular file"
+  [ -p "$T/fifo" ] || fail "the FIFO was replaced"
+  run sphere "$IN" "$OUT" --report /dev/null
+  expect_rejected "report '/dev/null' is not a regular file"
+  [ -c /dev/null ] || fail "/dev/null is no longer a device"
+  # A symbolic link stays; the file it names gets the output, also one that does not exist yet.
+  echo old >"$T/o/target.obj"
+  ln -s target.obj "$T/o/link.obj"
+  ln -s sub/../report.json "$T/o/rlink.json"
+  mkdir "$T/o/sub"
+  run sphere "$IN" "$T/o/link.obj" --report "$T/o/rlink.json"
+  expect_status 0
+  [ -L "$T/o/link.obj" ] && [ -L "$T/o/rlink.json" ] || fail "an output's symbolic link was replaced"
+  [ "$(obj_nv "$T/o/target.obj")" -gt 0 ] || fail "the link's file did not get the map"
+  grep -q '"metrics"' "$T/o/report.json" || fail "the dangling link's file did not get the report"
+  # An input named as an output: --density as OUT or as the report.
+  rm -rf "$T/o"/*
+  awk '/^v /{print 1}' "$IN" >"$T/d.txt"
+  cp "$T/d.txt" "$T/d0.txt"
+  run sphere "$IN" "$OUT" --density "$T/d.txt" --report "$T/d.txt"
+  expect_rejected "--density '.*d.txt' is also an output file"
+  run sphere "$IN" "$T/d.txt" --format obj --density "$T/d.txt"
+  expect_rejected "--density '.*d.txt' is also an output file"
+  cmp -s "$T/d.txt" "$T/d0.txt" || fail "the density file was changed"
+  ;;
 in_eq_out)
   # The same file, by the same name and by another name of it; the input is not touched.
   cp "$IN" "$T/in.obj"
