@@ -89,7 +89,7 @@ from . import _lib  # noqa: E402
 _L = _lib.load()
 
 __version__ = _L.au_version().decode()
-__all__ = ["Error", "BadInputError", "AuthalicWarning", "MapResult", "read_mesh", "write_mesh", "sphere", "disk",
+__all__ = ["Error", "BadInputError", "AuthalicWarning", "MapResult", "read_mesh", "read_values", "write_mesh", "sphere", "disk",
            "annulus", "square", "torus", "map_mesh", "metrics", "version", "blas_threads"]
 
 _INT_MIN, _INT_MAX = -2 ** 31, 2 ** 31 - 1
@@ -243,12 +243,12 @@ def _copy(ptr, shape, dtype):
 def read_mesh(path):
     """Read a triangle mesh file.
 
-    path: a .obj, .off, .ply (ASCII or binary) or .stl file (str, bytes or os.PathLike); the
-        format follows the extension.
+    path: a .obj, .off, .ply (ASCII or binary) or .stl file, GIfTI (.gii, .gii.gz) or a FreeSurfer
+        surface (lh.white, found by its magic number whatever the name); str, bytes or os.PathLike.
     Returns (V, F): V float64 array of shape (nv, 3), F int32 array of shape (nf, 3), 0-based, in the
     file's order. Polygons with more than three corners are refused, not triangulated; nothing is
     repaired.
-    Raises BadInputError (missing or unreadable file, unknown extension, malformed or truncated
+    Raises BadInputError (missing or unreadable file, unknown format, malformed or truncated
     file, empty mesh, face index out of range, bad face) or Error (out of memory).
     """
     m = _ct.POINTER(_lib.Mesh)()
@@ -263,6 +263,25 @@ def read_mesh(path):
         return V, F
     finally:
         _L.au_mesh_free(_ct.byref(m))
+
+
+def read_values(path):
+    """Read per-vertex (or per-face) values: a FreeSurfer curv file (lh.sulc, lh.thickness), GIfTI
+    (.shape.gii, .func.gii, .gii.gz: its one data array that is not a mesh) or text (numbers separated
+    by blanks, commas or line ends, `#` starting a comment line), as the program's --density reads them.
+    Returns a float64 array, in the file's order. Raises BadInputError (missing, unreadable, malformed,
+    truncated or empty file, a value that is not finite) or Error.
+    """
+    out = _ct.POINTER(_ct.c_double)()
+    n = _ct.c_int(0)
+    msg = _lib.Msg()
+    st = _L.au_io_read_scalars(_os.fsencode(path), 0, _ct.byref(out), _ct.byref(n), _ct.byref(msg))
+    try:
+        if st < 0:
+            _raise(st, msg)
+        return _copy(out, (n.value,), _np.float64)
+    finally:
+        _L.au_free(out)
 
 
 def write_mesh(path, V, F, uv=None, precision=17, vt=None, Ft=None):
@@ -552,10 +571,10 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
     if angles:
         o.angle_steps = _int_opt("angles", angles, 0, _lib.AU_MAX_ANGLE_STEPS)
         flow_given.append("angles")
-    if refine_faces:
+    if _flag_opt("refine_faces", refine_faces):
         o.refine_faces = 1
         flow_given.append("refine_faces")
-    o.init_only = 1 if init_only else 0
+    o.init_only = 1 if _flag_opt("init_only", init_only) else 0
     d = None
     if density is not None:
         try:
@@ -576,7 +595,7 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
         flow_given.append("restore_shapes")
     v = extra.get("balance")
     if v is not None:
-        o.balance = 1 if v else 0
+        o.balance = 1 if _flag_opt("balance", v) else 0
     v = extra.get("boundary")
     if v is not None:
         if v not in ("slide", "fixed"):
@@ -788,7 +807,7 @@ _RETURNS_DOC = """
 def sphere(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=False, progress=False, *,
            restore_shapes=None, balance=True, spherical_areas=False, init_only=False):
     r = map_mesh(V, F, "sphere", steps, tol, density, angles, refine_faces, progress, init_only, _stacklevel=3,
-                 restore_shapes=restore_shapes, balance=None if balance else False,
+                 restore_shapes=restore_shapes, balance=None if balance is True else balance,
                  spherical_areas=spherical_areas)
     return r.P, r.info
 

@@ -32,7 +32,8 @@ OPTIONS = [
     ("tol", "T", COMMANDS, "stop when the vertex mean |log area ratio| is below T, T >= 0 (default: 0.002 on the "
                            "sphere, 0.003 on planar targets)"),
     ("density", "FILE", COMMANDS, "prescribed density: one positive number per vertex (or per face) of IN, in "
-                                  "order, whitespace-separated; domain area is proportional to density x surface area"),
+                                  "order: text (whitespace-separated), a FreeSurfer curv or a GIfTI "
+                                  ".shape.gii/.func.gii file; domain area is proportional to density x surface area"),
     ("boundary", "MODE", COMMANDS[1:4], "slide (default): boundary vertices slide along the domain's boundary "
                                        "(square: corners fixed); fixed: the initial map's boundary is kept"),
     ("inner-radius", "R", ("annulus",), "radius of the inner circle, 0 < R < 1 (default: the conformal modulus's)"),
@@ -304,20 +305,17 @@ def fail(path, text, bad):
 
 
 def read_density(path, nv, nf):
+    """The program's --density: text, FreeSurfer curv or GIfTI values (authalic.read_values), nv or nf
+    of them, each positive; its messages."""
     try:
-        with open(path) as f:
-            toks = f.read().split()
+        with open(path, "rb"):
+            pass
     except OSError as e:
         raise BadFile("%s: cannot open the density file: %s" % (path, e.strerror)) from None
-    vals = []
-    for k, t in enumerate(toks):
-        try:
-            x = float(t)
-        except ValueError:
-            x = math.nan
-        if not (math.isfinite(x) and x > 0):
-            raise BadFile("%s: value %d ('%s') is not a positive finite number" % (path, k + 1, t))
-        vals.append(x)
+    vals = authalic.read_values(path)
+    for k, x in enumerate(vals):
+        if not x > 0:
+            raise BadFile("%s: value %d ('%g') is not a positive finite number" % (path, k + 1, x))
     if len(vals) not in (nv, nf):
         raise BadFile("%s: %d values; the mesh has %d vertices and %d faces" % (path, len(vals), nv, nf))
     return vals

@@ -164,6 +164,7 @@ def load():
           ctypes.POINTER(ctypes.POINTER(c_char)), P_msg)
     proto("au_mesh_read", c_int, c_char_p, PP_mesh, P_msg)
     proto("au_mesh_free", None, PP_mesh)
+    proto("au_io_read_scalars", c_int, c_char_p, c_int, ctypes.POINTER(P_double), P_int, P_msg)
     proto("au_write_opts_default", WriteOpts)
     proto("au_mesh_write", c_int, c_char_p, c_int, P_double, c_int, P_int, ctypes.POINTER(WriteOpts), P_msg)
     proto("au_mesh_can_write", c_int, c_char_p)

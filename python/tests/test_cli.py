@@ -143,6 +143,30 @@ def test_density_file_and_bad_values(tmp_path):
     assert r.returncode == 2 and "positive finite" in r.stderr and not (tmp_path / "o2.obj").exists()
 
 
+def test_density_curv_and_gifti_as_the_program(tmp_path):
+    """--density in a FreeSurfer curv file and in a GIfTI .shape.gii (written by nibabel): read as the
+    program reads them (python -m authalic crashed on the curv file's bytes), the same map byte for
+    byte; and read_values gives the file's numbers."""
+    nib = pytest.importorskip("nibabel")
+    import numpy as np
+    V, F = authalic.read_mesh(STAR)
+    d = (1 + 0.5 * (V[:, 0] > 0)).astype(np.float32)
+    nib.freesurfer.write_morph_data(str(tmp_path / "rh.dens"), d)
+    nib.save(nib.gifti.GiftiImage(darrays=[nib.gifti.GiftiDataArray(d, intent="NIFTI_INTENT_SHAPE",
+                                                                    datatype="NIFTI_TYPE_FLOAT32")]),
+             str(tmp_path / "dens.shape.gii"))
+    for name in ("rh.dens", "dens.shape.gii"):
+        assert np.array_equal(authalic.read_values(tmp_path / name), d.astype(np.float64))
+        a = subprocess.run([cli(), "sphere", STAR, tmp_path / ("c_" + name + ".obj"), "--density", tmp_path / name,
+                            "--quiet", "--steps", "4"], capture_output=True, text=True)
+        b = run_py("sphere", STAR, tmp_path / ("p_" + name + ".obj"), "--density", tmp_path / name, "--quiet",
+                   "--steps", "4")
+        assert a.returncode == 0 and b.returncode == 0, (a.stderr, b.stderr)
+        assert (tmp_path / ("c_" + name + ".obj")).read_bytes() == (tmp_path / ("p_" + name + ".obj")).read_bytes()
+    with pytest.raises(authalic.BadInputError):
+        authalic.read_values(tmp_path / "missing.txt")
+
+
 def test_internal_failure_exits_1(tmp_path, monkeypatch, capsys):
     def fail(*a, **k):
         raise authalic.Error("numerical failure in the solve", -4, "AU_E_NUMERIC")
