@@ -185,7 +185,7 @@ AU_API au_io_format au_io_format_of_name(const char *path);
 AU_API au_io_format au_io_format_parse(const char *word);
 
 /* The lower-case name of a format ("obj", ..., "freesurfer", "gifti"; "auto"). Never NULL. */
-const char *au_io_format_name(au_io_format f);
+AU_API const char *au_io_format_name(au_io_format f);
 
 /* What a neuroimaging file carries besides its mesh, kept so that an output can say it again:
  * the format read; for FreeSurfer the created-by line and the bytes after the faces (the volume
@@ -199,7 +199,7 @@ AU_API au_io_format au_io_meta_format(const au_io_meta *meta);
 /* A value of the metadata: for GIfTI a name of the file's or the pointset's metadata
  * ("AnatomicalStructurePrimary", "GeometricType", ...), for FreeSurfer "created_by" (the created-by
  * line); NULL if absent. The string belongs to meta. */
-const char *au_io_meta_get(const au_io_meta *meta, const char *name);
+AU_API const char *au_io_meta_get(const au_io_meta *meta, const char *name);
 
 /* Free *meta and set it to NULL; NULL-safe. */
 AU_API void au_io_meta_free(au_io_meta **meta);

@@ -152,6 +152,12 @@ static const cli_option options[] = {
 
 static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample", "torus"};
 
+const char *cli_option_name(cli_opt_id id) {
+  for (int k = 0; k < NOPTIONS; k++)
+    if (options[k].id == id) return options[k].name;
+  return "?";
+}
+
 const char *cli_cmd_name(int cmd) {
   for (int k = 0; k < 7; k++)
     if (cmd == 1 << k) return cmd_names[k];

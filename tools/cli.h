@@ -145,6 +145,8 @@ void cli_expect_temp(const char *path);
 /* A temporary name beside path that keeps its extension (DIR/.authalic-PID-NAME); malloc'ed, NULL out
  * of memory. */
 char *cli_temp_name(const char *path);
+/* An option's name without the dashes ("refine-mesh"). */
+const char *cli_option_name(cli_opt_id id);
 
 
 /* Install SIGINT/SIGTERM/SIGHUP handlers that remove the temporaries of the outputs being written,

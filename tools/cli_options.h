@@ -86,7 +86,7 @@ enum {
     "gzip-compressed for a .gii.gz name); default: by OUT's extension, and an OUT with none "                        \
     "(lh.sphere.authalic) gets the input's format")                                                                  \
   X(OPT_RADIUS, "radius", "R", CLI_VALUE, CLI_SPHERE,                                                                \
-    "write the sphere with radius R > 0 (FreeSurfer and HCP spheres: 100); the metrics and the report are those "   \
+    "write the sphere with radius R, 1e-30 <= R <= 1e30 (FreeSurfer and HCP spheres: 100); the metrics and the report are those "   \
     "of the unit sphere (default 1)")                                                                                \
   X(OPT_DISTORTION, "distortion", "FILE", CLI_FILE, CLI_SPHERE | CLI_PLANAR | CLI_TEXTURE | CLI_TORUS,               \
     "per-vertex areal distortion log2(map area share / surface area share) of the barycentric vertex cells "         \

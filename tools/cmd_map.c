@@ -46,9 +46,9 @@ static const char *const usage_torus =
     "its corners get their own `vt` copies shifted by exact lattice vectors (seamless: the texture\n"
     "repeats by the lattice). The report gives \"lattice\": [[a1x, a1y], [a2x, a2y]].\n\n";
 static const char *const usage_planar_out =
-    "OUT (.obj .off or .ply) has the input's vertices in the input's order and its faces, with\n"
-    "positions (u, v, 0); an .obj also gets `vt` texture coordinates in [0,1]^2. Progress and a\n"
-    "summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n";
+    "OUT (.obj .off .ply .gii, or FreeSurfer) has the input's vertices in the input's order and its\n"
+    "faces, with positions (u, v, 0); an .obj also gets `vt` texture coordinates in [0,1]^2. Progress\n"
+    "and a summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n";
 
 /* Four comma-separated whole numbers >= 0; 0 on success. */
 static int parse_corners(const char *s, int c[4]) {
@@ -127,9 +127,7 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
                                            OPT_RESTORE, OPT_ANGLES, OPT_SPHERICAL_AREAS, OPT_BOUNDARY,     OPT_REFINE_BUDGET};
     for (size_t k = 0; k < sizeof flow_only / sizeof flow_only[0]; k++)
       if (a->val[flow_only[k]])
-        return cli_usage_error(a->help, "--init-only runs no advection: --steps, --tol, --density, --boundary, "
-                                        "--refine-faces, --refine-mesh, --refine-budget, --restore-shapes, --angles "
-                                        "and --spherical-areas do not apply");
+        return cli_usage_error(a->help, "--init-only runs no advection: --%s does not apply", cli_option_name(flow_only[k]));
   }
   if (a->val[OPT_REFINE_BUDGET] && !a->val[OPT_REFINE_MESH])
     return cli_usage_error(a->help, "--refine-budget applies to --refine-mesh, which is not given");
@@ -142,8 +140,9 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
   if (v && au_io_format_parse(v) == AU_IO_FORMAT_AUTO)
     return cli_usage_error(a->help, "--format '%s': expected obj, off, ply, freesurfer or gifti", v);
   double radius;
-  if ((v = a->val[OPT_RADIUS]) && (cli_parse_nonneg(v, &radius) || !(radius > 0) || radius > 1e30))
-    return cli_usage_error(a->help, "--radius '%s': expected a positive number", v);
+  /* Written as float32 by FreeSurfer and GIfTI: beyond these the coordinates overflow or vanish. */
+  if ((v = a->val[OPT_RADIUS]) && (cli_parse_nonneg(v, &radius) || !(radius >= 1e-30) || radius > 1e30))
+    return cli_usage_error(a->help, "--radius '%s': expected a number from 1e-30 to 1e30", v);
   rc = cli_check_outputs(a->help, a->pos[0], a->pos[1], a->val[OPT_REPORT]);
   const char *dens = a->val[OPT_DENSITY];
   if (!rc && dens && (cli_same_file(dens, a->pos[1]) || (a->val[OPT_REPORT] && cli_same_file(dens, a->val[OPT_REPORT]))))
@@ -165,7 +164,7 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
         (d && cli_same_file(f, d)) || (a->val[OPT_DENSITY] && cli_same_file(f, a->val[OPT_DENSITY])))
       rc = cli_usage_error(a->help, "--refine-mesh '%s': %s is also another input or output file", sf, k ? parents : "it");
   }
-  if (!rc && sf && !au_mesh_can_write(sf))
+  if (!rc && sf && au_io_format_of_name(sf) == AU_IO_FORMAT_STL)
     rc = cli_usage_error(a->help, "--refine-mesh '%s': cannot write that extension (use .obj, .off, .ply or .gii)", sf);
   if (!rc && sf) rc = cli_check_writable_path(a->help, sf, "--refine-mesh");
   if (!rc && sf) rc = cli_check_writable_path(a->help, parents, "--refine-mesh's parents file");
@@ -260,9 +259,13 @@ static void summary(int cmd, const au_result *r, int spherical, double seconds) 
  * parents (each an atomic write of the library's), renamed into place once OUT is. -1 to go on, else
  * the exit code (neither temporary left behind). */
 static int write_refined(const char *surf, const char *parents, const char *surf_name, const char *parents_name,
-                         const au_result *r) {
+                         const au_result *r, au_io_format fmt, const au_io_meta *meta) {
   au_msg msg = {{0}};
-  au_status st = au_mesh_write(surf, r->nv, r->X, r->nf, r->F, NULL, &msg);
+  /* The refined surface is the input's surface, finer: its format (when SURF's name has no extension)
+   * and its metadata, GeometricType included. */
+  au_write_opts w = au_write_opts_default();
+  w.format = fmt, w.meta = meta;
+  au_status st = au_mesh_write(surf, r->nv, r->X, r->nf, r->F, &w, &msg);
   if (st < 0) return cli_fail(surf_name, st, &msg);
   /* A line is at most 3 ints and a %.17g: 80 bytes with room. */
   size_t cap = 80 * (size_t)(r->nrefined > 0 ? r->nrefined : 1), len = 0;
@@ -311,6 +314,8 @@ static int run_map(const cli_args *a, au_options *o) {
   au_io_format ofmt = AU_IO_FORMAT_OBJ;
   if (t != AU_TARGET_TORUS && (rc = cli_output_format(a->help, out, au_io_format_parse(a->val[OPT_FORMAT]), meta, &ofmt)))
     goto done;
+  au_io_format sfmt = AU_IO_FORMAT_OBJ;
+  if (surf && (rc = cli_output_format(a->help, surf, AU_IO_FORMAT_AUTO, meta, &sfmt))) goto done;
   cli_expect_output(distortion);
   if (surf && (!surf_tmp || !parents_tmp)) {
     rc = cli_fail(surf, AU_E_NOMEM, NULL);
@@ -351,7 +356,7 @@ static int run_map(const cli_args *a, au_options *o) {
   if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
   w.format = ofmt, w.meta = meta, w.geometric_type = t == AU_TARGET_SPHERE ? "Spherical" : "Flat";
   if (a->val[OPT_RADIUS]) cli_parse_nonneg(a->val[OPT_RADIUS], &w.radius); /* checked when parsed */
-  if (surf && (rc = write_refined(surf_tmp, parents_tmp, surf, parents, r)) >= 0) goto done;
+  if (surf && (rc = write_refined(surf_tmp, parents_tmp, surf, parents, r, sfmt, meta)) >= 0) goto done;
   wrote_surf = surf != NULL;
   /* The distortion file first (its own atomic write), removed again if OUT cannot be published. */
   if (distortion) {

@@ -364,12 +364,13 @@ def _metrics_dict(m):
     return d
 
 
-def metrics(V, F, P, domain="sphere", per_face=False):
+def metrics(V, F, P, domain=None, per_face=False):
     """The distortion of the map V -> P, under the names and definitions of param-eval.
 
     V: surface positions, shape (nv, 3).  F: faces, shape (nf, 3).
     P: the map, shape (nv, 3) on the sphere, or (nv, 2) / (nv, 3) with z ignored in the plane.
-    domain: "sphere", or "plane" (also accepted: "disk", "annulus", "square").
+    domain: "sphere", or "plane" (also accepted: "disk", "annulus", "square"); None (default): as
+        param-eval detects it, the plane when P has two columns or every z is 0, else the sphere.
     per_face: also return the per-face Upsilon and Lambda arrays (NaN for excluded faces).
     Per face, J is the affine map from the domain triangle (the chord triangle on the sphere) to
     the surface triangle, the surface scaled to the domain's total area; gmax >= gmin are its
@@ -384,6 +385,9 @@ def metrics(V, F, P, domain="sphere", per_face=False):
     "lambda" (float64 arrays of shape (nf,)).
     Raises BadInputError (bad arrays, unknown domain, zero total area) or Error.
     """
+    if domain is None:
+        Pz = _real_array(P, "P", (2, 3))
+        domain = "plane" if Pz.shape[1] == 2 or not Pz[:, 2].any() else "sphere"
     if domain not in ("sphere", "plane", "disk", "annulus", "square"):
         _bad("domain %r: expected 'sphere' or 'plane'" % (domain,))
     dom = _lib.DOMAINS["sphere" if domain == "sphere" else "plane"]

@@ -62,11 +62,20 @@ OPTIONS = [
     ("lattice", "SHAPE", ("torus",), "conformal (default): the conformal modulus's lattice, area 1; square: the unit "
                                      "square's"),
     ("init-only", None, COMMANDS, "stop after the initial (conformal or harmonic) map, for comparison"),
+    ("format", "F", COMMANDS, "write OUT as obj, off, ply, freesurfer (binary triangle surface, big-endian, float32) "
+                              "or gifti (.gii; gzip-compressed for a .gii.gz name); default: by OUT's extension, and "
+                              "an OUT with none (lh.sphere.authalic) gets the input's format"),
+    ("radius", "R", ("sphere",), "write the sphere with radius R, 1e-30 <= R <= 1e30 (FreeSurfer and HCP spheres: 100); "
+                                 "the metrics and the report are those of the unit sphere (default 1)"),
+    ("distortion", "FILE", COMMANDS, "per-vertex areal distortion log2(map area share / surface area share) of the "
+                                     "barycentric vertex cells (HCP's convention): a FreeSurfer curv file, or GIfTI "
+                                     "when FILE ends in .gii (e.g. .shape.gii)"),
     ("quiet", None, COMMANDS, "no progress and no summary on stderr (errors and warnings remain)"),
     ("help", None, COMMANDS, "this text"),
 ]
-FLOW_ONLY = ("steps", "tol", "density", "refine-faces", "refine-mesh", "refine-budget", "restore-shapes", "angles",
-             "spherical-areas", "boundary")
+# In the program's order of checking (cmd_map.c): the first one given is named.
+FLOW_ONLY = ("steps", "tol", "density", "refine-faces", "refine-mesh", "restore-shapes", "angles", "spherical-areas",
+             "boundary", "refine-budget")
 
 
 class Usage(Exception):
@@ -81,7 +90,8 @@ def usage_text(cmd):
     lines = ["usage: python3 -m authalic %s IN OUT [options]" % cmd, "",
              ("Maps the closed genus-1 mesh IN onto a flat torus with equal area and writes it to OUT (.obj: the "
               "surface with seamless per-corner vt),") if cmd == "torus" else
-             "Maps the triangle mesh IN onto the %s with equal area and writes the map to OUT (.obj .off or .ply),"
+             "Maps the triangle mesh IN onto the %s with equal area and writes the map to OUT (.obj .off .ply .gii,"
+             " or FreeSurfer),"
              % {"sphere": "unit sphere", "disk": "unit disk", "annulus": "annulus of outer radius 1",
                 "square": "unit square"}[cmd],
              "as `authalic %s` does (see help(authalic.%s) for the method)." % (cmd, cmd), "",
@@ -125,7 +135,7 @@ def parse(argv):
                 raise Usage("option '%s' needs a value" % s)
             v = argv[i]
             i += 1
-            if name in ("report", "density", "refine-mesh") and not v:
+            if name in ("report", "density", "refine-mesh", "distortion") and not v:
                 raise Usage("option '%s' needs a file name" % s)
         if name in vals:
             raise Usage("option '%s' given twice" % s)
@@ -134,9 +144,9 @@ def parse(argv):
         raise Usage("missing input and output files" if not pos else "missing output file")
     if not pos[0] or not pos[1]:
         raise Usage("empty file name")
-    if "init-only" in vals and any(k in vals for k in FLOW_ONLY):
-        raise Usage("--init-only runs no advection: --steps, --tol, --density, --boundary, --refine-faces, "
-                    "--refine-mesh, --refine-budget, --restore-shapes, --angles and --spherical-areas do not apply")
+    given = [k for k in FLOW_ONLY if k in vals]
+    if "init-only" in vals and given:
+        raise Usage("--init-only runs no advection: --%s does not apply" % given[0])
     if "refine-budget" in vals and "refine-mesh" not in vals:
         raise Usage("--refine-budget applies to --refine-mesh, which is not given")
     if "refine-mesh" in vals and "density" in vals:
@@ -259,37 +269,65 @@ def parents_name(surf):
     return surf + ".parents.txt"
 
 
+def out_target(path):
+    """The file a write to path replaces: path, or the file a symbolic link names (the link stays), as
+    the program and the library's writers do."""
+    p = authalic._L.au_output_target(os.fsencode(path))
+    if not p:
+        raise MemoryError()
+    try:
+        return os.fsdecode(ctypes.string_at(p))
+    finally:
+        authalic._L.au_free(p)
+
+
 def temp_name(path):
     """A temporary name beside path that keeps its extension, as the program's."""
     d, base = os.path.split(path)
     return os.path.join(d, ".authalic-%d-%s" % (os.getpid(), base))
 
 
-def check_outputs(src, out, report, surf=None, density=None):
+def output_format(out, forced, in_format):
+    """OUT's format as the program picks it (cli_output_format): --format, else OUT's extension, else
+    the input's."""
+    f = forced if forced != _lib.AU_IO_FORMAT_AUTO else authalic._L.au_io_format_of_name(os.fsencode(out))
+    if f == _lib.AU_IO_FORMAT_AUTO:
+        f = in_format
+    if f in (_lib.AU_IO_FORMAT_AUTO, _lib.AU_IO_FORMAT_STL):
+        raise Usage("output '%s' has no extension of a format that can be written and the input is %s "
+                    "(use .obj, .off, .ply, .gii or --format)" % (out, authalic._L.au_io_format_name(f).decode()))
+    return f
+
+
+def check_outputs(src, out, report, surf=None, density=None, distortion=None):
     if same_file(src, out):
         raise Usage("output '%s' is the input file; refusing to overwrite it" % out)
     if report and same_file(report, src):
         raise Usage("report '%s' is the input file" % report)
     if report and same_file(report, out):
         raise Usage("report '%s' is the output file" % report)
-    if not authalic._L.au_mesh_can_write(os.fsencode(out)):
-        base = os.path.basename(out)
-        if "." not in base:
-            raise Usage("output '%s' has no extension (use .obj, .off or .ply)" % out)
-        raise Usage("cannot write '%s' files (output '%s'; use .obj, .off or .ply)" % (base[base.rindex("."):], out))
+    if density and (same_file(density, out) or (report and same_file(density, report))):
+        raise Usage("--density '%s' is also an output file; refusing to overwrite it" % density)
+    if authalic._L.au_io_format_of_name(os.fsencode(out)) == _lib.AU_IO_FORMAT_STL:
+        raise Usage("cannot write '%s' files (output '%s'; use .obj, .off, .ply, .gii or --format)" %
+                    (out[out.rindex("."):], out))
+    if distortion and any(o and same_file(distortion, o) for o in (src, out, report, density)):
+        raise Usage("--distortion '%s' is also another input or output file" % distortion)
     if surf:
         for f in (surf, parents_name(surf)):
             if any(o and same_file(f, o) for o in (src, out, report, density)):
                 raise Usage("--refine-mesh '%s': %s is also another input or output file" %
                             (surf, "it" if f == surf else f))
-        if not authalic._L.au_mesh_can_write(os.fsencode(surf)):
+        if authalic._L.au_io_format_of_name(os.fsencode(surf)) == _lib.AU_IO_FORMAT_STL:
             raise Usage("--refine-mesh '%s': cannot write that extension (use .obj, .off, .ply or .gii)" % surf)
-    for path, what in ((out, "output"), (report, "report"), (surf, "--refine-mesh"),
+    for path, what in ((out, "output"), (report, "report"), (distortion, "--distortion"), (surf, "--refine-mesh"),
                        (surf and parents_name(surf), "--refine-mesh's parents file")):
         if not path:
             continue
         if os.path.isdir(path):
             raise Usage("%s '%s' is a directory" % (what, path))
+        if os.path.exists(path) and not os.path.isfile(path):
+            raise Usage("%s '%s' is not a regular file (a device, FIFO or socket); give a file name" % (what, path))
         d = os.path.dirname(path)
         if d and not os.path.isdir(d):
             raise Usage("%s '%s': directory '%s' does not exist" % (what, path, d))
@@ -382,21 +420,109 @@ def summary(cmd, r, seconds, spherical=False):
                                                                         r.init_method or "?", seconds))
 
 
+def read_input(path):
+    """(V, F, meta): the mesh and what its file carries besides (au_io_read_meta; the caller frees meta
+    with au_io_meta_free)."""
+    m, meta, msg = ctypes.POINTER(_lib.Mesh)(), ctypes.c_void_p(), _lib.Msg()
+    st = authalic._L.au_io_read_meta(os.fsencode(path), ctypes.byref(m), ctypes.byref(meta), ctypes.byref(msg))
+    try:
+        if st < 0:
+            authalic._raise(st, msg)
+        mm = m.contents
+        V = authalic._copy(mm.X, (mm.nv, 3), authalic._np.float64)
+        F = authalic._copy(mm.F, (mm.nf, 3), authalic._np.int32)
+        return V, F, meta
+    finally:
+        authalic._L.au_mesh_free(ctypes.byref(m))
+
+
+def write_map(path, V, F, fmt, meta, geometric_type, radius, uv=None, vt=None, Ft=None):
+    """au_mesh_write with the program's write options: the format, the input's metadata, the GIfTI
+    GeometricType, the radius."""
+    np = authalic._np
+    w = authalic._L.au_write_opts_default()
+    Va, Fa = np.ascontiguousarray(V, np.float64), np.ascontiguousarray(F, np.int32)
+    keep = [Va, Fa]
+    if uv is not None:
+        keep.append(np.ascontiguousarray(uv, np.float64))
+        w.uv = authalic._pd(keep[-1])
+    if vt is not None:
+        keep += [np.ascontiguousarray(vt, np.float64), np.ascontiguousarray(Ft, np.int32)]
+        w.nvt, w.vt, w.Ft = keep[-2].shape[0], authalic._pd(keep[-2]), authalic._pi(keep[-1])
+    w.format, w.meta, w.radius = fmt, meta, radius
+    w.geometric_type = geometric_type.encode() if geometric_type else None
+    msg = _lib.Msg()
+    st = authalic._L.au_mesh_write(os.fsencode(path), Va.shape[0], authalic._pd(Va), Fa.shape[0], authalic._pi(Fa),
+                                   ctypes.byref(w), ctypes.byref(msg))
+    if st < 0:
+        authalic._raise(st, msg)
+
+
+def write_distortion(path, r, cmd, meta):
+    """The program's --distortion file (cli_write_distortion): log2 of each vertex cell's share of the
+    domain over its share of the surface, as curv or GIfTI."""
+    np = authalic._np
+    X, F = np.ascontiguousarray(r.X, np.float64), np.ascontiguousarray(r.F, np.int32)
+    d = np.zeros(X.shape[0])
+    if cmd == "torus":
+        vt, Ft = np.ascontiguousarray(r.vt, np.float64), np.ascontiguousarray(r.Ft, np.int32)
+        st = authalic._L.au_metrics_vertex_distortion_vt(X.shape[0], F.shape[0], authalic._pd(X), authalic._pi(F),
+                                                         vt.shape[0], authalic._pd(vt), authalic._pi(Ft),
+                                                         authalic._pd(d), None)
+    else:
+        P = np.ascontiguousarray(r.P, np.float64)
+        if P.shape[1] == 2:
+            P = np.ascontiguousarray(np.column_stack([P, np.zeros(P.shape[0])]))
+        st = authalic._L.au_metrics_vertex_distortion(X.shape[0], F.shape[0], authalic._pd(X), authalic._pd(P),
+                                                      authalic._pi(F), _lib.DOMAINS["sphere" if cmd == "sphere" else "plane"],
+                                                      authalic._pd(d), None)
+    msg = _lib.Msg()
+    if st >= 0:
+        st = authalic._L.au_io_write_scalars(os.fsencode(path), X.shape[0], authalic._pd(d), F.shape[0], meta,
+                                             ctypes.byref(msg))
+    if st < 0:
+        authalic._raise(st, msg)
+
+
 def run(cmd, src, out, vals):
     t_start = time.monotonic()
     quiet = "quiet" in vals
     report = vals.get("report")
     kw = map_kwargs(cmd, vals)
-    surf = vals.get("refine-mesh")
-    check_outputs(src, out, report, surf, vals.get("density"))
+    surf, distortion = vals.get("refine-mesh"), vals.get("distortion")
+    forced = _lib.AU_IO_FORMAT_AUTO
+    if "format" in vals:
+        forced = authalic._L.au_io_format_parse(os.fsencode(vals["format"]))
+        if forced == _lib.AU_IO_FORMAT_AUTO:
+            raise Usage("--format '%s': expected obj, off, ply, freesurfer or gifti" % vals["format"])
+    radius = 0.0
+    if "radius" in vals:
+        radius = nonneg("radius", vals["radius"], 1e30, "expected a number from 1e-30 to 1e30")
+        if not radius >= 1e-30:
+            raise Usage("--radius '%s': expected a number from 1e-30 to 1e30" % vals["radius"])
+    check_outputs(src, out, report, surf, vals.get("density"), distortion)
     if cmd == "torus" and not out.lower().endswith(".obj"):
         raise Usage("%s: the torus map is written as .obj (its seamless `vt` need OBJ)" % out)
     t0 = time.monotonic()
     try:
-        V, F = authalic.read_mesh(src)
+        V, F, meta = read_input(src)
     except authalic.Error as e:
         return fail(src, str(e), isinstance(e, authalic.BadInputError))
+    try:
+        return run_with(cmd, src, out, vals, kw, V, F, meta, forced, radius, t0, t_start)
+    finally:
+        authalic._L.au_io_meta_free(ctypes.byref(meta))
+
+
+def run_with(cmd, src, out, vals, kw, V, F, meta, forced, radius, t0, t_start):
+    quiet = "quiet" in vals
+    report = vals.get("report")
+    surf, distortion = vals.get("refine-mesh"), vals.get("distortion")
     t_read = time.monotonic() - t0
+    in_fmt = authalic._L.au_io_meta_format(meta)
+    fmt = _lib.AU_IO_FORMAT_OBJ if cmd == "torus" else output_format(out, forced, in_fmt)
+    # SURF as OUT: by its extension, else the input's format (a FreeSurfer lh.white gives one).
+    sfmt = output_format(surf, _lib.AU_IO_FORMAT_AUTO, in_fmt) if surf else None
     if "density" in vals:
         try:
             kw["density"] = read_density(vals["density"], V.shape[0], F.shape[0])
@@ -427,10 +553,11 @@ def run(cmd, src, out, vals):
     # The refined surface and its parents under temporary names (each an atomic write), renamed into
     # place once OUT is: a run that fails later leaves a user's earlier SURF as it was. OUT likewise,
     # renamed into place only when the report is written too.
-    temps = [temp_name(surf), temp_name(parents_name(surf))] if surf else []
+    dests = [out_target(surf), out_target(parents_name(surf))] if surf else []
+    temps = [temp_name(d) for d in dests]
     if surf:
         try:
-            authalic.write_mesh(temps[0], r.X, r.F)
+            write_map(temps[0], r.X, r.F, sfmt, meta, None, 0.0)
         except authalic.Error as e:
             return fail(surf, str(e), isinstance(e, authalic.BadInputError))
         nv_in = r.X.shape[0] - (0 if r.parent is None else r.parent.shape[0])
@@ -441,18 +568,28 @@ def run(cmd, src, out, vals):
         if st < 0:
             os.unlink(temps[0])
             return fail(parents_name(surf), msg.text.decode() or "cannot write", authalic._L.au_status_is_input_error(st))
-    tmp = temp_name(out)
+    # The distortion file first (its own atomic write), removed again if OUT cannot be published.
+    published = False
+    if distortion:
+        try:
+            write_distortion(distortion, r, cmd, meta)
+        except authalic.Error as e:
+            for f in temps:
+                os.unlink(f)
+            return fail(distortion, str(e), isinstance(e, authalic.BadInputError))
+    dest = out_target(out)
+    tmp = temp_name(dest)
     try:
         t0 = time.monotonic()
         try:
             if cmd == "torus":  # the surface in `v`, the map in the per-corner `vt`
-                authalic.write_mesh(tmp, r.X, r.F, vt=r.vt, Ft=r.Ft)
+                write_map(tmp, r.X, r.F, fmt, meta, "Flat", 0.0, vt=r.vt, Ft=r.Ft)
             else:
-                authalic.write_mesh(tmp, r.P, r.F, uv=r.uv)
+                write_map(tmp, r.P, r.F, fmt, meta, "Spherical" if cmd == "sphere" else "Flat", radius, uv=r.uv)
         except authalic.Error as e:
             return fail(out, str(e), isinstance(e, authalic.BadInputError))
         try:
-            old = os.stat(out)
+            old = os.stat(dest)
             if stat.S_ISREG(old.st_mode):
                 os.chmod(tmp, stat.S_IMODE(old.st_mode))
         except OSError:
@@ -469,15 +606,18 @@ def run(cmd, src, out, vals):
             st = authalic._L.au_write_text(os.fsencode(report), data, len(data), msg)
             if st < 0:
                 return fail(report, msg.text.decode() or "cannot write the report", authalic._L.au_status_is_input_error(st))
-        os.replace(tmp, out)
+        os.replace(tmp, dest)
         tmp = None
+        published = True
         if surf:
-            os.replace(temps[0], surf)
-            os.replace(temps[1], parents_name(surf))
+            os.replace(temps[0], dests[0])
+            os.replace(temps[1], dests[1])
     finally:
         for f in [tmp] + temps:
             if f and os.path.exists(f):
                 os.unlink(f)
+        if distortion and not published and os.path.isfile(distortion):
+            os.unlink(distortion)
     if not quiet:
         summary(cmd, r, time.monotonic() - t_start, "spherical-areas" in vals)
     return EXIT_OK

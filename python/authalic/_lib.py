@@ -16,6 +16,9 @@ AU_MAX_WARNINGS = 8
 AU_MAX_STEPS = 512
 AU_MAX_ANGLE_STEPS = 50
 AU_REFINE_MAX_FACES = 16
+# au_io_format
+AU_IO_FORMAT_AUTO, AU_IO_FORMAT_OBJ, AU_IO_FORMAT_OFF, AU_IO_FORMAT_PLY, AU_IO_FORMAT_STL = 0, 1, 2, 3, 4
+AU_IO_FORMAT_FREESURFER, AU_IO_FORMAT_GIFTI = 5, 6
 AU_OUTER_LONGER, AU_OUTER_SHORTER = -1, -2
 AU_E_ARG, AU_E_CANCELLED = -2, -7
 TARGETS = {"sphere": 0, "disk": 1, "annulus": 2, "square": 3, "torus": 4}
@@ -165,6 +168,17 @@ def load():
     proto("au_mesh_read", c_int, c_char_p, PP_mesh, P_msg)
     proto("au_mesh_free", None, PP_mesh)
     proto("au_io_read_scalars", c_int, c_char_p, c_int, ctypes.POINTER(P_double), P_int, P_msg)
+    proto("au_io_read_meta", c_int, c_char_p, PP_mesh, ctypes.POINTER(c_void_p), P_msg)
+    proto("au_io_meta_free", None, ctypes.POINTER(c_void_p))
+    proto("au_io_meta_format", c_int, c_void_p)
+    proto("au_io_format_of_name", c_int, c_char_p)
+    proto("au_io_format_parse", c_int, c_char_p)
+    proto("au_io_format_name", c_char_p, c_int)
+    proto("au_io_write_scalars", c_int, c_char_p, c_int, P_double, c_int, c_void_p, P_msg)
+    proto("au_metrics_vertex_distortion", c_int, c_int, c_int, P_double, P_double, P_int, c_int, P_double, P_int)
+    proto("au_metrics_vertex_distortion_vt", c_int, c_int, c_int, P_double, P_int, c_int, P_double, P_int, P_double,
+          P_int)
+    proto("au_output_target", c_void_p, c_char_p)
     proto("au_write_opts_default", WriteOpts)
     proto("au_mesh_write", c_int, c_char_p, c_int, P_double, c_int, P_int, ctypes.POINTER(WriteOpts), P_msg)
     proto("au_mesh_can_write", c_int, c_char_p)

@@ -44,6 +44,18 @@ def test_metrics_equal_the_reports(star, star_map):
     assert np.isclose(np.mean(np.abs(m2["upsilon"])), m["upsilon_mean_abs"], rtol=1e-12)
 
 
+def test_metrics_domain_detected():
+    """Without domain=, metrics() takes the domain as param-eval does: a planar map (two columns, or z
+    all 0) in the plane (it was measured on the sphere: every face folded), a sphere map on the sphere."""
+    V, F = authalic.read_mesh(os.path.join(DATA, "disk_bump.obj"))
+    UV, info = authalic.disk(V, F)
+    P3 = np.column_stack([UV, np.zeros(UV.shape[0])])
+    for P in (UV, P3):
+        m = authalic.metrics(V, F, P)
+        assert m["domain"] == "plane" and m["folds"] == 0 and m == authalic.metrics(V, F, P, domain="plane")
+    assert authalic.metrics(V, F, P3, domain="sphere")["folds"] > 0  # the old default's reading
+
+
 def test_disk_annulus_square():
     V, F = authalic.read_mesh(os.path.join(DATA, "disk_bump.obj"))
     UV, info = authalic.disk(V, F)

@@ -61,9 +61,14 @@ def test_same_output_and_report_as_the_program(tmp_path, cmd, src, opts):
     (["sphere", STAR, "o.obj", "--corners", "1,2,3,4"], "unknown option"),
     (["sphere", STAR, "o.obj", "--steps", "3", "--steps", "4"], "twice"),
     (["sphere", STAR, "o.obj", "--init-only", "--steps", "3"], "--init-only"),
-    (["sphere", STAR, "o.obj", "--init-only", "--spherical-areas"], "--spherical-areas do not apply"),
+    (["sphere", STAR, "o.obj", "--init-only", "--spherical-areas"], "--spherical-areas does not apply"),
     (["sphere", STAR, "o.obj", "--spherical-areas", "--refine-mesh", "s.obj"], "--refine-mesh does not take --spherical-areas"),
-    (["sphere", STAR, "o.xyz"], "cannot write"),
+    (["sphere", STAR, "o.stl"], "cannot write"),
+    (["sphere", STAR, "o.obj", "--radius", "1e39"], "from 1e-30 to 1e30"),
+    (["sphere", STAR, "o.obj", "--radius", "1e-50"], "from 1e-30 to 1e30"),
+    (["sphere", STAR, "o.obj", "--format", "stl"], "--format 'stl'"),
+    (["sphere", STAR, "o.obj", "--distortion", STAR], "--distortion"),
+    (["sphere", STAR, "o.obj", "--report", "/dev/null"], "not a regular file"),
     (["sphere", STAR, STAR], "input file"),
     (["sphere", "missing.obj", "o.obj"], "missing.obj"),
     (["sphere", DISK, "o.obj"], "boundary"),
@@ -75,7 +80,7 @@ def test_same_output_and_report_as_the_program(tmp_path, cmd, src, opts):
     (["sphere", STAR, "o.obj", "--refine-mesh", "s.obj", "--refine-budget", "1"], "--refine-budget '1'"),
     (["sphere", STAR, "o.obj", "--refine-mesh", STAR], "also another input or output file"),
     (["sphere", STAR, "o.obj", "--refine-mesh", "o.obj"], "also another input or output file"),
-    (["sphere", STAR, "o.obj", "--refine-mesh", "s.xyz"], "cannot write that extension"),
+    (["sphere", STAR, "o.obj", "--refine-mesh", "s.stl"], "cannot write that extension"),
     (["disk", DISK, "o.obj", "--refine-mesh", "s.obj"], "unknown option"),
 ])
 def test_bad_usage_and_input_exit_2_with_one_line(tmp_path, args, words):
@@ -165,6 +170,51 @@ def test_density_curv_and_gifti_as_the_program(tmp_path):
         assert (tmp_path / ("c_" + name + ".obj")).read_bytes() == (tmp_path / ("p_" + name + ".obj")).read_bytes()
     with pytest.raises(authalic.BadInputError):
         authalic.read_values(tmp_path / "missing.txt")
+
+
+def test_neuro_outputs_as_the_program(tmp_path):
+    """GIfTI and FreeSurfer in and out (written by nibabel): python -m authalic writes what the program
+    writes, byte for byte: a GIfTI OUT with the input's AnatomicalStructurePrimary and GeometricType
+    Spherical (it had none), an OUT without extension in the input's FreeSurfer format (refused before),
+    --radius 100, --distortion, and --refine-mesh SURF as a FreeSurfer surface (the program refused
+    SURF without extension) and as GIfTI with the input's metadata (it had none)."""
+    nib = pytest.importorskip("nibabel")
+    import numpy as np
+    V, F = authalic.read_mesh(STAR)
+    meta = {"AnatomicalStructurePrimary": "CortexLeft", "GeometricType": "Anatomical"}
+    gii = tmp_path / "lh.white.surf.gii"
+    nib.save(nib.gifti.GiftiImage(darrays=[
+        nib.gifti.GiftiDataArray(V.astype(np.float32), intent="NIFTI_INTENT_POINTSET", datatype="NIFTI_TYPE_FLOAT32",
+                                 meta=meta),
+        nib.gifti.GiftiDataArray(F.astype(np.int32), intent="NIFTI_INTENT_TRIANGLE", datatype="NIFTI_TYPE_INT32")]),
+        str(gii))
+    fs = tmp_path / "lh.white"
+    nib.freesurfer.write_geometry(str(fs), V.astype(np.float32), F)
+    runs = [(gii, "s.gii", []), (fs, "lh.sphere", ["--radius", "100", "--distortion", "{}.shape.gii"]),
+            (fs, "m.obj", ["--refine-mesh", "{}surf", "--steps", "3"]),
+            (gii, "g.obj", ["--refine-mesh", "{}surf.gii", "--steps", "3"])]
+    for src, out, opts in runs:
+        outs = []
+        for who in ("c", "p"):
+            o = [x.format(tmp_path / (who + "_" + out + "_")) for x in opts]
+            args = ["sphere", src, tmp_path / (who + "_" + out), "--quiet"] + o
+            r = subprocess.run([cli()] + args, capture_output=True, text=True) if who == "c" else run_py(*args)
+            assert r.returncode == 0, r.stderr
+            outs.append([tmp_path / (who + "_" + out)] + [o[k + 1] for k in range(len(o)) if opts[k] in (
+                "--distortion", "--refine-mesh")])
+        for a, b in zip(*outs):
+            assert open(a, "rb").read() == open(b, "rb").read(), a
+    img = nib.load(str(tmp_path / "p_s.gii"))
+    m = dict(img.darrays[0].meta)
+    assert m["AnatomicalStructurePrimary"] == "CortexLeft" and m["GeometricType"] == "Spherical"
+    S, _ = nib.freesurfer.read_geometry(str(tmp_path / "p_lh.sphere"))
+    assert np.allclose(np.linalg.norm(S, axis=1), 100, rtol=1e-6)
+    X, Fr = nib.freesurfer.read_geometry(str(tmp_path / "p_m.obj_surf"))
+    assert X.shape[0] > V.shape[0] and np.allclose(X[:V.shape[0]], V, atol=1e-5)
+    s = nib.load(str(tmp_path / "p_g.obj_surf.gii"))
+    m = dict(s.darrays[0].meta)
+    assert m["AnatomicalStructurePrimary"] == "CortexLeft" and m["GeometricType"] == "Anatomical"
+    assert nib.load(str(tmp_path / "p_lh.sphere_.shape.gii")).darrays[0].data.shape == (V.shape[0],)
 
 
 def test_internal_failure_exits_1(tmp_path, monkeypatch, capsys):

@@ -67,6 +67,12 @@ bad_number)
     run sphere "$IN" "$OUT" --tol "$v"
     expect_rejected "--tol '$v'"
   done
+  # A radius whose float32 coordinates would overflow or vanish (1e-50 wrote zeros) is refused, and the
+  # message says the range (1e39 was "expected a positive number").
+  for v in abc '' 0 -1 1e39 1e-50 nan inf; do
+    run sphere "$IN" "$OUT" --radius "$v"
+    expect_rejected "--radius '$v': expected a number from 1e-30 to 1e30"
+  done
   for v in abc '' -0.1 1.5 nan; do
     run sphere "$IN" "$OUT" --restore-shapes "$v"
     expect_rejected "--restore-shapes '$v'"
@@ -116,14 +122,15 @@ refine_outputs)
   expect_rejected "parents file '$T/p.obj.parents.txt' is a directory"
   run sphere "$IN" "$OUT" --refine-mesh "$T/o/r.json" --report "$T/o/r.json"
   expect_rejected 'is also another input or output file'
-  run sphere "$T/in.obj" "$OUT" --refine-mesh "$T/in"
+  # SURF's format follows its extension, else the input's, as OUT's: only STL cannot be written.
+  run sphere "$T/in.obj" "$OUT" --refine-mesh "$T/o/in.stl"
   expect_rejected "cannot write that extension"
   # The parents file beside SURF counts too.
   cp "$IN" "$T/s.obj.parents.txt"
   run sphere "$T/s.obj.parents.txt" "$OUT" --refine-mesh "$T/s.obj"
   expect_rejected "$T/s.obj.parents.txt is also another input or output file"
-  run sphere "$IN" "$OUT" --refine-mesh "$T/o/surf.xyz"
-  expect_rejected "--refine-mesh '$T/o/surf.xyz': cannot write that extension"
+  run sphere "$IN" "$OUT" --refine-mesh "$T/o/surf.STL"
+  expect_rejected "--refine-mesh '$T/o/surf.STL': cannot write that extension"
   run sphere "$IN" "$OUT" --refine-mesh "$T/o/nodir/surf.obj"
   expect_rejected "directory '$T/o/nodir' does not exist"
   ;;
