@@ -466,7 +466,9 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
   if (r->metrics.folds > 0)
     return au_msg_set(msg, AU_E_FOLD, "the map has %d folded triangle%s%s", r->metrics.folds,
                       r->metrics.folds == 1 ? "" : "s",
-                      not_converged ? " (the flow had not converged: more steps may grow them back)" : "");
+                      x->o->init_only ? " (the start squeezes them below a double's resolution; the flow grows them back)"
+                      : not_converged ? " (the flow had not converged: more steps may grow them back)"
+                                      : "");
   /* The floor holds chord triangles only: a map of the spherical triangles' areas is not held by it, and
    * its tolerance was missed for another reason. The remedies are named as the program spells them;
    * Python's keywords are the same words (refine_mesh, refine_budget, spherical_areas), C's fields too

@@ -873,32 +873,39 @@ static mode_t new_file_mode(void) {
 }
 
 
-/* The file a write to path replaces: for a symbolic link, the file it names (malloc'ed, the caller
- * frees it; followed through further links, and also when that file does not exist yet), so the link
- * stays; otherwise NULL, and path itself is replaced. */
-static char *link_target(const char *path) {
+/* The file a write to path replaces: for a symbolic link, the file it names (into *out, malloc'ed, the
+ * caller frees it; followed through further links, and also when that file does not exist yet), so the
+ * link stays; otherwise *out = NULL, and path itself is replaced. Returns 0, or -1 (errno set) for a
+ * link that cannot be followed: a loop (ELOOP), an unreadable link, a name too long, no memory. */
+static int link_target(const char *path, char **out) {
   char cur[PATH_MAX], next[PATH_MAX];
-  if (snprintf(cur, sizeof cur, "%s", path) >= (int)sizeof cur) return NULL;
+  *out = NULL;
+  if (snprintf(cur, sizeof cur, "%s", path) >= (int)sizeof cur) return errno = ENAMETOOLONG, -1;
   int links = 0;
-  for (struct stat ls; links < 40 && lstat(cur, &ls) == 0 && S_ISLNK(ls.st_mode); links++) {
+  struct stat ls;
+  for (; lstat(cur, &ls) == 0 && S_ISLNK(ls.st_mode); links++) {
+    if (links == 40) return errno = ELOOP, -1;
     ssize_t n = readlink(cur, next, sizeof next - 1);
-    if (n < 0) return NULL;
+    if (n < 0) return -1;
     next[n] = '\0';
     const char *slash = strrchr(cur, '/');
     /* A relative target is relative to the link's directory. */
     int dirlen = next[0] == '/' || !slash ? 0 : (int)(slash - cur + 1);
-    if (snprintf(cur + dirlen, sizeof cur - (size_t)dirlen, "%s", next) >= (int)(sizeof cur - (size_t)dirlen)) return NULL;
+    if (snprintf(cur + dirlen, sizeof cur - (size_t)dirlen, "%s", next) >= (int)(sizeof cur - (size_t)dirlen))
+      return errno = ENAMETOOLONG, -1;
   }
-  if (links == 0) return NULL;
+  if (links == 0) return 0;
   size_t n = strlen(cur) + 1;
-  char *out = malloc(n);
-  if (out) memcpy(out, cur, n);
-  return out;
+  if (!(*out = malloc(n))) return errno = ENOMEM, -1;
+  memcpy(*out, cur, n);
+  return 0;
 }
 
 char *au_output_target(const char *path) {
-  char *real = path ? link_target(path) : NULL;
-  if (real || !path) return real;
+  char *real = NULL;
+  if (!path) return NULL;
+  /* A link that cannot be followed stays the name: writing through it fails with the reason. */
+  if (link_target(path, &real) == 0 && real) return real;
   size_t n = strlen(path) + 1;
   real = malloc(n);
   if (real) memcpy(real, path, n);
@@ -907,7 +914,8 @@ char *au_output_target(const char *path) {
 
 au_status au_temp_path(const char *path, char *buf, size_t len) {
   if (!path || !buf) return AU_E_ARG;
-  char *real = link_target(path);
+  char *real = NULL;
+  link_target(path, &real);
   int n = snprintf(buf, len, "%s.tmp%ld", real ? real : path, (long)getpid());
   free(real);
   return n >= 0 && (size_t)n < len ? AU_OK : AU_E_ARG;
@@ -923,7 +931,9 @@ au_status au_io__write_atomic(const char *path, au_io__emit_fn emit, const void 
   struct stat st0;
   if (stat(path, &st0) == 0 && !S_ISREG(st0.st_mode))
     return au_msg_set(msg, AU_E_IO, "cannot write '%s': not a regular file (a device, FIFO, socket or directory)", path);
-  char *real = link_target(path);
+  char *real = NULL;
+  if (link_target(path, &real) != 0)
+    return au_msg_set(msg, errno == ENOMEM ? AU_E_NOMEM : AU_E_IO, "cannot write '%s': %s", path, strerror(errno));
   const char *dest = real ? real : path;
   size_t n = strlen(dest) + 32;
   char *tmp = malloc(n);
@@ -931,7 +941,8 @@ au_status au_io__write_atomic(const char *path, au_io__emit_fn emit, const void 
     free(real);
     return au_msg_set(msg, AU_E_NOMEM, "out of memory writing '%s'", path);
   }
-  au_temp_path(path, tmp, n);
+  /* au_temp_path(path)'s name, made from the target resolved once here. */
+  snprintf(tmp, n, "%s.tmp%ld", dest, (long)getpid());
   int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0 && errno == EEXIST && unlink(tmp) == 0) fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) {

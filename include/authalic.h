@@ -392,7 +392,7 @@ typedef struct au_options {
   au_lattice lattice;     /* torus: AU_LATTICE_CONFORMAL (default) or AU_LATTICE_SQUARE */
   int refine_mesh;        /* sphere: 1: after the flow, split the map's long edges where a chord
                              triangle cannot shrink to its share (the chord floor), with new vertices on
-                             the input surface, and flow again, within refine_max_faces (three
+                             the input surface, and flow again, within refine_max_faces (four
                              candidate refinements, the best kept: sphere/au_sphere_refine.c). The result's mesh is then the refined one (nv > nv_in) and
                              au_result.parent tells where each new vertex lies; when no refinement
                              lowers the vertex error without raising the per-face one, the input's

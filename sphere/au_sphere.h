@@ -145,7 +145,10 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
  * midpoint (on the surface: the average of its ends; on the sphere: the great arc's midpoint), and the
  * flow runs again on the refined mesh from there, at the shear weight's floor; up to eight rounds,
  * each spending at most half the face budget left (max_faces x m->nf). A second refinement does the same for every face
- * whose floor exceeds a tenth of its share, and the refined map with the lower vertex error is kept.
+ * whose floor exceeds a tenth of its share; where some face is held, a third splits the map's longest
+ * edges in one round (at most 3x the faces), and a fourth splits, from the map of spherical areas, the
+ * faces whose chord triangles part most from their spherical ones, by their longest edges, then flows
+ * the spherical areas and polishes the chord ones. The refined map with the lowest vertex error is kept.
  * m: the input mesh (validated, closed, genus 0); P: its map (nv x 3, fold-free, e.g. au_sphere_map's).
  * opts: the flow's options (may be NULL); max_faces >= 1 (2: at most twice the faces).
  * out, Pout: the refined mesh and its map, library-allocated (au_mesh_free, free): the input's vertices

@@ -420,8 +420,8 @@ static double vertex_error(const au_mesh *m, const double *P);
  * chord polish last. A map of spherical areas has no floor to fight, so its long, thin triangles come
  * out where the chord and the sphere part, which is what the splits lift; the chord polish then moves
  * the vertices the floor held (docs/hard-meshes.md, session 19: the thin-limbed family's refined maps,
- * limbs8 at twice the faces 0.1219 / 0.0560 -> 0.0568 / 0.0246, tpose 0.2373 / 0.1134 -> 0.0976 /
- * 0.0509). */
+ * limbs8 at twice the faces 0.1219 / 0.0560 -> 0.0568 / 0.0247, tpose 0.2373 / 0.1134 -> 0.0983 /
+ * 0.0512). */
 static au_status refine_spherical(const au_mesh *m, const double *P, const au_sphere_opts *o, double max_faces,
                                   au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                                   au_advect_report *ar, au_sphere_report *pol, au_msg *msg) {

@@ -719,6 +719,12 @@ static int refine_spherical_split_limbs8(void) {
   AU_CHECK_INT(nnew, >, 0);
   AU_CHECK_INT(mr->nf, <=, 2 * L.m->nf);
   AU_CHECK(memcmp(mr->X, L.m->X, sizeof(double) * 3 * (size_t)L.m->nv) == 0);
+  /* Still a closed, consistently oriented genus-0 mesh: every edge has two faces, V - E + F = 2. */
+  au_topo *tr = NULL;
+  au_mesh_expect ex = au_mesh_expect_default();
+  AU_CHECK_STATUS(au_mesh_validate(mr, &ex, &tr, &msg), AU_OK, &msg);
+  AU_CHECK_INT(mr->nv - tr->ne + mr->nf, ==, 2);
+  au_topo_free(&tr);
   int deep = 0;
   for (int k = 0; k < nnew; k++) {
     int a = par[2 * k], b = par[2 * k + 1], v = L.m->nv + k;

@@ -86,7 +86,8 @@ static int parent_dir(const char *path, struct stat *st, const char **base) {
   return ok;
 }
 
-int cli_same_file(const char *a, const char *b) {
+/* cli_same_file for names that are not links to follow. */
+static int same_name(const char *a, const char *b) {
   struct stat sa, sb;
   const char *na, *nb;
   if (strcmp(a, b) == 0) return 1;
@@ -94,6 +95,14 @@ int cli_same_file(const char *a, const char *b) {
   if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
   return parent_dir(a, &sa, &na) && parent_dir(b, &sb, &nb) && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino &&
          *na && strcmp(na, nb) == 0;
+}
+
+int cli_same_file(const char *a, const char *b) {
+  /* Two links to one file that is not there yet are one output too (au_output_target). */
+  char *ra = au_output_target(a), *rb = au_output_target(b);
+  int same = ra && rb ? same_name(ra, rb) : same_name(a, b);
+  au_free(ra), au_free(rb);
+  return same;
 }
 
 int cli_check_writable_path(const char *help, const char *path, const char *what) {
@@ -104,6 +113,8 @@ int cli_check_writable_path(const char *help, const char *path, const char *what
   if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
     return cli_usage_error(help, "%s '%s' is not a regular file (a device, FIFO or socket); give a file name", what,
                            path);
+  if (stat(path, &st) != 0 && errno == ELOOP)
+    return cli_usage_error(help, "%s '%s': too many levels of symbolic links", what, path);
   const char *slash = strrchr(path, '/');
   if (!slash) return 0;
   size_t n = slash == path ? 1 : (size_t)(slash - path);
@@ -356,16 +367,22 @@ int cli_output_format(const char *help, const char *out, au_io_format forced, co
   return 0;
 }
 
-int cli_write_distortion(const char *path, const au_mesh *m, const double *P, au_domain domain, int nvt,
-                         const double *vt, const int *Ft, const au_io_meta *meta) {
+void cli_remove_output(const char *path) {
+  char *d = au_output_target(path);
+  unlink(d ? d : path);
+  au_free(d);
+}
+
+int cli_write_distortion(const char *path, const char *name, const au_mesh *m, const double *P, au_domain domain,
+                         int nvt, const double *vt, const int *Ft, const au_io_meta *meta) {
   au_msg msg = {{0}};
   double *d = malloc((size_t)m->nv * sizeof *d);
-  if (!d) return cli_fail(path, AU_E_NOMEM, NULL);
+  if (!d) return cli_fail(name, AU_E_NOMEM, NULL);
   au_status st = vt ? au_metrics_vertex_distortion_vt(m->nv, m->nf, m->X, m->F, nvt, vt, Ft, d, NULL)
                     : au_metrics_vertex_distortion(m->nv, m->nf, m->X, P, m->F, domain, d, NULL);
   if (st == AU_OK) st = au_io_write_scalars(path, m->nv, d, m->nf, meta, &msg);
   free(d);
-  return st == AU_OK ? -1 : cli_fail(path, st, &msg);
+  return st == AU_OK ? -1 : cli_fail(name, st, &msg);
 }
 
 int cli_load(const char *in, au_target t, au_mesh **m, au_io_meta **meta, cli_warnings *w, double *t_read,

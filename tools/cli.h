@@ -86,10 +86,13 @@ int cli_output_format(const char *help, const char *out, au_io_format forced, co
 
 /* Write the per-vertex areal distortion of the map X -> P (au_metrics_vertex_distortion), or of the
  * per-corner map (nvt, vt, Ft) when vt is given (a torus result: au_metrics_vertex_distortion_vt), to
- * path (au_io_write_scalars: curv, or GIfTI for .gii names, with the input's metadata). Returns -1
- * on success, else prints the error and returns the exit code. */
-int cli_write_distortion(const char *path, const au_mesh *m, const double *P, au_domain domain, int nvt,
-                         const double *vt, const int *Ft, const au_io_meta *meta);
+ * path (au_io_write_scalars: curv, or GIfTI for .gii names, with the input's metadata); errors name
+ * the file name (the option's value, when path is its temporary). Returns -1 on success, else prints
+ * the error and returns the exit code. */
+int cli_write_distortion(const char *path, const char *name, const au_mesh *m, const double *P, au_domain domain,
+                         int nvt, const double *vt, const int *Ft, const au_io_meta *meta);
+/* Remove an output this run wrote: the file a symbolic link names (au_output_target), not the link. */
+void cli_remove_output(const char *path);
 
 /* Check that path can be created: its directory exists and it is not a directory. 0 or usage error. */
 int cli_check_writable_path(const char *help, const char *path, const char *what);

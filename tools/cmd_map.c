@@ -15,8 +15,9 @@
 static const char *const usage_sphere =
     "usage: authalic sphere IN OUT [options]\n\n"
     "Maps the closed genus-0 triangle mesh IN onto the unit sphere so that every vertex cell keeps\n"
-    "its share of the surface area, and writes the map to OUT (.obj .off or .ply). Progress and a\n"
-    "summary line go to stderr; OUT and the report are written only when the whole run succeeded.\n\n";
+    "its share of the surface area, and writes the map to OUT (.obj .off .ply .gii, or FreeSurfer).\n"
+    "Progress and a summary line go to stderr; OUT and the report are written only when the whole run\n"
+    "succeeded.\n\n";
 static const char *const usage_disk =
     "usage: authalic disk IN OUT [options]\n\n"
     "Maps the triangle mesh IN, which must have one boundary loop (a topological disk), onto the\n"
@@ -293,14 +294,16 @@ static int run_map(const cli_args *a, au_options *o) {
   au_mesh *m = NULL;
   au_result *r = NULL;
   au_io_meta *meta = NULL;
-  const char *distortion = a->val[OPT_DISTORTION], *surf = a->val[OPT_REFINE_MESH];
+  const char *distortion = a->val[OPT_DISTORTION], *surf = a->val[OPT_REFINE_MESH], *preview = a->val[OPT_PREVIEW];
   char parents[4200];
   parents_name(surf, parents, sizeof parents);
-  /* The refined surface and its parents wait under temporary names until OUT is published: a run that
-   * fails later leaves a user's earlier SURF as it was. */
-  char *surf_dest = surf ? au_output_target(surf) : NULL, *parents_dest = surf ? au_output_target(parents) : NULL;
-  char *surf_tmp = surf_dest ? cli_temp_name(surf_dest) : NULL, *parents_tmp = parents_dest ? cli_temp_name(parents_dest) : NULL;
-  int wrote_surf = 0;
+  /* The outputs besides OUT and the report (the refined surface and its parents, the distortion, the
+   * preview) wait under temporary names beside the files they replace until OUT is published: a run
+   * that fails later leaves a user's earlier files, and the links to them, as they were. */
+  enum { P_SURF, P_PARENTS, P_DISTORTION, P_PREVIEW, NPENDING };
+  const char *names[NPENDING] = {surf, surf ? parents : NULL, distortion, preview};
+  char *dest[NPENDING] = {NULL}, *tmp[NPENDING] = {NULL};
+  int written[NPENDING] = {0};
   double *density = NULL;
   au_msg msg = {{0}};
   cli_progress_state prog;
@@ -314,14 +317,21 @@ static int run_map(const cli_args *a, au_options *o) {
   au_io_format ofmt = AU_IO_FORMAT_OBJ;
   if (t != AU_TARGET_TORUS && (rc = cli_output_format(a->help, out, au_io_format_parse(a->val[OPT_FORMAT]), meta, &ofmt)))
     goto done;
-  au_io_format sfmt = AU_IO_FORMAT_OBJ;
-  if (surf && (rc = cli_output_format(a->help, surf, AU_IO_FORMAT_AUTO, meta, &sfmt))) goto done;
-  cli_expect_output(distortion);
-  if (surf && (!surf_tmp || !parents_tmp)) {
-    rc = cli_fail(surf, AU_E_NOMEM, NULL);
+  au_io_format sfmt = surf ? au_io_format_of_name(surf) : AU_IO_FORMAT_OBJ;
+  if (sfmt == AU_IO_FORMAT_AUTO) sfmt = au_io_meta_format(meta);
+  if (sfmt == AU_IO_FORMAT_AUTO || sfmt == AU_IO_FORMAT_STL) {
+    rc = cli_usage_error(a->help, "--refine-mesh '%s': no extension of a format that can be written and the input is %s "
+                                  "(use .obj, .off, .ply or .gii)", surf, au_io_format_name(sfmt));
     goto done;
   }
-  if (surf) cli_expect_output(surf_tmp), cli_expect_output(parents_tmp), cli_expect_temp(surf_tmp), cli_expect_temp(parents_tmp);
+  for (int k = 0; k < NPENDING; k++) {
+    if (!names[k]) continue;
+    if (!(dest[k] = au_output_target(names[k])) || !(tmp[k] = cli_temp_name(dest[k]))) {
+      rc = cli_fail(names[k], AU_E_NOMEM, NULL);
+      goto done;
+    }
+    cli_expect_output(tmp[k]), cli_expect_temp(tmp[k]);
+  }
   if (a->val[OPT_DENSITY]) {
     int nval = 0;
     rc = read_density(a->val[OPT_DENSITY], m->nv, m->nf, &density, &nval);
@@ -356,38 +366,39 @@ static int run_map(const cli_args *a, au_options *o) {
   if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
   w.format = ofmt, w.meta = meta, w.geometric_type = t == AU_TARGET_SPHERE ? "Spherical" : "Flat";
   if (a->val[OPT_RADIUS]) cli_parse_nonneg(a->val[OPT_RADIUS], &w.radius); /* checked when parsed */
-  if (surf && (rc = write_refined(surf_tmp, parents_tmp, surf, parents, r, sfmt, meta)) >= 0) goto done;
-  wrote_surf = surf != NULL;
-  /* The distortion file first (its own atomic write), removed again if OUT cannot be published. */
+  if (surf && (rc = write_refined(tmp[P_SURF], tmp[P_PARENTS], surf, parents, r, sfmt, meta)) >= 0) goto done;
+  written[P_SURF] = written[P_PARENTS] = surf != NULL;
   if (distortion) {
     au_mesh mm = {r->nv, r->nf, r->X, r->F};
-    rc = cli_write_distortion(distortion, &mm, r->P, t == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE, r->nvt,
-                              t == AU_TARGET_TORUS ? r->vt : NULL, r->Ft, meta);
+    rc = cli_write_distortion(tmp[P_DISTORTION], distortion, &mm, r->P, t == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE,
+                              r->nvt, t == AU_TARGET_TORUS ? r->vt : NULL, r->Ft, meta);
     if (rc >= 0) goto done;
+    written[P_DISTORTION] = 1;
   }
-  /* The preview likewise first: a picture of a map that was not published is removed again. */
-  const char *preview = a->val[OPT_PREVIEW];
   if (preview) {
-    cli_expect_output(preview);
-    st = au_torus_preview(preview, r, 1024, 0, &msg);
+    st = au_torus_preview(tmp[P_PREVIEW], r, 1024, 0, &msg);
     if (st < 0) {
       rc = cli_fail(preview, st, &msg);
       goto done;
     }
+    written[P_PREVIEW] = 1;
   }
   rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
-  if (rc != EXIT_OK && distortion) unlink(distortion);
-  if (rc != EXIT_OK && preview) unlink(preview);
-  if (rc == EXIT_OK && wrote_surf && (rename(surf_tmp, surf_dest) != 0 || rename(parents_tmp, parents_dest) != 0)) {
-    fprintf(stderr, "authalic: error: %s: cannot rename the refined surface or its parents into place: %s\n", surf,
-            strerror(errno));
-    rc = EXIT_INTERNAL;
-  }
+  for (int k = 0; rc == EXIT_OK && k < NPENDING; k++)
+    if (written[k]) {
+      if (rename(tmp[k], dest[k]) != 0) {
+        fprintf(stderr, "authalic: error: %s: cannot rename it into place: %s\n", names[k], strerror(errno));
+        rc = EXIT_INTERNAL;
+      }
+      written[k] = 0;
+    }
   if (rc == EXIT_OK && !quiet) summary(a->cmd, r, a->val[OPT_SPHERICAL_AREAS] != NULL, cli_now() - t_start);
 done:
   /* Temporaries not renamed (a failure anywhere after they were written) go. */
-  if (wrote_surf) unlink(surf_tmp), unlink(parents_tmp);
-  free(surf_tmp), free(parents_tmp), au_free(surf_dest), au_free(parents_dest);
+  for (int k = 0; k < NPENDING; k++) {
+    if (written[k]) unlink(tmp[k]);
+    free(tmp[k]), au_free(dest[k]);
+  }
   cli_progress_end(&prog);
   au_result_free(&r);
   au_io_meta_free(&meta);

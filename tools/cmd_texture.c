@@ -242,7 +242,7 @@ static int write_done(written *w, const char *path, au_status st, const au_msg *
     w->path[w->n++] = path;
     return -1;
   }
-  for (int k = 0; k < w->n; k++) unlink(w->path[k]);
+  for (int k = 0; k < w->n; k++) cli_remove_output(w->path[k]);
   w->n = 0;
   return cli_fail(path, st, msg);
 }
@@ -412,9 +412,9 @@ static int run_texture(const tex_args *a) {
     if (rc >= 0) goto done;
   }
   if (a->distortion) {
-    rc = cli_write_distortion(a->distortion, m, P, AU_DOMAIN_SPHERE, 0, NULL, NULL, meta);
+    rc = cli_write_distortion(a->distortion, a->distortion, m, P, AU_DOMAIN_SPHERE, 0, NULL, NULL, meta);
     if (rc >= 0) {
-      for (int k = 0; k < w.n; k++) unlink(w.path[k]);
+      for (int k = 0; k < w.n; k++) cli_remove_output(w.path[k]);
       goto done;
     }
     w.path[w.n++] = a->distortion;

@@ -385,9 +385,11 @@ def metrics(V, F, P, domain=None, per_face=False):
     "lambda" (float64 arrays of shape (nf,)).
     Raises BadInputError (bad arrays, unknown domain, zero total area) or Error.
     """
-    if domain is None:
-        Pz = _real_array(P, "P", (2, 3))
-        domain = "plane" if Pz.shape[1] == 2 or not Pz[:, 2].any() else "sphere"
+    if domain is None:  # param-eval looks at the vertices the faces use
+        Pz, Fz = _real_array(P, "P", (2, 3)), _faces(F)
+        used = _np.unique(Fz) if Fz.size else _np.zeros(0, _np.int64)
+        used = used[(used >= 0) & (used < Pz.shape[0])]
+        domain = "plane" if not Pz[used, 2].any() else "sphere"
     if domain not in ("sphere", "plane", "disk", "annulus", "square"):
         _bad("domain %r: expected 'sphere' or 'plane'" % (domain,))
     dom = _lib.DOMAINS["sphere" if domain == "sphere" else "plane"]

@@ -62,7 +62,7 @@ OPTIONS = [
     ("lattice", "SHAPE", ("torus",), "conformal (default): the conformal modulus's lattice, area 1; square: the unit "
                                      "square's"),
     ("init-only", None, COMMANDS, "stop after the initial (conformal or harmonic) map, for comparison"),
-    ("format", "F", COMMANDS, "write OUT as obj, off, ply, freesurfer (binary triangle surface, big-endian, float32) "
+    ("format", "F", COMMANDS[:4], "write OUT as obj, off, ply, freesurfer (binary triangle surface, big-endian, float32) "
                               "or gifti (.gii; gzip-compressed for a .gii.gz name); default: by OUT's extension, and "
                               "an OUT with none (lh.sphere.authalic) gets the input's format"),
     ("radius", "R", ("sphere",), "write the sphere with radius R, 1e-30 <= R <= 1e30 (FreeSurfer and HCP spheres: 100); "
@@ -251,7 +251,8 @@ def map_kwargs(cmd, vals):
 
 def same_file(a, b):
     """The same string, the same file when both exist, or else the same name in the same directory (a
-    file not made yet: out.obj and ./out.obj)."""
+    file not made yet: out.obj and ./out.obj); two links to one file not made yet are one too."""
+    a, b = out_target(a), out_target(b)
     if a == b:
         return True
     try:
@@ -328,6 +329,11 @@ def check_outputs(src, out, report, surf=None, density=None, distortion=None):
             raise Usage("%s '%s' is a directory" % (what, path))
         if os.path.exists(path) and not os.path.isfile(path):
             raise Usage("%s '%s' is not a regular file (a device, FIFO or socket); give a file name" % (what, path))
+        try:
+            os.stat(path)
+        except OSError as e:
+            if e.errno == errno.ELOOP:
+                raise Usage("%s '%s': too many levels of symbolic links" % (what, path)) from None
         d = os.path.dirname(path)
         if d and not os.path.isdir(d):
             raise Usage("%s '%s': directory '%s' does not exist" % (what, path, d))
@@ -350,7 +356,10 @@ def read_density(path, nv, nf):
             pass
     except OSError as e:
         raise BadFile("%s: cannot open the density file: %s" % (path, e.strerror)) from None
-    vals = authalic.read_values(path)
+    try:
+        vals = authalic.read_values(path)
+    except authalic.Error as e:
+        raise BadFile(str(e) if str(e).startswith(path + ":") else "%s: %s" % (path, e)) from None
     for k, x in enumerate(vals):
         if not x > 0:
             raise BadFile("%s: value %d ('%g') is not a positive finite number" % (path, k + 1, x))
@@ -522,7 +531,14 @@ def run_with(cmd, src, out, vals, kw, V, F, meta, forced, radius, t0, t_start):
     in_fmt = authalic._L.au_io_meta_format(meta)
     fmt = _lib.AU_IO_FORMAT_OBJ if cmd == "torus" else output_format(out, forced, in_fmt)
     # SURF as OUT: by its extension, else the input's format (a FreeSurfer lh.white gives one).
-    sfmt = output_format(surf, _lib.AU_IO_FORMAT_AUTO, in_fmt) if surf else None
+    sfmt = None
+    if surf:
+        sfmt = authalic._L.au_io_format_of_name(os.fsencode(surf))
+        if sfmt == _lib.AU_IO_FORMAT_AUTO:
+            sfmt = in_fmt
+        if sfmt in (_lib.AU_IO_FORMAT_AUTO, _lib.AU_IO_FORMAT_STL):
+            raise Usage("--refine-mesh '%s': no extension of a format that can be written and the input is %s "
+                        "(use .obj, .off, .ply or .gii)" % (surf, authalic._L.au_io_format_name(sfmt).decode()))
     if "density" in vals:
         try:
             kw["density"] = read_density(vals["density"], V.shape[0], F.shape[0])
@@ -553,7 +569,11 @@ def run_with(cmd, src, out, vals, kw, V, F, meta, forced, radius, t0, t_start):
     # The refined surface and its parents under temporary names (each an atomic write), renamed into
     # place once OUT is: a run that fails later leaves a user's earlier SURF as it was. OUT likewise,
     # renamed into place only when the report is written too.
+    # SURF, its parents and the distortion wait under temporary names beside the files they replace
+    # until OUT is published, as the program's (cmd_map.c).
     dests = [out_target(surf), out_target(parents_name(surf))] if surf else []
+    if distortion:
+        dests.append(out_target(distortion))
     temps = [temp_name(d) for d in dests]
     if surf:
         try:
@@ -568,14 +588,13 @@ def run_with(cmd, src, out, vals, kw, V, F, meta, forced, radius, t0, t_start):
         if st < 0:
             os.unlink(temps[0])
             return fail(parents_name(surf), msg.text.decode() or "cannot write", authalic._L.au_status_is_input_error(st))
-    # The distortion file first (its own atomic write), removed again if OUT cannot be published.
-    published = False
     if distortion:
         try:
-            write_distortion(distortion, r, cmd, meta)
+            write_distortion(temps[-1], r, cmd, meta)
         except authalic.Error as e:
             for f in temps:
-                os.unlink(f)
+                if os.path.exists(f):
+                    os.unlink(f)
             return fail(distortion, str(e), isinstance(e, authalic.BadInputError))
     dest = out_target(out)
     tmp = temp_name(dest)
@@ -608,16 +627,12 @@ def run_with(cmd, src, out, vals, kw, V, F, meta, forced, radius, t0, t_start):
                 return fail(report, msg.text.decode() or "cannot write the report", authalic._L.au_status_is_input_error(st))
         os.replace(tmp, dest)
         tmp = None
-        published = True
-        if surf:
-            os.replace(temps[0], dests[0])
-            os.replace(temps[1], dests[1])
+        for t, d in zip(temps, dests):
+            os.replace(t, d)
     finally:
         for f in [tmp] + temps:
             if f and os.path.exists(f):
                 os.unlink(f)
-        if distortion and not published and os.path.isfile(distortion):
-            os.unlink(distortion)
     if not quiet:
         summary(cmd, r, time.monotonic() - t_start, "spherical-areas" in vals)
     return EXIT_OK

@@ -3,6 +3,7 @@ byte for byte and the same report keys and metrics as the program, exit statuses
 error line, nothing written on failure."""
 import json
 import os
+import stat
 import subprocess
 import sys
 
@@ -146,6 +147,14 @@ def test_density_file_and_bad_values(tmp_path):
     assert run_py("sphere", STAR, tmp_path / "o.obj", "--density", good, "--quiet").returncode == 0
     r = run_py("sphere", STAR, tmp_path / "o2.obj", "--density", bad, "--quiet")
     assert r.returncode == 2 and "positive finite" in r.stderr and not (tmp_path / "o2.obj").exists()
+    # A value that is no number, or not finite, or no value at all: the program's one line and exit 2.
+    for text in ("1 abc 2", "1 inf 2", ""):
+        bad.write_text(text)
+        a = subprocess.run([cli(), "sphere", STAR, tmp_path / "o3.obj", "--density", bad, "--quiet"],
+                           capture_output=True, text=True)
+        b = run_py("sphere", STAR, tmp_path / "o3.obj", "--density", bad, "--quiet")
+        assert a.returncode == 2 and b.returncode == 2 and b.stderr == a.stderr, (text, a.stderr, b.stderr)
+        assert not (tmp_path / "o3.obj").exists()
 
 
 def test_density_curv_and_gifti_as_the_program(tmp_path):
@@ -215,6 +224,42 @@ def test_neuro_outputs_as_the_program(tmp_path):
     m = dict(s.darrays[0].meta)
     assert m["AnatomicalStructurePrimary"] == "CortexLeft" and m["GeometricType"] == "Anatomical"
     assert nib.load(str(tmp_path / "p_lh.sphere_.shape.gii")).darrays[0].data.shape == (V.shape[0],)
+
+
+@pytest.mark.parametrize("who", ["program", "python"])
+def test_links_fifos_and_failed_runs(tmp_path, who):
+    """Outputs through symbolic links: the link stays and the file it names gets the output (also one
+    not made yet); a FIFO as OUT, SURF or --distortion is refused with exit 2 and stays a FIFO; two links
+    to one new file are one output; a run that fails at its last write (the report in a directory that
+    cannot take files) leaves the link and its old file as they were (the distortion file was deleted
+    through the link)."""
+    def go(*args):
+        a = ["sphere", STAR] + [str(x) for x in args] + ["--quiet"]
+        return subprocess.run([cli()] + a, capture_output=True, text=True) if who == "program" else run_py(*a)
+    (tmp_path / "old.obj").write_text("old\n")
+    os.symlink("old.obj", tmp_path / "out.obj")
+    os.symlink("sub/../new.json", tmp_path / "r.json")
+    (tmp_path / "sub").mkdir()
+    r = go(tmp_path / "out.obj", "--report", tmp_path / "r.json")
+    assert r.returncode == 0, r.stderr
+    assert os.path.islink(tmp_path / "out.obj") and os.path.islink(tmp_path / "r.json")
+    assert (tmp_path / "old.obj").read_text().startswith("#") and "metrics" in (tmp_path / "new.json").read_text()
+    os.mkfifo(tmp_path / "fifo")
+    for opts in (["fifo"], ["o.obj", "--refine-mesh", "fifo"], ["o.obj", "--distortion", "fifo"]):
+        r = go(*[tmp_path / o if not o.startswith("--") else o for o in opts])
+        assert r.returncode == 2 and "not a regular file" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+        assert stat.S_ISFIFO(os.lstat(tmp_path / "fifo").st_mode)
+    os.symlink("same.obj", tmp_path / "a.obj")
+    os.symlink("same.obj", tmp_path / "b.obj")
+    r = go(tmp_path / "a.obj", "--refine-mesh", tmp_path / "b.obj")
+    assert r.returncode == 2 and "another input or output" in r.stderr
+    (tmp_path / "d.curv").write_bytes(b"old")
+    os.symlink("d.curv", tmp_path / "dlink.curv")
+    r = go(tmp_path / "o2.obj", "--distortion", tmp_path / "dlink.curv", "--report", "/proc/r.json")
+    assert r.returncode != 0
+    assert os.path.islink(tmp_path / "dlink.curv") and (tmp_path / "d.curv").read_bytes() == b"old"
+    assert not (tmp_path / "o2.obj").exists()
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == []
 
 
 def test_internal_failure_exits_1(tmp_path, monkeypatch, capsys):

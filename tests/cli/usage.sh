@@ -160,6 +160,14 @@ special_outputs)
   [ -L "$T/o/link.obj" ] && [ -L "$T/o/rlink.json" ] || fail "an output's symbolic link was replaced"
   [ "$(obj_nv "$T/o/target.obj")" -gt 0 ] || fail "the link's file did not get the map"
   grep -q '"metrics"' "$T/o/report.json" || fail "the dangling link's file did not get the report"
+  # A loop of links is refused, not replaced (the writer stopped after 40 links and renamed over one).
+  ln -s loop2.obj "$T/loop1.obj"
+  ln -s loop1.obj "$T/loop2.obj"
+  run sphere "$IN" "$T/loop1.obj"
+  expect_status 2
+  expect_one_error_line
+  expect_err "too many levels of symbolic links"
+  [ -L "$T/loop1.obj" ] && [ -L "$T/loop2.obj" ] || fail "a link of the loop was replaced"
   # An input named as an output: --density as OUT or as the report.
   rm -rf "$T/o"/*
   awk '/^v /{print 1}' "$IN" >"$T/d.txt"
