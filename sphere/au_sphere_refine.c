@@ -124,6 +124,22 @@ static int held_faces(const au_mesh *m, const double *P, double floor_share) {
   return n;
 }
 
+/* Vertex k at the middle of the edge (a, b), a, b < k: on the surface the average of its ends (exact:
+ * a point of both faces), on the sphere the great arc's midpoint, so each spherical triangle splits
+ * into spherical sub-triangles; its parents appended to (parent, param, *nnew). */
+static void put_midpoint(double *X, double *P, int k, int a, int b, int *parent, double *param, int *nnew) {
+  double *x = X + 3 * k, *p = P + 3 * k, r = 0;
+  for (int d = 0; d < 3; d++) {
+    x[d] = 0.5 * (X[3 * a + d] + X[3 * b + d]);
+    p[d] = P[3 * a + d] + P[3 * b + d];
+    r += p[d] * p[d];
+  }
+  r = sqrt(r);
+  for (int d = 0; d < 3; d++) p[d] /= r;
+  parent[2 * *nnew] = a, parent[2 * *nnew + 1] = b, param[*nnew] = 0.5;
+  (*nnew)++;
+}
+
 /* One round of splitting: m, P (nv x 3) and the parents grow in place. Faces keep their index for
  * their first piece; the other pieces and the new vertices are appended. */
 static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const unsigned char *mark, int nsplit,
@@ -150,17 +166,7 @@ static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const 
   for (int e = 0; e < t->ne; e++) {
     vid[e] = -1;
     if (!mark[e]) continue;
-    int a = t->E[2 * e], b = t->E[2 * e + 1];
-    double *x = m2->X + 3 * k, *p = P2 + 3 * k, r = 0;
-    for (int d = 0; d < 3; d++) {
-      x[d] = 0.5 * (m->X[3 * a + d] + m->X[3 * b + d]);
-      p[d] = P2[3 * a + d] + P2[3 * b + d];
-      r += p[d] * p[d];
-    }
-    r = sqrt(r);
-    for (int d = 0; d < 3; d++) p[d] /= r;
-    (*parent)[2 * *nnew] = a, (*parent)[2 * *nnew + 1] = b, (*param)[*nnew] = 0.5;
-    (*nnew)++;
+    put_midpoint(m2->X, P2, k, t->E[2 * e], t->E[2 * e + 1], *parent, *param, nnew);
     vid[e] = k++;
   }
   int fo = nf;
@@ -298,16 +304,7 @@ static au_status split_by_kappa(au_mesh **mp, const au_topo *t, double **Pp, lon
     const int f_cu = nb[3 * f + (k + 2) % 3], f_vc = nb[3 * f + (k + 1) % 3];
     const int g_dv = nb[3 * g + (j + 2) % 3], g_ud = nb[3 * g + (j + 1) % 3];
     const int mv = vn++, f2 = fn++, g2 = fn++;
-    double *x = m2->X + 3 * mv, *p = P2 + 3 * mv, r = 0;
-    for (int q = 0; q < 3; q++) {
-      x[q] = 0.5 * (m2->X[3 * u + q] + m2->X[3 * v + q]);
-      p[q] = P2[3 * u + q] + P2[3 * v + q];
-      r += p[q] * p[q];
-    }
-    r = sqrt(r);
-    for (int q = 0; q < 3; q++) p[q] /= r;
-    (*parent)[2 * *nnew] = u, (*parent)[2 * *nnew + 1] = v, (*param)[*nnew] = 0.5;
-    (*nnew)++;
+    put_midpoint(m2->X, P2, mv, u, v, *parent, *param, nnew);
     /* f (c, u, v) -> f (c, u, m), f2 (c, m, v); g (d, v, u) -> g (d, v, m), g2 (d, m, u). Corner order
      * keeps each face's orientation; neighbours are listed opposite corners 0, 1, 2. */
 #define FACE(q, a0, a1, a2, n0, n1, n2)                                                       \
