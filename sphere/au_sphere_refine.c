@@ -332,6 +332,20 @@ static au_status split_by_kappa(au_mesh **mp, const au_topo *t, double **Pp, lon
   return AU_OK;
 }
 
+/* A candidate's own copy of the mesh and its map, which its splits grow. */
+static au_status copy_map(const au_mesh *m, const double *P, au_mesh **mr, double **Pr, au_msg *msg) {
+  *mr = NULL;
+  au_status st = au_mesh_copy(m, mr);
+  *Pr = malloc(sizeof(double) * 3 * (size_t)m->nv);
+  if (st != AU_OK || !*Pr) {
+    au_mesh_free(mr), free(*Pr);
+    *Pr = NULL;
+    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  }
+  memcpy(*Pr, P, sizeof(double) * 3 * (size_t)m->nv);
+  return AU_OK;
+}
+
 /* One candidate: rounds of splits by floor_share and re-flows, from the map (m, P); with floor_share 0
  * (the longest edges) one round spending the whole budget: the longest edges after a re-flow are the
  * halves of the first round's (limbs4 at 2x the faces, from the flow's map: vertex error 0.0160 in one
@@ -340,13 +354,9 @@ static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_
                              double floor_share, au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                              au_advect_report *ar, au_sphere_report *pol, au_msg *msg) {
   au_mesh *mr = NULL;
-  au_status st = au_mesh_copy(m, &mr);
-  double *Pr = malloc(sizeof(double) * 3 * (size_t)m->nv);
-  if (st != AU_OK || !Pr) {
-    au_mesh_free(&mr), free(Pr);
-    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
-  }
-  memcpy(Pr, P, sizeof(double) * 3 * (size_t)m->nv);
+  double *Pr = NULL;
+  au_status st = copy_map(m, P, &mr, &Pr, msg);
+  if (st != AU_OK) return st;
   /* The longest edges' round splits at most two thirds of the edges (AU_REFINE_LONG_MAX x the faces):
    * all of them is a plain 1-to-4 split, whose re-flow loses what the targeted one gains (coil: vertex
    * error 0.0053 at 3x, 0.0060 at 4x; docs/hard-meshes.md). */
@@ -423,13 +433,9 @@ static au_status refine_spherical(const au_mesh *m, const double *P, const au_sp
                                   au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                                   au_advect_report *ar, au_sphere_report *pol, au_msg *msg) {
   au_mesh *mr = NULL;
-  au_status st = au_mesh_copy(m, &mr);
-  double *Pr = malloc(sizeof(double) * 3 * (size_t)m->nv);
-  if (st != AU_OK || !Pr) {
-    au_mesh_free(&mr), free(Pr);
-    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
-  }
-  memcpy(Pr, P, sizeof(double) * 3 * (size_t)m->nv);
+  double *Pr = NULL;
+  au_status st = copy_map(m, P, &mr, &Pr, msg);
+  if (st != AU_OK) return st;
   au_advect_domain dom = au_sphere_domain();
   au_sphere_opts os = *o;
   os.flow.shear = os.flow.shear_tail; /* as refine_with: the map is near equal area already */
