@@ -226,6 +226,18 @@ def test_neuro_outputs_as_the_program(tmp_path):
     assert nib.load(str(tmp_path / "p_lh.sphere_.shape.gii")).darrays[0].data.shape == (V.shape[0],)
 
 
+@pytest.mark.parametrize("cmd, src, dist", [("disk", DISK, "d.shape.gii"),
+                                            ("torus", os.path.join(DATA, "torus_r3.obj"), "d.curv")])
+def test_distortion_as_the_program(tmp_path, cmd, src, dist):
+    """--distortion of a planar and of a torus map (per-corner vt): the program's file byte for byte."""
+    for who in ("c", "p"):
+        args = [cmd, src, tmp_path / (who + ".obj"), "--distortion", tmp_path / (who + dist), "--quiet"]
+        r = subprocess.run([cli()] + args, capture_output=True, text=True) if who == "c" else run_py(*args)
+        assert r.returncode == 0, r.stderr
+    assert (tmp_path / ("c" + dist)).read_bytes() == (tmp_path / ("p" + dist)).read_bytes()
+    assert (tmp_path / "c.obj").read_bytes() == (tmp_path / "p.obj").read_bytes()
+
+
 @pytest.mark.parametrize("who", ["program", "python"])
 def test_links_fifos_and_failed_runs(tmp_path, who):
     """Outputs through symbolic links: the link stays and the file it names gets the output (also one
