@@ -107,14 +107,14 @@ int cli_same_file(const char *a, const char *b) {
 
 int cli_check_writable_path(const char *help, const char *path, const char *what) {
   struct stat st;
-  if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) return cli_usage_error(help, "%s '%s' is a directory", what, path);
+  const int exists = stat(path, &st) == 0;
+  if (!exists && errno == ELOOP) return cli_usage_error(help, "%s '%s': too many levels of symbolic links", what, path);
+  if (exists && S_ISDIR(st.st_mode)) return cli_usage_error(help, "%s '%s' is a directory", what, path);
   /* Every output is written whole under a temporary name and renamed into place: over a device, a FIFO
    * or a socket that would put a plain file in its stead (as root, /dev/null itself). */
-  if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+  if (exists && !S_ISREG(st.st_mode))
     return cli_usage_error(help, "%s '%s' is not a regular file (a device, FIFO or socket); give a file name", what,
                            path);
-  if (stat(path, &st) != 0 && errno == ELOOP)
-    return cli_usage_error(help, "%s '%s': too many levels of symbolic links", what, path);
   const char *slash = strrchr(path, '/');
   if (!slash) return 0;
   size_t n = slash == path ? 1 : (size_t)(slash - path);
