@@ -70,6 +70,9 @@ typedef struct au_sphere_report {
   int polish_sweeps;      /* with a polish: its sweeps */
   double polish_err[4];   /* with a polish: vertex error before and after, per-face mean |r - 1| before
                              and after (the spherical triangles' with flow.sphere_areas 2, else chord) */
+  int global_polish;       /* au_sphere_refine: 0 none; 1 the global polish ran and was discarded; 2 kept */
+  int global_polish_steps; /* with a global polish: its steps */
+  double global_polish_err[4]; /* with a global polish: vertex error before and after, per-face before and after */
 } au_sphere_report;
 
 /* Fold-free spherical conformal map of a closed genus-0 mesh.
@@ -113,6 +116,27 @@ typedef struct au_polish_opts {
 } au_polish_opts;
 au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
                                   const au_polish_opts *po, int *sweeps, au_msg *msg);
+
+/* The global polish (sphere/au_sphere_gpolish.c): after the vertex polish, a Levenberg-Marquardt
+ * iteration over every vertex's tangent displacement at once on the chord triangles' log area ratios,
+ * the vertex cells' (times cell_weight) and a log barrier (weight barrier_weight) on each triple product
+ * less than 2 x barrier x its face's share of the chord total above its least value (min_orient of the
+ * share, or where it started if lower); a step that takes a triple product below its least is halved,
+ * or tried with 4x the damping. Steps are taken while they lower that cost, at most
+ * max_iter, until five in a row gain less than 0.01% each. face_w: per-face target density (NULL:
+ * equal area). P: in/out, nv x 3 unit vectors, fold-free; stays so. A vertex with more than 64 faces
+ * leaves P unchanged. *iters (may be NULL): steps taken.
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED (P as after the last step, fold-free). */
+typedef struct au_gpolish_opts {
+  int max_iter;          /* at most this many steps */
+  double cell_weight;    /* weight of a vertex cell's log ratio against a face's (>= 0) */
+  double barrier;        /* the barrier acts below 2 x this x a face's share (triple product, >= 0) */
+  double barrier_weight; /* its weight (>= 0; 0: no barrier) */
+  double min_orient;     /* least triple product, as a fraction of the share (>= 0) */
+  const int *cancel;     /* when *cancel is nonzero at the start of a step (read atomically): AU_E_CANCELLED */
+} au_gpolish_opts;
+au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
+                                  const au_gpolish_opts *o, int *iters, au_msg *msg);
 
 /* au_sphere_vertex_polish with o->vertex_polish sweeps and o->polish_cells, on a copy of P, which
  * replaces P when its vertex error is lower and its per-face error not higher, both in the map's measure

@@ -46,6 +46,8 @@ static const double refine_floor_share[] = {0.5, 0.1, 0, -1};
 #define AU_REFINE_SHARE 2
 /* The longest edges' single round stops at this many times the input's faces (refine_with). */
 #define AU_REFINE_LONG_MAX 3
+/* The global polish's steps at most (it stops earlier when five steps in a row gain less than 0.01%). */
+#define AU_REFINE_GLOBAL_STEPS 200
 
 typedef struct split_cand {
   double key;
@@ -491,6 +493,39 @@ static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
   memcpy(rep->polish_err, from->polish_err, sizeof from->polish_err);
 }
 
+/* The global polish of the kept refinement (sphere/au_sphere_gpolish.c): its map is kept if its vertex
+ * error is lower and its per-face error not higher. The vertex polish that ends each candidate moves one
+ * vertex at a time and leaves the bands around a limb's base where only a joint move gains (limbs4 at
+ * twice the faces: 0.0258 / 0.0083 -> 0.0189 / 0.0038, docs/hard-meshes.md, session 20). Its settings:
+ * the cells weigh 3 against the faces (the vertex bound is the harder), the barrier acts from 0.15 of
+ * a face's share above the vertex polish's least triple product, 0.1 of the share. */
+static const au_gpolish_opts refine_gpolish = {AU_REFINE_GLOBAL_STEPS, 3, 0.15, 0.05, 0.1, NULL};
+static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_opts *o, au_sphere_report *rep,
+                               au_msg *msg) {
+  au_topo *t = NULL;
+  double *P2 = malloc(sizeof(double) * 3 * (size_t)mr->nv);
+  au_status st = P2 ? au_mesh_topology(mr, &t, msg) : au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  if (st == AU_OK) {
+    memcpy(P2, Pr, sizeof(double) * 3 * (size_t)mr->nv);
+    au_gpolish_opts go = refine_gpolish;
+    go.cancel = o->flow.cancel;
+    int steps = 0;
+    st = au_sphere_global_polish(mr, t, NULL, P2, &go, &steps, msg);
+    if (st == AU_OK) {
+      double e[4] = {vertex_error(mr, Pr), vertex_error(mr, P2), face_error(mr, Pr), face_error(mr, P2)};
+      int keep = e[1] < e[0] && e[3] <= e[2];
+      if (keep) memcpy(Pr, P2, sizeof(double) * 3 * (size_t)mr->nv);
+      if (rep) {
+        rep->global_polish = keep ? 2 : 1, rep->global_polish_steps = steps;
+        memcpy(rep->global_polish_err, e, sizeof e);
+      }
+    }
+  }
+  au_topo_free(&t);
+  free(P2);
+  return st;
+}
+
 au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,
                            au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                            au_sphere_report *rep, au_msg *msg) {
@@ -568,6 +603,10 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     any_split |= nn > 0;
   }
   free(ar);
+  if (st >= 0 && *out && o.vertex_polish > 0) {
+    au_status sg = refine_global(*out, *Pout, &o, rep, msg);
+    if (sg < 0) st = sg;
+  }
   /* The input's mesh and its (polished) map stand when nothing was split, when neither refinement beat
    * it (a refined band can hold the flow back more than the floor it lifts), or when the better one's
    * vertex cells came at the faces' expense (tpose: vertex 7.09 -> 4.23 but per-face 1.68 -> 28). */
