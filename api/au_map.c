@@ -287,6 +287,8 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
     memcpy(r->conv.polish_err, rep->polish_err, sizeof rep->polish_err);
     r->conv.staged_retry = rep->staged, r->conv.staged_stages = rep->staged_stages;
     r->conv.staged_err[0] = rep->staged_err[0], r->conv.staged_err[1] = rep->staged_err[1];
+    r->conv.global_polish = rep->global_polish, r->conv.global_polish_steps = rep->global_polish_steps;
+    memcpy(r->conv.global_polish_err, rep->global_polish_err, sizeof rep->global_polish_err);
     if (s2 != AU_OK) st = s2;
   }
   free(rep);
@@ -458,8 +460,12 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
   const int not_converged = st == AU_W_NOT_CONVERGED;
   if (not_converged)
     warn(r, "tolerance %g not reached in %d steps (error %.3e%s)", x->flow.tol, r->conv.steps,
-         r->conv.vertex_polish == 2 ? r->conv.polish_err[1] : r->conv.err[r->conv.steps],
-         r->conv.vertex_polish == 2 ? " after the vertex polish" : "");
+         r->conv.global_polish == 2 ? r->conv.global_polish_err[1]
+         : r->conv.vertex_polish == 2 ? r->conv.polish_err[1]
+                                      : r->conv.err[r->conv.steps],
+         r->conv.global_polish == 2 ? " after the global polish"
+         : r->conv.vertex_polish == 2 ? " after the vertex polish"
+                                      : "");
   /* A folded map is never handed back: zero folds is the promise, not a hope. Folded here means a
    * sign a reader of the output would see: triangles the start squeezed below a double's resolution
    * that the flow had no steps left to grow. */
@@ -608,6 +614,8 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.twist = r->conv.twist_retry, info.twist_faces = r->conv.twist_faces, info.twist_err = r->conv.twist_err;
   info.polish = r->conv.vertex_polish, info.polish_sweeps = r->conv.polish_sweeps, info.polish_err = r->conv.polish_err;
   info.staged = r->conv.staged_retry, info.staged_stages = r->conv.staged_stages, info.staged_err = r->conv.staged_err;
+  info.global_polish = r->conv.global_polish, info.global_polish_steps = r->conv.global_polish_steps;
+  info.global_polish_err = r->conv.global_polish_err;
   info.angle_from = flow ? r->conv.angle_from : 0;
   if (r->target == AU_TARGET_TORUS)
     info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;

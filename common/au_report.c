@@ -133,6 +133,13 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
          put(vp, "sweeps", num(info->polish_sweeps)) && put(vp, "vertex_err_before", num(e[0])) &&
          put(vp, "vertex_err_after", num(e[1])) && put(vp, "face_err_before", num(e[2])) && put(vp, "face_err_after", num(e[3]));
   }
+  if (ok && info->global_polish > 0 && info->global_polish_err) {
+    cJSON *gp = cJSON_CreateObject();
+    const double *e = info->global_polish_err;
+    ok = put(conv, "global_polish", gp) && put(gp, "kept", cJSON_CreateBool(info->global_polish == 2)) &&
+         put(gp, "steps", num(info->global_polish_steps)) && put(gp, "vertex_err_before", num(e[0])) &&
+         put(gp, "vertex_err_after", num(e[1])) && put(gp, "face_err_before", num(e[2])) && put(gp, "face_err_after", num(e[3]));
+  }
   if (ok && info->staged > 0 && info->staged_err) {
     cJSON *sr = cJSON_CreateObject();
     ok = put(conv, "staged_retry", sr) && put(sr, "kept", cJSON_CreateBool(info->staged == 2)) &&

@@ -48,6 +48,10 @@ typedef struct au_report_info {
                                   1 discarded, 2 kept. Written as convergence.vertex_polish */
   int polish_sweeps;           /* its sweeps */
   const double *polish_err;    /* [4]: vertex error before, after; per-face error before, after */
+  int global_polish;           /* the refined map's global polish (au_sphere_report.global_polish): 0 none
+                                  (nothing written), 1 discarded, 2 kept. Written as convergence.global_polish */
+  int global_polish_steps;     /* its steps */
+  const double *global_polish_err; /* [4]: as polish_err */
   int staged;                  /* sphere's staged retry (au_sphere_report.staged): 0 none (nothing written),
                                   1 discarded, 2 kept. Written as convergence.staged_retry */
   int staged_stages;           /* its stages */

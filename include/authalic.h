@@ -562,6 +562,10 @@ typedef struct au_convergence {
                         start, in stages) ran and was discarded; 2 its map was kept */
   int staged_stages; /* with a staged retry: its stages (the last run, to the shares, not counted) */
   double staged_err[2]; /* with a staged retry: the vertex error (as retry_err) before it and of its map */
+  int global_polish; /* sphere with refine_mesh: 0 none; 1 the global polish of the refined map (every
+                        vertex at once, after the vertex polish) ran and was discarded; 2 it was kept */
+  int global_polish_steps; /* with a global polish: its steps */
+  double global_polish_err[4]; /* with a global polish: as polish_err (chord triangles) */
 } au_convergence;
 
 #define AU_MAX_WARNINGS 8

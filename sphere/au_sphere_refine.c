@@ -624,6 +624,7 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
       if (rep) {
         rep->flow = flow_in, rep->flow.converged = st == AU_OK, rep->refine_kept_input = any_split;
         take_polish(rep, &prin);
+        rep->global_polish = 0, rep->global_polish_steps = 0; /* it polished a refinement not kept */
       }
     }
   }

@@ -163,6 +163,10 @@ au_cli_test(refine_mesh.nothing refine_nothing.sh)
 # limbs4 meets them at three times the faces since session 19 (the spherical split candidate: 0.0124 /
 # 0.0033; 0.0185 / 0.0088 before).
 au_cli_test(refine_mesh.limbs4_3x refine_mesh.sh data/limbs4.obj 3)
+# limbs4 and coil meet them at twice the faces since session 20 (the global polish of the refined map:
+# 0.0189 / 0.0038 and 0.0137 / 0.0031; 0.0258 / 0.0083 and 0.0219 / 0.0102 before).
+au_cli_test(refine_mesh.limbs4 refine_mesh.sh data/limbs4.obj)
+au_cli_test(refine_mesh.coil refine_mesh.sh data/coil.obj)
 # --refine-budget: a larger face budget than the default 2x on the generated coil (issue 21).
 au_cli_test(refine_budget refine_budget.sh)
 # Squeezed limbs (tpose): the staged retry, and the warning when they stay squeezed.

@@ -216,17 +216,18 @@ static void summary(int cmd, const au_result *r, int spherical, double seconds) 
   const au_metrics *f = &r->metrics;
   if (cmd == CLI_SPHERE) {
     /* The retries that ran: " (lantern retry discarded; twisted start kept)". */
-    const char *part[4] = {
+    const char *part[5] = {
         r->conv.lantern_retry == 2 ? "lantern retry kept" : r->conv.lantern_retry == 1 ? "lantern retry discarded" : "",
         r->conv.twist_retry == 3   ? "twisted start: the conformal one folded"
         : r->conv.twist_retry == 2 ? "twisted start kept"
         : r->conv.twist_retry == 1 ? "twisted start discarded"
                                    : "",
         r->conv.staged_retry == 2 ? "staged retry kept" : r->conv.staged_retry == 1 ? "staged retry discarded" : "",
-        r->conv.vertex_polish == 2 ? "vertex polish kept" : r->conv.vertex_polish == 1 ? "vertex polish discarded" : ""};
-    char tail[160] = "";
+        r->conv.vertex_polish == 2 ? "vertex polish kept" : r->conv.vertex_polish == 1 ? "vertex polish discarded" : "",
+        r->conv.global_polish == 2 ? "global polish kept" : r->conv.global_polish == 1 ? "global polish discarded" : ""};
+    char tail[200] = "";
     size_t len = 0;
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k < 5; k++)
       if (*part[k]) len += (size_t)snprintf(tail + len, sizeof tail - len, "%s%s", len ? "; " : " (", part[k]);
     if (len) snprintf(tail + len, sizeof tail - len, ")");
     char sph[96] = "";

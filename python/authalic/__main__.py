@@ -408,12 +408,13 @@ def summary(cmd, r, seconds, spherical=False):
     if cmd == "sphere":
         conv = r.info["convergence"]
         lr, tw, vp = conv.get("lantern_retry"), conv.get("twisted_start"), conv.get("vertex_polish")
-        sr = conv.get("staged_retry")
+        sr, gp = conv.get("staged_retry"), conv.get("global_polish")
         parts = ([("lantern retry kept" if lr["kept"] else "lantern retry discarded")] if lr else []) + \
             ([("twisted start: the conformal one folded" if tw.get("conformal_start_folded")
                else "twisted start kept" if tw["kept"] else "twisted start discarded")] if tw else []) + \
             ([("staged retry kept" if sr["kept"] else "staged retry discarded")] if sr else []) + \
-            ([("vertex polish kept" if vp["kept"] else "vertex polish discarded")] if vp else [])
+            ([("vertex polish kept" if vp["kept"] else "vertex polish discarded")] if vp else []) + \
+            ([("global polish kept" if gp["kept"] else "global polish discarded")] if gp else [])
         tail = " (%s)" % "; ".join(parts) if parts else ""
         if spherical:
             head += " sph|r-1|=%.3g sph vertex|log r|=%.3g" % (m["sph_r_mean_abs_dev"] or math.nan,

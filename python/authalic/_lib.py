@@ -83,7 +83,8 @@ class Convergence(ctypes.Structure):
                 ("retry_err", c_double * 2), ("twist_retry", c_int), ("twist_faces", c_int),
                 ("twist_err", c_double), ("vertex_polish", c_int), ("polish_sweeps", c_int),
                 ("polish_err", c_double * 4), ("staged_retry", c_int), ("staged_stages", c_int),
-                ("staged_err", c_double * 2)]
+                ("staged_err", c_double * 2), ("global_polish", c_int), ("global_polish_steps", c_int),
+                ("global_polish_err", c_double * 4)]
 
 
 class Result(ctypes.Structure):
