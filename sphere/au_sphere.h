@@ -123,7 +123,8 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
  * less than 2 x barrier x its face's share of the chord total above its least value (min_orient of the
  * share, or where it started if lower); a step that takes a triple product below its least is halved,
  * or tried with 4x the damping. Steps are taken while they lower that cost, at most
- * max_iter, until five in a row gain less than 0.01% each. face_w: per-face target density (NULL:
+ * max_iter, until five in a row gain less than 0.01% each or the vertex cells' mean |log ratio| is at
+ * most tol (a map already there is left alone). face_w: per-face target density (NULL:
  * equal area). P: in/out, nv x 3 unit vectors, fold-free; stays so. A vertex with more than 64 faces
  * leaves P unchanged. *iters (may be NULL): steps taken.
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED (P as after the last step, fold-free). */
@@ -133,6 +134,7 @@ typedef struct au_gpolish_opts {
   double barrier;        /* the barrier acts below 2 x this x a face's share (triple product, >= 0) */
   double barrier_weight; /* its weight (>= 0; 0: no barrier) */
   double min_orient;     /* least triple product, as a fraction of the share (>= 0) */
+  double tol;            /* stop once the vertex cells' mean |log ratio| is at most this */
   const int *cancel;     /* when *cancel is nonzero at the start of a step (read atomically): AU_E_CANCELLED */
 } au_gpolish_opts;
 au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,

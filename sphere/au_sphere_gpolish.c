@@ -45,6 +45,7 @@ typedef struct gp {
   double wv, mu;
   int *colstart, *rows; /* upper triangle of the 2nv x 2nv pattern, by column */
   double *C, *cell, *orient;
+  double verr; /* cost()'s vertex error: the cells' mean |log ratio| (the metrics') */
   int *fidx;            /* [36 nf] add_row's index table of each face's row */
   size_t *vidx_start;   /* [nv + 1] where each cell's row's table starts in vidx */
   int *vidx;
@@ -87,12 +88,15 @@ static double cost(gp *g, const double *P, double *Cs) {
       E += b * b;
     }
   }
+  int nc = 0;
+  g->verr = 0;
   for (int v = 0; v < nv; v++)
     if (g->cshare[v] > 0) {
       if (!(g->cell[v] > 0)) return INFINITY;
-      double r = g->wv * log(g->cell[v] / g->cshare[v]);
-      E += r * r;
+      double l = log(g->cell[v] / g->cshare[v]), r = g->wv * l;
+      E += r * r, g->verr += fabs(l), nc++;
     }
+  g->verr = nc ? g->verr / nc : 0;
   *Cs = s;
   return E;
 }
@@ -295,7 +299,7 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
       !(o->barrier_weight >= 0) || !(o->min_orient >= 0))
     return au_msg_set(msg, AU_E_ARG, "global polish: bad arguments");
   const int nv = m->nv, nf = m->nf, n = 2 * nv, *F = m->F;
-  gp g = {nv, nf, F, NULL, NULL, NULL, NULL, o->cell_weight, o->barrier_weight, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
+  gp g = {nv, nf, F, NULL, NULL, NULL, NULL, o->cell_weight, o->barrier_weight, NULL, NULL, NULL, NULL, NULL, 0, NULL, NULL, NULL};
   double *share = malloc(sizeof(double) * (size_t)nf), *cshare = calloc((size_t)nv, sizeof(double));
   double *lo = malloc(sizeof(double) * (size_t)nf), *tau = malloc(sizeof(double) * (size_t)nf);
   double *B = malloc(sizeof(double) * 6 * (size_t)nv), *Y = malloc(sizeof(double) * 3 * (size_t)nv);
@@ -349,7 +353,7 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     tau[f] = 2 * o->barrier * T;
   }
   c0 = cost(&g, P, &Cs);
-  if (!isfinite(c0)) goto done;
+  if (!isfinite(c0) || g.verr <= o->tol) goto done;
   st = au_spd_create(n, g.colstart, g.rows, NULL, &spd, msg);
   if (st != AU_OK) goto done;
   double lam = 1e-3, *val = au_spd_values(spd);
@@ -402,7 +406,7 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     memcpy(P, Y, sizeof(double) * 3 * (size_t)nv);
     c0 = c1, Cs = Cs1;
     if (iters) *iters = it + 1;
-    if (stall >= 5) break;
+    if (stall >= 5 || g.verr <= o->tol) break;
   }
 done:
   au_spd_free(&spd);

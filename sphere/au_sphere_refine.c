@@ -496,10 +496,11 @@ static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
 /* The global polish of the kept refinement (sphere/au_sphere_gpolish.c): its map is kept if its vertex
  * error is lower and its per-face error not higher. The vertex polish that ends each candidate moves one
  * vertex at a time and leaves the bands around a limb's base where only a joint move gains (limbs4 at
- * twice the faces: 0.0258 / 0.0083 -> 0.0189 / 0.0038, docs/hard-meshes.md, session 20). Its settings:
+ * twice the faces: 0.0258 / 0.0083 -> 0.0189 / 0.0038, docs/hard-meshes.md, session 20). Like the
+ * vertex polish it runs on a map that misses the flow's tolerance and stops there. Its settings:
  * the cells weigh 3 against the faces (the vertex bound is the harder), the barrier acts from 0.15 of
  * a face's share above the vertex polish's least triple product, 0.1 of the share. */
-static const au_gpolish_opts refine_gpolish = {AU_REFINE_GLOBAL_STEPS, 3, 0.15, 0.05, 0.1, NULL};
+static const au_gpolish_opts refine_gpolish = {AU_REFINE_GLOBAL_STEPS, 3, 0.15, 0.05, 0.1, 0, NULL};
 static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_opts *o, au_sphere_report *rep,
                                au_msg *msg) {
   au_topo *t = NULL;
@@ -508,7 +509,7 @@ static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_op
   if (st == AU_OK) {
     memcpy(P2, Pr, sizeof(double) * 3 * (size_t)mr->nv);
     au_gpolish_opts go = refine_gpolish;
-    go.cancel = o->flow.cancel;
+    go.cancel = o->flow.cancel, go.tol = o->flow.tol;
     int steps = 0;
     st = au_sphere_global_polish(mr, t, NULL, P2, &go, &steps, msg);
     if (st == AU_OK) {
@@ -603,7 +604,7 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     any_split |= nn > 0;
   }
   free(ar);
-  if (st >= 0 && *out && o.vertex_polish > 0) {
+  if (st >= 0 && *out && o.vertex_polish > 0 && best > o.flow.tol) {
     au_status sg = refine_global(*out, *Pout, &o, rep, msg);
     if (sg < 0) st = sg;
   }

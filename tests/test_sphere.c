@@ -765,7 +765,7 @@ static int global_polish_limbs4(void) {
   memcpy(P0, L.P, sizeof(double) * 3 * (size_t)nv);
   au_metrics q0, q;
   AU_CHECK_STATUS(au_metrics_compute(nv, nf, L.m->X, L.P, F, AU_DOMAIN_SPHERE, &q0, NULL, NULL), AU_OK, (au_msg *)NULL);
-  au_gpolish_opts go = {200, 3, 0.15, 0.05, 0.1, NULL};
+  au_gpolish_opts go = {200, 3, 0.15, 0.05, 0.1, 0.002, NULL};
   int one = 1, steps = -1;
   go.cancel = &one;
   AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &go, &steps, &msg), AU_E_CANCELLED, &msg);
