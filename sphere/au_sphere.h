@@ -35,6 +35,10 @@ typedef struct au_sphere_opts {
                            triangles, or with flow.sphere_areas 2 (a map of the spherical triangles) of
                            the spherical ones, for the polish's steps as for the comparison */
   double polish_cells;  /* the polish's weight of the vertex cells against the faces (default 1) */
+  int global_polish;    /* > 0: a chord map that still misses its tolerance after the vertex polish gets at
+                           most this many steps of the global polish (au_sphere_global_polish, with
+                           au_sphere_gpolish_settings), kept on the same terms (default 200; 0 off; with
+                           vertex_polish 0 neither runs) */
   int staged_retry;     /* > 0: a map that misses its tolerance with at least 1% of the surface in vertex
                            cells under 1/e of their share (squeezed protrusions the flow did not open up,
                            au__metrics_squeezed) flows again from itself in stages, each towards a part
@@ -139,13 +143,17 @@ typedef struct au_gpolish_opts {
 } au_gpolish_opts;
 au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
                                   const au_gpolish_opts *o, int *iters, au_msg *msg);
+/* The settings the sphere map and the refinement use, with max_iter, tol and cancel as given. */
+au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double tol, const int *cancel);
 
 /* au_sphere_vertex_polish with o->vertex_polish sweeps and o->polish_cells, on a copy of P, which
  * replaces P when its vertex error is lower and its per-face error not higher, both in the map's measure
  * (the spherical triangles' for flow.sphere_areas 2, else the chord ones'; au_sphere_map runs it on a
- * map that misses its tolerance). rep->polish, polish_sweeps and polish_err tell what happened.
- * o->flow.cancel is honoured between sweeps. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED (P
- * unchanged). */
+ * map that misses its tolerance). rep->polish, polish_sweeps and polish_err tell what happened. Then,
+ * for a chord map still short of it, the global polish (o->global_polish steps at most), on the same
+ * terms: rep->global_polish, global_polish_steps, global_polish_err.
+ * o->flow.cancel is honoured between sweeps and steps. Returns AU_OK, AU_E_ARG, AU_E_NOMEM,
+ * AU_E_CANCELLED (P unchanged, or with the vertex polish only). */
 au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
                                au_sphere_report *rep, au_msg *msg);
 

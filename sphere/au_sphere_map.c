@@ -31,6 +31,7 @@ au_sphere_opts au_sphere_opts_default(void) {
   o.twist_retry = 0.02;
   o.vertex_polish = 200;
   o.polish_cells = 1;
+  o.global_polish = 200;
   o.staged_retry = 8;
   return o;
 }
@@ -151,6 +152,24 @@ au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphe
     if (rep->polish_err[1] < rep->polish_err[0] && rep->polish_err[3] <= rep->polish_err[2]) {
       memcpy(P, P2, sizeof(double) * 3 * (size_t)m->nv);
       rep->polish = 2;
+    }
+  }
+  /* The global polish, where the vertex polish left a chord map short of its tolerance: one vertex at a
+   * time cannot widen or narrow a band as a whole (sphere/au_sphere_gpolish.c). */
+  const double e = rep->polish == 2 ? rep->polish_err[1] : rep->polish_err[0];
+  if (st == AU_OK && o->global_polish > 0 && o->flow.sphere_areas != 2 && e > o->flow.tol) {
+    memcpy(P2, P, sizeof(double) * 3 * (size_t)m->nv);
+    au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, o->flow.tol, o->flow.cancel);
+    st = au_sphere_global_polish(m, t, w, P2, &go, &rep->global_polish_steps, msg);
+    if (st == AU_OK) {
+      double *g = rep->global_polish_err;
+      g[0] = e, g[1] = map_vertex_error(m, t, &o->flow, P2);
+      g[2] = rep->polish == 2 ? rep->polish_err[3] : rep->polish_err[2], g[3] = map_face_error(m, &o->flow, w, P2);
+      rep->global_polish = 1;
+      if (g[1] < g[0] && g[3] <= g[2]) {
+        memcpy(P, P2, sizeof(double) * 3 * (size_t)m->nv);
+        rep->global_polish = 2;
+      }
     }
   }
   free(P2), free(w);
@@ -332,7 +351,9 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
     if (st == AU_W_NOT_CONVERGED && o.vertex_polish > 0) {
       au_status sp = au_sphere_polish_map(m, t, &o, P, rep, msg);
       if (sp != AU_OK) st = sp;
-      else if (rep->polish == 2 && rep->polish_err[1] <= o.flow.tol) st = AU_OK, rep->flow.converged = 1;
+      else if ((rep->polish == 2 && rep->polish_err[1] <= o.flow.tol) ||
+               (rep->global_polish == 2 && rep->global_polish_err[1] <= o.flow.tol))
+        st = AU_OK, rep->flow.converged = 1;
     }
     rep->t_flow = now_s() - t0;
   }

@@ -487,20 +487,18 @@ static double face_error(const au_mesh *m, const double *P) {
   return met.r_mean_abs_dev;
 }
 
-/* The vertex polish's part of a report (au_sphere_polish_map's) into rep. */
+/* The polishes' part of a report (au_sphere_polish_map's) into rep. */
 static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
   rep->polish = from->polish, rep->polish_sweeps = from->polish_sweeps;
   memcpy(rep->polish_err, from->polish_err, sizeof from->polish_err);
+  rep->global_polish = from->global_polish, rep->global_polish_steps = from->global_polish_steps;
+  memcpy(rep->global_polish_err, from->global_polish_err, sizeof from->global_polish_err);
 }
 
-/* The global polish of the kept refinement (sphere/au_sphere_gpolish.c): its map is kept if its vertex
- * error is lower and its per-face error not higher. The vertex polish that ends each candidate moves one
- * vertex at a time and leaves the bands around a limb's base where only a joint move gains (limbs4 at
- * twice the faces: 0.0258 / 0.0083 -> 0.0189 / 0.0038, docs/hard-meshes.md, session 20). Like the
- * vertex polish it runs on a map that misses the flow's tolerance and stops there. Its settings:
- * the cells weigh 3 against the faces (the vertex bound is the harder), the barrier acts from 0.15 of
- * a face's share above the vertex polish's least triple product, 0.1 of the share. */
-static const au_gpolish_opts refine_gpolish = {AU_REFINE_GLOBAL_STEPS, 3, 0.15, 0.05, 0.1, 0, NULL};
+/* The global polish (sphere/au_sphere_gpolish.c) of a refined map (mr, Pr), or of the input's; its map is
+ * kept if its vertex error is lower and its per-face error not higher. The vertex polish that ends each candidate moves one vertex at a time and
+ * leaves the bands around a limb's base where only a joint move gains (limbs4 at twice the faces:
+ * 0.0258 / 0.0083 -> 0.0189 / 0.0038, docs/hard-meshes.md, session 20). */
 static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_opts *o, au_sphere_report *rep,
                                au_msg *msg) {
   au_topo *t = NULL;
@@ -508,8 +506,7 @@ static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_op
   au_status st = P2 ? au_mesh_topology(mr, &t, msg) : au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
   if (st == AU_OK) {
     memcpy(P2, Pr, sizeof(double) * 3 * (size_t)mr->nv);
-    au_gpolish_opts go = refine_gpolish;
-    go.cancel = o->flow.cancel, go.tol = o->flow.tol;
+    au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, o->flow.tol, o->flow.cancel);
     int steps = 0;
     st = au_sphere_global_polish(mr, t, NULL, P2, &go, &steps, msg);
     if (st == AU_OK) {
@@ -552,7 +549,9 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   }
   memcpy(Pin, P, sizeof(double) * 3 * (size_t)m->nv);
   const int polish_in = o.vertex_polish > 0 && o.flow.sphere_areas != 2 && (rep ? !rep->flow.converged : vertex_error(m, P) > o.flow.tol);
-  if (polish_in) st = au_sphere_polish_map(m, tin, &o, Pin, &prin, msg);
+  au_sphere_opts ocand = o;
+  ocand.global_polish = 0; /* the candidates start from the vertex polish's map; the global polish below */
+  if (polish_in) st = au_sphere_polish_map(m, tin, &ocand, Pin, &prin, msg);
   au_topo_free(&tin);
   if (st != AU_OK) {
     free(ar), free(Pin);
@@ -582,8 +581,8 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
      * 0.0560). */
     const double *from = refine_floor_share[c] > 0 ? P : Pin;
     au_status s2 = refine_floor_share[c] < 0
-                       ? refine_spherical(m, from, &o, max_faces, &mr, &Pr, &par, &prm, &nn, ar, &pol, msg)
-                       : refine_with(m, from, &o, max_faces, refine_floor_share[c], &mr, &Pr, &par, &prm, &nn, ar, &pol, msg);
+                       ? refine_spherical(m, from, &ocand, max_faces, &mr, &Pr, &par, &prm, &nn, ar, &pol, msg)
+                       : refine_with(m, from, &ocand, max_faces, refine_floor_share[c], &mr, &Pr, &par, &prm, &nn, ar, &pol, msg);
     if (s2 < 0) {
       free(par), free(prm);
       if (c > 0 && s2 != AU_E_NOMEM) continue; /* the first candidate's map stands */
@@ -604,9 +603,18 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     any_split |= nn > 0;
   }
   free(ar);
-  if (st >= 0 && *out && o.vertex_polish > 0 && best > o.flow.tol) {
+  /* The global polish of the kept refinement and of the input's map, which it has to beat. The candidates
+   * go without: it costs a second or more each, and from the input's globally polished map the two that
+   * start from the polished one do worse (limbs4 0.0236 / 0.0047 against 0.0189 / 0.0038). */
+  if (st >= 0 && *out && o.vertex_polish > 0 && o.global_polish > 0 && best > o.flow.tol) {
     au_status sg = refine_global(*out, *Pout, &o, rep, msg);
     if (sg < 0) st = sg;
+    best = vertex_error(*out, *Pout);
+  }
+  if (st >= 0 && polish_in && o.global_polish > 0 && e_in > o.flow.tol) {
+    au_status sg = refine_global(m, Pin, &o, &prin, msg);
+    if (sg < 0) st = sg;
+    e_in = vertex_error(m, Pin);
   }
   /* The input's mesh and its (polished) map stand when nothing was split, when neither refinement beat
    * it (a refined band can hold the flow back more than the floor it lifts), or when the better one's
@@ -621,11 +629,12 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
       Pin = NULL;
       /* The input map's own status: its flow's, when the caller passed its report, or met by its polish. */
       st = rep ? (flow_in.converged ? AU_OK : AU_W_NOT_CONVERGED) : e_in > o.flow.tol ? AU_W_NOT_CONVERGED : AU_OK;
-      if (prin.polish == 2 && prin.polish_err[1] <= o.flow.tol) st = AU_OK;
+      if ((prin.polish == 2 && prin.polish_err[1] <= o.flow.tol) ||
+          (prin.global_polish == 2 && prin.global_polish_err[1] <= o.flow.tol))
+        st = AU_OK;
       if (rep) {
         rep->flow = flow_in, rep->flow.converged = st == AU_OK, rep->refine_kept_input = any_split;
         take_polish(rep, &prin);
-        rep->global_polish = 0, rep->global_polish_steps = 0; /* it polished a refinement not kept */
       }
     }
   }

@@ -229,6 +229,7 @@ static int restore_shapes(void) {
   for (int r = 0; r < 2; r++) {
     au_sphere_opts o = au_sphere_opts_default();
     o.flow.restore = r ? 0.1 : 0;
+    o.global_polish = 0; /* the flow's angles (the global polish weighs areas only) */
     au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg);
     AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
     AU_CHECK_STATUS(au_metrics_compute(L.m->nv, L.m->nf, L.m->X, L.P, L.m->F, AU_DOMAIN_SPHERE, &q[r], NULL, NULL),
@@ -756,6 +757,7 @@ static int global_polish_limbs4(void) {
   if (load("limbs4.obj", 1, &L)) return 1;
   au_msg msg = {{0}};
   au_sphere_opts o = au_sphere_opts_default();
+  o.global_polish = 0; /* the map the vertex polish leaves */
   au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
   const int nv = L.m->nv, nf = L.m->nf, *F = L.m->F;
@@ -885,6 +887,7 @@ static int vertex_polish(void) {
     au_sphere_report rep[2];
     for (int r = 0; r < 2; r++) {
       au_sphere_opts o = au_sphere_opts_default();
+      o.global_polish = 0; /* the vertex polish alone (the global one follows it: global_polish_limbs4) */
       if (r == 0) o.vertex_polish = 0;
       if (map_measured(&L, &o, &rep[r], &q[r])) return 1;
     }

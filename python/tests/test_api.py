@@ -249,7 +249,7 @@ def test_progress_callable_and_bar(star, capsys):
 def test_warning_when_not_converged(star):
     with warnings.catch_warnings(record=True) as w:
         warnings.simplefilter("always")
-        _, info = authalic.sphere(*star, steps=1)
+        _, info = authalic.sphere(*star, steps=1, tol=0)
     assert info["converged"] is False and info["warnings"]
     assert any(issubclass(x.category, authalic.AuthalicWarning) and "tolerance" in str(x.message) for x in w)
 

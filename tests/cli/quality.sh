@@ -23,17 +23,22 @@ expect_err "^authalic: sphere: V=$(obj_nv "$IN") F=$(wc -l <"$T/f.in" | tr -d ' 
 [ "$(ls -A "$T/o" | tr '\n' ' ')" = "map.obj report.json " ] || fail "unexpected files: $(ls -A "$T/o")"
 # The summary says whether the lantern retry ran (and which map was kept) exactly when the report does.
 if grep -q '"lantern_retry"' "$REP"; then
-  expect_err "^authalic: sphere: .* \(lantern retry (kept|discarded)(; twisted start (kept|discarded))?(; vertex polish (kept|discarded))?\)$"
+  expect_err "^authalic: sphere: .* \(lantern retry (kept|discarded)(; twisted start (kept|discarded))?(; vertex polish (kept|discarded))?(; global polish (kept|discarded))?\)$"
 else
   ! grep -q "lantern retry" "$T/log/stderr" || fail "the summary names a lantern retry the report lacks"
 fi
 if grep -q '"vertex_polish"' "$REP"; then
-  expect_err "^authalic: sphere: .*vertex polish (kept|discarded)\)$"
+  expect_err "^authalic: sphere: .*vertex polish (kept|discarded)(; global polish (kept|discarded))?\)$"
 else
   ! grep -q "vertex polish" "$T/log/stderr" || fail "the summary names a vertex polish the report lacks"
 fi
+if grep -q '"global_polish"' "$REP"; then
+  expect_err "^authalic: sphere: .*; global polish (kept|discarded)\)$"
+else
+  ! grep -q "global polish" "$T/log/stderr" || fail "the summary names a global polish the report lacks"
+fi
 if grep -q '"twisted_start"' "$REP"; then
-  expect_err "^authalic: sphere: .*; twisted start (kept|discarded)(; vertex polish (kept|discarded))?\)$"
+  expect_err "^authalic: sphere: .*; twisted start (kept|discarded)(; vertex polish (kept|discarded))?(; global polish (kept|discarded))?\)$"
 else
   ! grep -q "twisted start" "$T/log/stderr" || fail "the summary names a twisted start the report lacks"
 fi
@@ -53,9 +58,9 @@ check(r["folds"] == 0 and m["folds"] == 0, "folds %s" % r["folds"])
 check(m["domain"] == "sphere" and m["sphere_radius_max_dev"] <= 1e-12, "not on the sphere")
 check(1 <= r["steps"] and len(r["convergence"]["err"]) == r["steps"] + 1, "steps and errors")
 check(len(r["convergence"]["frac"]) == r["steps"], "step fractions")
-vp = r["convergence"].get("vertex_polish")
-check(not r["converged"] or (vp["vertex_err_after"] if vp and vp["kept"] else r["convergence"]["err"][-1]) <= 2e-3,
-      "converged above the default tolerance")
+vp, gp = r["convergence"].get("vertex_polish"), r["convergence"].get("global_polish")
+last = gp["vertex_err_after"] if gp and gp["kept"] else vp["vertex_err_after"] if vp and vp["kept"] else r["convergence"]["err"][-1]
+check(not r["converged"] or last <= 2e-3, "converged above the default tolerance")
 check(set(r["time"]) >= {"read", "validate", "init", "flow", "metrics", "write", "total"}, "stages %s" % list(r["time"]))
 check(all(t is not None and t >= 0 for t in r["time"].values()), "negative stage time")
 # The flow is what the tool is for: it must beat the conformal start on area, by a wide margin.
@@ -85,8 +90,16 @@ if vp is not None:
     check(vp["kept"] == (vp["vertex_err_after"] < vp["vertex_err_before"] and vp["face_err_after"] <= vp["face_err_before"]),
           "vertex polish %s" % vp)
     written = vp["vertex_err_after"] if vp["kept"] else vp["vertex_err_before"]
-    check(abs(m["vertex_logr_mean_abs"] - written) <= 1e-9, "vertex polish %s, written map's vertex error %g"
-          % (vp, m["vertex_logr_mean_abs"]))
+    # The global polish follows where the vertex polish left the map short of the tolerance, on the same
+    # terms; the written map is the one it kept.
+    check((gp is not None) == (written > 2e-3), "global polish %s after a vertex error of %g" % (gp, written))
+    if gp is not None:
+        check(abs(gp["vertex_err_before"] - written) <= 1e-9, "global polish %s after %g" % (gp, written))
+        check(gp["kept"] == (gp["vertex_err_after"] < gp["vertex_err_before"] and
+                             gp["face_err_after"] <= gp["face_err_before"]), "global polish %s" % gp)
+        written = gp["vertex_err_after"] if gp["kept"] else gp["vertex_err_before"]
+    check(abs(m["vertex_logr_mean_abs"] - written) <= 1e-9, "polishes %s %s, written map's vertex error %g"
+          % (vp, gp, m["vertex_logr_mean_abs"]))
 PYEOF
   ;;
 init_only)
