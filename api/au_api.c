@@ -160,6 +160,7 @@ au_expert au_expert_default(au_target t, int refine_faces) {
   au__flow_defaults(t, refine_faces, &f, &s);
   e.lantern_retry = s.lantern_retry, e.retry_above = s.retry_above, e.twist_retry = s.twist_retry;
   e.vertex_polish = s.vertex_polish, e.polish_cells = s.polish_cells, e.staged_retry = s.staged_retry;
+  e.global_polish = s.global_polish;
   e.method = (int)f.method;
 #define AU_FROM_FLOW(name) e.name = f.name;
   AU_EXPERT_FIELDS(AU_FROM_FLOW)

@@ -92,6 +92,8 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
   if (o->expert && (o->expert->vertex_polish < 0 || !(o->expert->polish_cells >= 0) || isinf(o->expert->polish_cells)))
     return au_msg_set(msg, AU_E_ARG, "expert vertex_polish: expected sweeps >= 0 and polish_cells >= 0");
   if (o->expert && o->expert->staged_retry < 0) return au_msg_set(msg, AU_E_ARG, "expert staged_retry: expected stages >= 0");
+  if (o->expert && o->expert->global_polish < 0)
+    return au_msg_set(msg, AU_E_ARG, "expert global_polish: expected steps >= 0");
   if (o->spherical_areas != 0 && o->spherical_areas != 1)
     return au_msg_set(msg, AU_E_ARG, "spherical_areas %d: expected 0 or 1", o->spherical_areas);
   /* The refinement splits where chord triangles cannot shrink to their shares and judges by chord
@@ -124,7 +126,7 @@ static void flow_options(au_target t, const au_options *o, progress_ctx *pc, au_
     const au_expert *e = o->expert;
     sphere->lantern_retry = e->lantern_retry, sphere->retry_above = e->retry_above, sphere->twist_retry = e->twist_retry;
     sphere->vertex_polish = e->vertex_polish, sphere->polish_cells = e->polish_cells;
-    sphere->staged_retry = e->staged_retry;
+    sphere->staged_retry = e->staged_retry, sphere->global_polish = e->global_polish;
   }
   if (o->expert) au__flow_from_expert(o->expert, f);
   if (o->spherical_areas && t == AU_TARGET_SPHERE) f->sphere_areas = 2;

@@ -470,6 +470,10 @@ struct au_expert {
                              cells under 1/e of their share (squeezed limbs) is mapped again from its
                              start in at most this many stages, each towards part of the way, the better
                              map kept (8; 0 off; docs/hard-meshes.md) */
+  int global_polish;      /* sphere: a chord map still missing tol after the vertex polish gets at most
+                             this many steps of the global polish (every vertex at once, on the chord
+                             triangles' and the vertex cells' areas), kept on the vertex polish's terms
+                             (200; 0 off: the flow's angles, at a higher area error; docs/hard-meshes.md) */
 };
 
 /* The tuning au_map uses for target t, with or without refine_faces. */
