@@ -292,12 +292,10 @@ static int build_pattern(gp *g, const au_topo *t) {
   return ok;
 }
 
-/* The cells weigh 3 against the faces (the vertex error is the harder of the two to bring down: limbs4
- * refined at twice the faces 0.0182 / 0.0049 with 2, 0.0189 / 0.0038 with 3); the barrier acts from 0.15
- * of a face's share above its least triple product, which is the vertex polish's, a tenth of the share
- * (0.05 and 0.3 measured: limbs4 0.0181 / 0.0049 and 0.0189 / 0.0051, coil 0.0155 / 0.0064 and 0.0145 /
- * 0.0044, against 0.0141 / 0.0043 for coil with 0.15; all at 100 steps and cell weight 2). The
- * barrier's weight matters little (0.05, 0.2, 0.5: cow 0.0134 / 0.0022, 0.0129 / 0.0021, 0.0156 / 0.0027). */
+/* The cells weigh 3 against the faces, as the vertex error is the harder of the two to bring down; the
+ * barrier acts from 0.15 of a face's share above its least triple product, the vertex polish's tenth of
+ * the share; its weight matters little. Measured on the refined limbs4 and coil and on cow
+ * (docs/hard-meshes.md, session 20). */
 au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double tol, const int *cancel) {
   au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, tol, cancel};
   return o;

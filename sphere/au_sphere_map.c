@@ -157,7 +157,8 @@ au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphe
   /* The global polish, where the vertex polish left a chord map short of its tolerance: one vertex at a
    * time cannot widen or narrow a band as a whole (sphere/au_sphere_gpolish.c). */
   const double e = rep->polish == 2 ? rep->polish_err[1] : rep->polish_err[0];
-  if (st == AU_OK && o->global_polish > 0 && o->flow.sphere_areas != 2 && e > o->flow.tol) {
+  if (st == AU_OK && o->global_polish > 0 && o->flow.sphere_areas != 2 && e > o->flow.tol &&
+      m->nv <= AU_GPOLISH_MAX_VERTICES) {
     memcpy(P2, P, sizeof(double) * 3 * (size_t)m->nv);
     au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, o->flow.tol, o->flow.cancel);
     st = au_sphere_global_polish(m, t, w, P2, &go, &rep->global_polish_steps, msg);

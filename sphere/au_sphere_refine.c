@@ -606,12 +606,13 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   /* The global polish of the kept refinement and of the input's map, which it has to beat. The candidates
    * go without: it costs a second or more each, and from the input's globally polished map the two that
    * start from the polished one do worse (limbs4 0.0236 / 0.0047 against 0.0189 / 0.0038). */
-  if (st >= 0 && *out && o.vertex_polish > 0 && o.global_polish > 0 && best > o.flow.tol) {
+  if (st >= 0 && *out && o.vertex_polish > 0 && o.global_polish > 0 && best > o.flow.tol &&
+      (*out)->nv <= AU_GPOLISH_MAX_VERTICES) {
     au_status sg = refine_global(*out, *Pout, &o, rep, msg);
     if (sg < 0) st = sg;
     best = vertex_error(*out, *Pout);
   }
-  if (st >= 0 && polish_in && o.global_polish > 0 && e_in > o.flow.tol) {
+  if (st >= 0 && polish_in && o.global_polish > 0 && e_in > o.flow.tol && m->nv <= AU_GPOLISH_MAX_VERTICES) {
     au_status sg = refine_global(m, Pin, &o, &prin, msg);
     if (sg < 0) st = sg;
     e_in = vertex_error(m, Pin);

@@ -395,7 +395,8 @@ static int run_texture(const tex_args *a) {
   rc = write_done(&w, a->out, au_tex_write_obj(a->out, t, mtl_base, &msg), &msg);
   if (rc >= 0) goto done;
   if (a->lonlat) {
-    size_t cap = 64 + 48 * (size_t)t->nv, len = 0;
+    /* The header names OUT (any length); a vertex's line is at most 2 x 19 + 2 characters. */
+    size_t cap = 64 + strlen(a->out) + 48 * (size_t)t->nv, len = 0;
     ll = malloc(cap);
     if (!ll) {
       rc = write_done(&w, a->lonlat, AU_E_NOMEM, NULL);
