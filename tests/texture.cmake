@@ -9,7 +9,7 @@ au_test_module(test_texture test_texture.c geo_cea_roundtrip geo_laea_roundtrip 
 foreach(c texture_help sample_help missing_args bad_values bad_combination bad_outputs unknown_flag)
   au_cli_test(texture.${c} texture_usage.sh ${c})
 endforeach()
-foreach(c obj_cea laea bake_normal bake_scalar sample sample_csv bad_map mirrored on_the_fly on_the_fly_spherical area_target)
+foreach(c obj_cea laea bake_normal bake_scalar long_names sample sample_csv bad_map mirrored on_the_fly on_the_fly_spherical area_target)
   au_cli_test(texture.${c} texture_runs.sh ${c})
 endforeach()
 # The thin-limbed family (issue 21): the fold mending goes on while it makes progress.

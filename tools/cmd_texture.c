@@ -379,7 +379,7 @@ static int run_texture(const tex_args *a) {
     if (rc >= 0) goto done;
     mtl = mtl_path(a->out);
     ref = image_ref(a->out, a->image);
-    size_t len = ref ? strlen(ref) + 256 : 0;
+    size_t len = ref ? strlen(ref) + strlen(a->bake) + 256 : 0; /* both names, any length */
     mtlbuf = ref ? malloc(len) : NULL;
     if (!mtl || !mtlbuf) {
       rc = write_done(&w, a->out, AU_E_NOMEM, NULL);
@@ -387,7 +387,7 @@ static int run_texture(const tex_args *a) {
     }
     int k = snprintf(mtlbuf, len, "# authalic texture: material of the baked attribute '%s'\nnewmtl authalic\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd %s\n",
                      a->bake, ref);
-    rc = write_done(&w, mtl, au_write_text(mtl, mtlbuf, (size_t)k, &msg), &msg);
+    rc = write_done(&w, mtl, k >= 0 && (size_t)k < len ? au_write_text(mtl, mtlbuf, (size_t)k, &msg) : AU_E_INTERNAL, &msg);
     if (rc >= 0) goto done;
   }
   const char *mtl_base = NULL;
@@ -405,7 +405,7 @@ static int run_texture(const tex_args *a) {
     len += (size_t)snprintf(ll, cap, "# longitude latitude (degrees) of each vertex of %s\n", a->out);
     for (int i = 0; i < t->nv && len < cap; i++)
       len += (size_t)snprintf(ll + len, cap - len, "%.12g %.12g\n", t->lonlat[2 * i], t->lonlat[2 * i + 1]);
-    rc = write_done(&w, a->lonlat, au_write_text(a->lonlat, ll, len, &msg), &msg);
+    rc = write_done(&w, a->lonlat, len < cap ? au_write_text(a->lonlat, ll, len, &msg) : AU_E_INTERNAL, &msg);
     if (rc >= 0) goto done;
   }
   if (a->preview) {

@@ -107,6 +107,23 @@ bake_scalar)
   run texture "$IN" --map "$MAP" "$T/o/tex.obj" --bake "$T/in/z_short.txt" --image "$T/o/z.png"
   expect_rejected "$((NV - 1)) values for $NV vertices"
   ;;
+long_names)
+  # A baked file and OUT with long paths (both are named in the files written): the material is the
+  # whole text, not cut off, and the --lonlat header names OUT. Before, a long --bake path filled the
+  # .mtl with NULs past its 261st byte and a long OUT overran --lonlat's buffer.
+  make_map
+  long=$T/o/$(printf 'd%.0s' $(seq 1 200))/$(printf 'e%.0s' $(seq 1 200))
+  mkdir -p "$long"
+  awk '$1 == "v" { print $4 }' "$IN" >"$long/z.txt"
+  run texture "$IN" --map "$MAP" "$long/tex.obj" --bake "$long/z.txt" --image "$long/z.png" --size 64x32 \
+      --lonlat "$long/ll.txt" --quiet
+  expect_status 0
+  "$PY" -c 'import sys; sys.exit(b"\0" in open(sys.argv[1], "rb").read())' "$long/tex.mtl" || fail "NUL bytes in the material"
+  [ "$(tail -1 "$long/tex.mtl")" = "map_Kd z.png" ] || fail "the material ends with: $(tail -c 80 "$long/tex.mtl" | od -c | head -3)"
+  [ "$(head -1 "$long/ll.txt")" = "# longitude latitude (degrees) of each vertex of $long/tex.obj" ] \
+      || fail "the --lonlat header: $(head -c 120 "$long/ll.txt")"
+  [ "$(($(wc -l <"$long/ll.txt") - 1))" -eq "$(grep -c '^v ' "$long/tex.obj")" ] || fail "--lonlat lines"
+  ;;
 sample)
   make_map
   awk '$1 == "v" { print $2 + $3 }' "$IN" >"$T/in/a.txt"
