@@ -91,6 +91,15 @@ static cJSON *metrics_json(const au_metrics *m) {
   return ok ? o : NULL;
 }
 
+/* A polish's object under conv: whether it was kept (how 2), how many sweeps or steps it ran, and the
+ * vertex and per-face errors before and after (e[0..3]). */
+static int put_polish(cJSON *conv, const char *name, int how, const char *count_name, int count, const double *e) {
+  cJSON *p = cJSON_CreateObject();
+  return put(conv, name, p) && put(p, "kept", cJSON_CreateBool(how == 2)) && put(p, count_name, num(count)) &&
+         put(p, "vertex_err_before", num(e[0])) && put(p, "vertex_err_after", num(e[1])) &&
+         put(p, "face_err_before", num(e[2])) && put(p, "face_err_after", num(e[3]));
+}
+
 au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
   if (json) *json = NULL;
   if (!info || !json || !info->final) return au_msg_set(msg, AU_E_ARG, "report: missing info, output or final metrics");
@@ -126,20 +135,10 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
          put(tw, "faces_sheared", num(info->twist_faces)) && put(tw, "vertex_err", num(info->twist_err)) &&
          put(tw, "conformal_start_folded", cJSON_CreateBool(info->twist == 3));
   }
-  if (ok && info->polish > 0 && info->polish_err) {
-    cJSON *vp = cJSON_CreateObject();
-    const double *e = info->polish_err;
-    ok = put(conv, "vertex_polish", vp) && put(vp, "kept", cJSON_CreateBool(info->polish == 2)) &&
-         put(vp, "sweeps", num(info->polish_sweeps)) && put(vp, "vertex_err_before", num(e[0])) &&
-         put(vp, "vertex_err_after", num(e[1])) && put(vp, "face_err_before", num(e[2])) && put(vp, "face_err_after", num(e[3]));
-  }
-  if (ok && info->global_polish > 0 && info->global_polish_err) {
-    cJSON *gp = cJSON_CreateObject();
-    const double *e = info->global_polish_err;
-    ok = put(conv, "global_polish", gp) && put(gp, "kept", cJSON_CreateBool(info->global_polish == 2)) &&
-         put(gp, "steps", num(info->global_polish_steps)) && put(gp, "vertex_err_before", num(e[0])) &&
-         put(gp, "vertex_err_after", num(e[1])) && put(gp, "face_err_before", num(e[2])) && put(gp, "face_err_after", num(e[3]));
-  }
+  if (ok && info->polish > 0 && info->polish_err)
+    ok = put_polish(conv, "vertex_polish", info->polish, "sweeps", info->polish_sweeps, info->polish_err);
+  if (ok && info->global_polish > 0 && info->global_polish_err)
+    ok = put_polish(conv, "global_polish", info->global_polish, "steps", info->global_polish_steps, info->global_polish_err);
   if (ok && info->staged > 0 && info->staged_err) {
     cJSON *sr = cJSON_CreateObject();
     ok = put(conv, "staged_retry", sr) && put(sr, "kept", cJSON_CreateBool(info->staged == 2)) &&

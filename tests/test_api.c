@@ -472,19 +472,25 @@ static int files_and_names(void) {
   return 0;
 }
 
+/* The sphere map of m with the defaults into *a and with the expert tuning e into *b. */
+static int map_default_and(const au_mesh *m, const au_expert *e, au_result **a, au_result **b) {
+  AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, NULL, a, NULL) >= 0);
+  au_options o = au_options_default();
+  o.expert = e;
+  AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, b, NULL) >= 0);
+  return 0;
+}
+
 /* The staged retry (issue 21): tpose's limbs stay squeezed by the flow; by default the retry opens them
  * up and is reported kept, with au_expert.staged_retry 0 it does not run. */
 static int staged_retry(void) {
   au_mesh *m = load("tpose.obj");
   if (!m) return AU_SKIP;
   au_result *a = NULL, *b = NULL;
-  AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, NULL, &a, NULL) >= 0);
   au_expert e = au_expert_default(AU_TARGET_SPHERE, 0);
   AU_CHECK_INT(e.staged_retry, >, 0);
   e.staged_retry = 0;
-  au_options o = au_options_default();
-  o.expert = &e;
-  AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &b, NULL) >= 0);
+  if (map_default_and(m, &e, &a, &b)) return 1;
   printf("tpose: staged retry %d (%d stages, %.3g -> %.3g), vertex error %.3g; off: %d, %.3g\n", a->conv.staged_retry,
          a->conv.staged_stages, a->conv.staged_err[0], a->conv.staged_err[1], a->metrics.vertex_logr_mean_abs,
          b->conv.staged_retry, b->metrics.vertex_logr_mean_abs);
@@ -506,13 +512,10 @@ static int global_polish(void) {
   au_mesh *m = load("limbs4.obj");
   if (!m) return AU_SKIP;
   au_result *a = NULL, *b = NULL;
-  AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, NULL, &a, NULL) >= 0);
   au_expert e = au_expert_default(AU_TARGET_SPHERE, 0);
   AU_CHECK_INT(e.global_polish, >, 0);
   e.global_polish = 0;
-  au_options o = au_options_default();
-  o.expert = &e;
-  AU_CHECK(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &b, NULL) >= 0);
+  if (map_default_and(m, &e, &a, &b)) return 1;
   printf("limbs4: global polish %d (%d steps, %.3g -> %.3g); off: %d, vertex error %.3g\n", a->conv.global_polish,
          a->conv.global_polish_steps, a->conv.global_polish_err[0], a->conv.global_polish_err[1], b->conv.global_polish,
          b->metrics.vertex_logr_mean_abs);
