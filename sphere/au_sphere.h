@@ -123,7 +123,7 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
 
 /* The global polish (sphere/au_sphere_gpolish.c): after the vertex polish, a Levenberg-Marquardt
  * iteration over every vertex's tangent displacement at once on the chord triangles' log area ratios,
- * the vertex cells' (times cell_weight) and a log barrier (weight barrier_weight) on each triple product
+ * the vertex cells' (times cell_weight), each face's log conformal distortion (times angle_weight) and a log barrier (weight barrier_weight) on each triple product
  * less than 2 x barrier x its face's share of the chord total above its least value (min_orient of the
  * share, or where it started if lower); a step that takes a triple product below its least is halved,
  * or tried with 4x the damping. Steps are taken while they lower that cost, at most
@@ -138,6 +138,7 @@ typedef struct au_gpolish_opts {
   double barrier;        /* the barrier acts below 2 x this x a face's share (triple product, >= 0) */
   double barrier_weight; /* its weight (>= 0; 0: no barrier) */
   double min_orient;     /* least triple product, as a fraction of the share (>= 0) */
+  double angle_weight;   /* weight of each face's squared log conformal distortion (>= 0; 0: areas only) */
   double tol;            /* stop once the vertex cells' mean |log ratio| is at most this */
   const int *cancel;     /* when *cancel is nonzero at the start of a step (read atomically): AU_E_CANCELLED */
 } au_gpolish_opts;
@@ -146,8 +147,8 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
 /* The sphere map and the refinement run it on meshes of at most this many vertices: its factor, on the
  * two-ring pattern, takes about 9 KB per vertex (armadillo, 43k vertices: peak 167 -> 537 MB). */
 #define AU_GPOLISH_MAX_VERTICES 100000
-/* The settings the sphere map and the refinement use, with max_iter, tol and cancel as given. */
-au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double tol, const int *cancel);
+/* The settings the sphere map and the refinement use, with max_iter, angle_weight, tol and cancel as given. */
+au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, double tol, const int *cancel);
 
 /* au_sphere_vertex_polish with o->vertex_polish sweeps and o->polish_cells, on a copy of P, which
  * replaces P when its vertex error is lower and its per-face error not higher, both in the map's measure

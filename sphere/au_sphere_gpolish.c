@@ -7,7 +7,10 @@
  * does that. Its unknowns are each vertex's displacement in its tangent plane; its residuals are the
  * faces' log(chord share / surface share), the vertex cells' (weighted, as the metrics' vertex error is
  * the harder of the two) and, for a face whose triple product has come below a threshold, a log
- * barrier that lets the Gauss-Newton model see a face nearing its turn-over before a step turns it.
+ * barrier that lets the Gauss-Newton model see a face nearing its turn-over before a step turns it;
+ * with an angle weight also each face's log conformal distortion (the MIPS energy of the affine map
+ * from the surface's triangle to the chord triangle: (sum of cot(surface angle) x chord edge^2) / (4 x
+ * chord area), 1 for a similarity), so that among maps of about equal area it goes to the less sheared.
  * A step that would still take a triple product below its least (min_orient of the share, or where it
  * started if lower: the vertex polish's rule, kept for the textures' sake) is halved until it does not,
  * or tried again with more damping; every map it returns is fold-free.
@@ -45,6 +48,8 @@ typedef struct gp {
   double wv, mu;
   int *colstart, *rows; /* upper triangle of the 2nv x 2nv pattern, by column */
   double *C, *cell, *orient;
+  const double *cot; /* [3 nf] the surface's cotangents, corner by corner (with an angle weight) */
+  double beta;       /* the angle weight */
   double verr; /* cost()'s vertex error: the cells' mean |log ratio| (the metrics') */
   int *fidx;            /* [36 nf] add_row's index table of each face's row */
   size_t *vidx_start;   /* [nv + 1] where each cell's row's table starts in vidx */
@@ -82,6 +87,17 @@ static double cost(gp *g, const double *P, double *Cs) {
     double r = log(g->C[f] / s / g->share[f]);
     E += r * r;
     for (int k = 0; k < 3; k++) g->cell[F[3 * f + k]] += g->C[f] / (3 * s);
+    if (g->beta > 0) {
+      const int *v = F + 3 * f;
+      double N = 0;
+      for (int i = 0; i < 3; i++) {
+        const double *a = P + 3 * v[(i + 1) % 3], *b = P + 3 * v[(i + 2) % 3];
+        double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        N += g->cot[3 * f + i] * dot(e, e);
+      }
+      double q = log(N / (4 * g->C[f]));
+      E += g->beta * q * q;
+    }
     double gap = g->orient[f] - g->lo[f];
     if (gap < g->tau[f]) {
       double b = g->mu * log(g->tau[f] / (gap > 0 ? gap : 1e-300));
@@ -186,6 +202,26 @@ static void assemble(const gp *g, const double *P, const double *B, double Cs, c
     for (int k = 0; k < 3; k++)
       for (int d = 0; d < 2; d++) val[2 * k + d] = dot(G[k], B + 6 * v[k] + 3 * d) / g->C[f];
     add_row(H, grad, 6, col, val, log(g->C[f] / Cs / g->share[f]), idx);
+    if (g->beta > 0) {
+      const double *p[3] = {P + 3 * v[0], P + 3 * v[1], P + 3 * v[2]};
+      double N = 0;
+      for (int i = 0; i < 3; i++) {
+        const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
+        double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        N += g->cot[3 * f + i] * dot(e, e);
+      }
+      double sb = sqrt(g->beta);
+      for (int k = 0; k < 3; k++) {
+        const double *pk = p[k], *p1 = p[(k + 1) % 3], *p2 = p[(k + 2) % 3];
+        double c1 = g->cot[3 * f + (k + 1) % 3], c2 = g->cot[3 * f + (k + 2) % 3], dN[3];
+        for (int c = 0; c < 3; c++) dN[c] = 2 * c1 * (pk[c] - p2[c]) + 2 * c2 * (pk[c] - p1[c]);
+        for (int d = 0; d < 2; d++) {
+          const double *e = B + 6 * v[k] + 3 * d;
+          val[2 * k + d] = sb * (dot(dN, e) / N - dot(G[k], e) / g->C[f]);
+        }
+      }
+      add_row(H, grad, 6, col, val, sb * log(N / (4 * g->C[f])), idx);
+    }
     if (g->orient[f] - g->lo[f] < g->tau[f]) {
       double o = g->orient[f] - g->lo[f];
       for (int k = 0; k < 3; k++)
@@ -296,8 +332,8 @@ static int build_pattern(gp *g, const au_topo *t) {
  * barrier acts from 0.15 of a face's share above its least triple product, the vertex polish's tenth of
  * the share; its weight matters little. Measured on the refined limbs4 and coil and on cow
  * (docs/hard-meshes.md, session 20). */
-au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double tol, const int *cancel) {
-  au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, tol, cancel};
+au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, double tol, const int *cancel) {
+  au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, angle_weight, tol, cancel};
   return o;
 }
 
@@ -305,10 +341,10 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
                                   const au_gpolish_opts *o, int *iters, au_msg *msg) {
   if (iters) *iters = 0;
   if (!m || !t || !P || !o || o->max_iter < 0 || !(o->cell_weight >= 0) || !(o->barrier >= 0) ||
-      !(o->barrier_weight >= 0) || !(o->min_orient >= 0))
+      !(o->barrier_weight >= 0) || !(o->min_orient >= 0) || !(o->angle_weight >= 0))
     return au_msg_set(msg, AU_E_ARG, "global polish: bad arguments");
   const int nv = m->nv, nf = m->nf, n = 2 * nv, *F = m->F;
-  gp g = {nv, nf, F, NULL, NULL, NULL, NULL, o->cell_weight, o->barrier_weight, NULL, NULL, NULL, NULL, NULL, 0, NULL, NULL, NULL};
+  gp g = {.nv = nv, .nf = nf, .F = F, .wv = o->cell_weight, .mu = o->barrier_weight};
   double *share = malloc(sizeof(double) * (size_t)nf), *cshare = calloc((size_t)nv, sizeof(double));
   double *lo = malloc(sizeof(double) * (size_t)nf), *tau = malloc(sizeof(double) * (size_t)nf);
   double *B = malloc(sizeof(double) * 6 * (size_t)nv), *Y = malloc(sizeof(double) * 3 * (size_t)nv);
@@ -351,6 +387,22 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     for (int k = 0; k < 3; k++) cshare[F[3 * f + k]] += share[f] / 3;
   }
   g.share = share, g.cshare = cshare, g.lo = lo, g.tau = tau;
+  g.beta = o->angle_weight;
+  if (g.beta > 0) {
+    double *cot = malloc(sizeof(double) * 3 * (size_t)nf);
+    if (!cot) {
+      st = au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
+      goto done;
+    }
+    for (int f = 0; f < nf; f++)
+      for (int i = 0; i < 3; i++) {
+        const double *x0 = m->X + 3 * F[3 * f + i], *x1 = m->X + 3 * F[3 * f + (i + 1) % 3], *x2 = m->X + 3 * F[3 * f + (i + 2) % 3];
+        double a[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]}, b[3] = {x2[0] - x0[0], x2[1] - x0[1], x2[2] - x0[2]}, n[3];
+        cross(a, b, n);
+        cot[3 * f + i] = dot(a, b) / sqrt(dot(n, n));
+      }
+    g.cot = cot;
+  }
   double Cs = 0;
   for (int f = 0; f < nf; f++) lo[f] = 0, tau[f] = 0;
   double c0 = cost(&g, P, &Cs);
@@ -421,6 +473,6 @@ done:
   au_spd_free(&spd);
   free(share), free(cshare), free(lo), free(tau), free(B), free(Y), free(grad), free(dx), free(rhs);
   free(vf_start), free(vf), free(fill), free(H), free(g.C), free(g.cell), free(g.orient), free(g.colstart), free(g.rows);
-  free(g.fidx), free(g.vidx_start), free(g.vidx);
+  free(g.fidx), free(g.vidx_start), free(g.vidx), free((void *)g.cot);
   return st;
 }

@@ -21,6 +21,13 @@
  * fraction. */
 #define AU_STAGED_GAIN 0.05
 
+/* The weight of the global polish's angle term in the sphere map. Areas alone halve cow's and
+ * cheburashka's errors but raise their mean conformal distortion (lambda 1.68 -> 1.80, 1.22 -> 1.35);
+ * with 1e-3 both errors fall nearly as far (cow 0.0261 / 0.0078 -> 0.0143 / 0.0024) with lambda at or
+ * under the flow's (1.66, 1.22); 1e-2 keeps cow at 0.0253 / 0.0046 (docs/hard-meshes.md, session 20).
+ * --refine-mesh polishes on areas alone: it is asked for the issue's area bounds. */
+#define AU_GPOLISH_ANGLE 1e-3
+
 au_sphere_opts au_sphere_opts_default(void) {
   au_sphere_opts o;
   memset(&o, 0, sizeof o);
@@ -160,7 +167,7 @@ au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphe
   if (st == AU_OK && o->global_polish > 0 && o->flow.sphere_areas != 2 && e > o->flow.tol &&
       m->nv <= AU_GPOLISH_MAX_VERTICES) {
     memcpy(P2, P, sizeof(double) * 3 * (size_t)m->nv);
-    au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, o->flow.tol, o->flow.cancel);
+    au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, AU_GPOLISH_ANGLE, o->flow.tol, o->flow.cancel);
     st = au_sphere_global_polish(m, t, w, P2, &go, &rep->global_polish_steps, msg);
     if (st == AU_OK) {
       double *g = rep->global_polish_err;

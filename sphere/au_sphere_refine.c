@@ -506,7 +506,7 @@ static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_op
   au_status st = P2 ? au_mesh_topology(mr, &t, msg) : au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
   if (st == AU_OK) {
     memcpy(P2, Pr, sizeof(double) * 3 * (size_t)mr->nv);
-    au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, o->flow.tol, o->flow.cancel);
+    au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, 0, o->flow.tol, o->flow.cancel);
     int steps = 0;
     st = au_sphere_global_polish(mr, t, NULL, P2, &go, &steps, msg);
     if (st == AU_OK) {

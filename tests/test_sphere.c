@@ -767,7 +767,7 @@ static int global_polish_limbs4(void) {
   memcpy(P0, L.P, sizeof(double) * 3 * (size_t)nv);
   au_metrics q0, q;
   AU_CHECK_STATUS(au_metrics_compute(nv, nf, L.m->X, L.P, F, AU_DOMAIN_SPHERE, &q0, NULL, NULL), AU_OK, (au_msg *)NULL);
-  au_gpolish_opts go = {200, 3, 0.15, 0.05, 0.1, 0.002, NULL};
+  au_gpolish_opts go = au_sphere_gpolish_settings(200, 0, 0.002, NULL); /* au_sphere_refine's */
   int one = 1, steps = -1;
   go.cancel = &one;
   AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &go, &steps, &msg), AU_E_CANCELLED, &msg);
@@ -775,6 +775,8 @@ static int global_polish_limbs4(void) {
   go.cancel = NULL;
   au_gpolish_opts bad = go;
   bad.min_orient = -1;
+  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
+  bad = go, bad.angle_weight = -1;
   AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
   bad = go, bad.max_iter = -1;
   AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
