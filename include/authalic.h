@@ -472,9 +472,10 @@ struct au_expert {
                              map kept (8; 0 off; docs/hard-meshes.md) */
   int global_polish;      /* sphere: a chord map still missing tol after the vertex polish gets at most
                              this many steps of the global polish (every vertex at once, on the chord
-                             triangles' and the vertex cells' areas), kept on the vertex polish's terms
-                             (200; 0 off: the flow's angles, at a higher area error; not on meshes of
-                             more than 100000 vertices, for its memory; docs/hard-meshes.md) */
+                             triangles' and the vertex cells' areas and, in a small weight, their
+                             conformal distortion), kept on the vertex polish's terms (200; 0 off: the
+                             vertex polish's map; not on meshes of more than 100000 vertices, for its
+                             memory; docs/hard-meshes.md) */
 };
 
 /* The tuning au_map uses for target t, with or without refine_faces. */

@@ -37,8 +37,9 @@ typedef struct au_sphere_opts {
   double polish_cells;  /* the polish's weight of the vertex cells against the faces (default 1) */
   int global_polish;    /* > 0: a chord map that still misses its tolerance after the vertex polish gets at
                            most this many steps of the global polish (au_sphere_global_polish, with
-                           au_sphere_gpolish_settings), kept on the same terms (default 200; 0 off; with
-                           vertex_polish 0 neither runs) */
+                           au_sphere_gpolish_settings and a small angle weight; --refine-mesh's on
+                           areas alone), kept on the same terms (default 200; 0 off; with vertex_polish
+                           0 neither runs) */
   int staged_retry;     /* > 0: a map that misses its tolerance with at least 1% of the surface in vertex
                            cells under 1/e of their share (squeezed protrusions the flow did not open up,
                            au__metrics_squeezed) flows again from itself in stages, each towards a part
