@@ -46,8 +46,6 @@ static const double refine_floor_share[] = {0.5, 0.1, 0, -1};
 #define AU_REFINE_SHARE 2
 /* The longest edges' single round stops at this many times the input's faces (refine_with). */
 #define AU_REFINE_LONG_MAX 3
-/* The global polish's steps at most (it stops earlier when five steps in a row gain less than 0.01%). */
-#define AU_REFINE_GLOBAL_STEPS 200
 
 typedef struct split_cand {
   double key;
@@ -495,10 +493,11 @@ static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
   memcpy(rep->global_polish_err, from->global_polish_err, sizeof from->global_polish_err);
 }
 
-/* The global polish (sphere/au_sphere_gpolish.c) of a refined map (mr, Pr), or of the input's; its map is
- * kept if its vertex error is lower and its per-face error not higher. The vertex polish that ends each candidate moves one vertex at a time and
- * leaves the bands around a limb's base where only a joint move gains (limbs4 at twice the faces:
- * 0.0258 / 0.0083 -> 0.0189 / 0.0038, docs/hard-meshes.md, session 20). */
+/* The global polish (sphere/au_sphere_gpolish.c), on areas alone, of a refined map (mr, Pr) or of the
+ * input's; its map is kept if its vertex error is lower and its per-face error not higher. The vertex
+ * polish that ends each candidate moves one vertex at a time and leaves the bands around a limb's base
+ * where only a joint move gains (limbs4 at twice the faces: 0.0258 / 0.0083 -> 0.0189 / 0.0038,
+ * docs/hard-meshes.md, session 20). */
 static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_opts *o, au_sphere_report *rep,
                                au_msg *msg) {
   au_topo *t = NULL;
@@ -611,6 +610,10 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
     au_status sg = refine_global(*out, *Pout, &o, rep, msg);
     if (sg < 0) st = sg;
     best = vertex_error(*out, *Pout);
+    if (st == AU_W_NOT_CONVERGED && best <= o.flow.tol) {
+      st = AU_OK;
+      if (rep) rep->flow.converged = 1;
+    }
   }
   if (st >= 0 && polish_in && o.global_polish > 0 && e_in > o.flow.tol && m->nv <= AU_GPOLISH_MAX_VERTICES) {
     au_status sg = refine_global(m, Pin, &o, &prin, msg);
