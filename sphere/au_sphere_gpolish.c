@@ -48,6 +48,7 @@ typedef struct gp {
   double wv, mu;
   int *colstart, *rows; /* upper triangle of the 2nv x 2nv pattern, by column */
   double *C, *cell, *orient;
+  double *Gf; /* [9 nf] assemble's chord-area gradients of each face's corners, for the cells' rows */
   const double *cot; /* [3 nf] the surface's cotangents, corner by corner (with an angle weight) */
   double beta;       /* the angle weight */
   double verr; /* cost()'s vertex error: the cells' mean |log ratio| (the metrics') */
@@ -65,6 +66,18 @@ static int orients_ok(const gp *g, const double *P, double *orient) {
     if (!(orient[f] > 0) || !(orient[f] >= g->lo[f])) ok = 0;
   }
   return ok;
+}
+
+/* Sum over face f's edges of cot(surface angle) x chord edge^2 at P: 4 x chord area x its MIPS energy. */
+static double mips_num(const gp *g, const double *P, int f) {
+  const int *v = g->F + 3 * f;
+  double N = 0;
+  for (int i = 0; i < 3; i++) {
+    const double *a = P + 3 * v[(i + 1) % 3], *b = P + 3 * v[(i + 2) % 3];
+    double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    N += g->cot[3 * f + i] * dot(e, e);
+  }
+  return N;
 }
 
 /* The cost at P (faces' squared log ratios, the weighted cells', the barriers'); fills C, cell and
@@ -88,14 +101,7 @@ static double cost(gp *g, const double *P, double *Cs) {
     E += r * r;
     for (int k = 0; k < 3; k++) g->cell[F[3 * f + k]] += g->C[f] / (3 * s);
     if (g->beta > 0) {
-      const int *v = F + 3 * f;
-      double N = 0;
-      for (int i = 0; i < 3; i++) {
-        const double *a = P + 3 * v[(i + 1) % 3], *b = P + 3 * v[(i + 2) % 3];
-        double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        N += g->cot[3 * f + i] * dot(e, e);
-      }
-      double q = log(N / (4 * g->C[f]));
+      double q = log(mips_num(g, P, f) / (4 * g->C[f]));
       E += g->beta * q * q;
     }
     double gap = g->orient[f] - g->lo[f];
@@ -197,6 +203,7 @@ static void assemble(const gp *g, const double *P, const double *B, double Cs, c
   int col[2 * (GP_MAX_STAR + 2)], slot[3 * GP_MAX_STAR];
   for (int f = 0; f < nf; f++) {
     face_grads(P, F + 3 * f, G, D);
+    memcpy(g->Gf + 9 * (size_t)f, G, sizeof G);
     const int *v = F + 3 * f, *idx = g->fidx + 36 * (size_t)f;
     face_cols(v, col);
     for (int k = 0; k < 3; k++)
@@ -204,13 +211,7 @@ static void assemble(const gp *g, const double *P, const double *B, double Cs, c
     add_row(H, grad, 6, col, val, log(g->C[f] / Cs / g->share[f]), idx);
     if (g->beta > 0) {
       const double *p[3] = {P + 3 * v[0], P + 3 * v[1], P + 3 * v[2]};
-      double N = 0;
-      for (int i = 0; i < 3; i++) {
-        const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
-        double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        N += g->cot[3 * f + i] * dot(e, e);
-      }
-      double sb = sqrt(g->beta);
+      double N = mips_num(g, P, f), sb = sqrt(g->beta);
       for (int k = 0; k < 3; k++) {
         const double *pk = p[k], *p1 = p[(k + 1) % 3], *p2 = p[(k + 2) % 3];
         double c1 = g->cot[3 * f + (k + 1) % 3], c2 = g->cot[3 * f + (k + 2) % 3], dN[3];
@@ -235,10 +236,10 @@ static void assemble(const gp *g, const double *P, const double *B, double Cs, c
     int n = cell_cols(F, vf_start, vf, v, col, slot);
     memset(val, 0, sizeof(double) * (size_t)n);
     for (int i = vf_start[v]; i < vf_start[v + 1]; i++) {
-      face_grads(P, F + 3 * vf[i], G, D);
+      const double *Gi = g->Gf + 9 * (size_t)vf[i];
       for (int k = 0; k < 3; k++) {
         int u = F[3 * vf[i] + k], c = slot[3 * (i - vf_start[v]) + k];
-        for (int d = 0; d < 2; d++) val[c + d] += g->wv * dot(G[k], B + 6 * u + 3 * d) / (3 * Cs * g->cell[v]);
+        for (int d = 0; d < 2; d++) val[c + d] += g->wv * dot(Gi + 3 * k, B + 6 * u + 3 * d) / (3 * Cs * g->cell[v]);
       }
     }
     add_row(H, grad, n, col, val, g->wv * log(g->cell[v] / g->cshare[v]), g->vidx + g->vidx_start[v]);
@@ -328,6 +329,81 @@ static int build_pattern(gp *g, const au_topo *t) {
   return ok;
 }
 
+/* Faces by vertex: vf[vf_start[v]..vf_start[v+1]-1] are v's faces. Returns 0 when a vertex has more
+ * than GP_MAX_STAR faces (its cell's row would not fit), -1 out of memory, 1 done. */
+static int faces_by_vertex(int nv, int nf, const int *F, int *vf_start, int *vf) {
+  for (int i = 0; i < 3 * nf; i++) vf_start[F[i] + 1]++;
+  for (int v = 0; v < nv; v++) {
+    if (vf_start[v + 1] > GP_MAX_STAR) return 0;
+    vf_start[v + 1] += vf_start[v];
+  }
+  int *fill = calloc((size_t)nv, sizeof(int));
+  if (!fill) return -1;
+  for (int f = 0; f < nf; f++)
+    for (int k = 0; k < 3; k++) vf[vf_start[F[3 * f + k]] + fill[F[3 * f + k]]++] = f;
+  free(fill);
+  return 1;
+}
+
+/* The surface's side of the residuals: each face's share of the (weighted) area, each vertex cell's
+ * (a third of its faces'), and with an angle weight the cotangents of the surface's angles (g->cot,
+ * owned by g). Returns 0 out of memory. */
+static int surface_terms(gp *g, const double *X, const double *face_w, double *share, double *cshare) {
+  const int nf = g->nf, *F = g->F;
+  au_dec_face_areas(nf, F, X, share);
+  double sA = 0;
+  for (int f = 0; f < nf; f++) share[f] *= face_w ? face_w[f] : 1.0, sA += share[f];
+  for (int f = 0; f < nf; f++) {
+    share[f] /= sA;
+    for (int k = 0; k < 3; k++) cshare[F[3 * f + k]] += share[f] / 3;
+  }
+  g->share = share, g->cshare = cshare;
+  if (!(g->beta > 0)) return 1;
+  double *cot = malloc(sizeof(double) * 3 * (size_t)nf);
+  if (!cot) return 0;
+  for (int f = 0; f < nf; f++)
+    for (int i = 0; i < 3; i++) {
+      const double *x0 = X + 3 * F[3 * f + i], *x1 = X + 3 * F[3 * f + (i + 1) % 3], *x2 = X + 3 * F[3 * f + (i + 2) % 3];
+      double a[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]}, b[3] = {x2[0] - x0[0], x2[1] - x0[1], x2[2] - x0[2]}, n[3];
+      cross(a, b, n);
+      cot[3 * f + i] = dot(a, b) / sqrt(dot(n, n));
+    }
+  g->cot = cot;
+  return 1;
+}
+
+/* Y: P moved by s dx in its tangent bases B, back on the sphere. */
+static void move_along(int nv, const double *P, const double *B, const double *dx, double s, double *Y) {
+  for (int v = 0; v < nv; v++) {
+    const double *e1 = B + 6 * v, *e2 = e1 + 3;
+    double q[3];
+    for (int c = 0; c < 3; c++) q[c] = P[3 * v + c] + s * (dx[2 * v] * e1[c] + dx[2 * v + 1] * e2[c]);
+    double l = sqrt(dot(q, q));
+    for (int c = 0; c < 3; c++) Y[3 * v + c] = q[c] / l;
+  }
+}
+
+/* One damped step from P: (H + lam diag H) dx = rhs, then dx halved until no triple product falls below
+ * its least; the moved map in Y (g->orient at Y). Returns 1 with Y, 0 if every halving turned a face,
+ * -1 if the solve failed. */
+static int damped_step(gp *g, au_spd *spd, const double *H, const double *rhs, double lam, const double *P,
+                       const double *B, double *dx, double *Y) {
+  const int n = 2 * g->nv;
+  double *val = au_spd_values(spd);
+  memcpy(val, H, sizeof(double) * (size_t)g->colstart[n]);
+  for (int j = 0; j < n; j++) {
+    int d = g->colstart[j + 1] - 1; /* the diagonal closes each column */
+    val[d] = H[d] * (1 + lam) + 1e-300;
+  }
+  if (au_spd_factor(spd, NULL) != AU_OK || au_spd_solve(spd, rhs, dx, NULL) != AU_OK) return -1;
+  double s = 1;
+  for (int h = 0; h < GP_HALVINGS; h++, s *= 0.5) {
+    move_along(g->nv, P, B, dx, s, Y);
+    if (orients_ok(g, Y, g->orient)) return 1;
+  }
+  return 0;
+}
+
 /* The cells weigh 3 against the faces, as the vertex error is the harder of the two to bring down; the
  * barrier acts from 0.15 of a face's share above its least triple product, the vertex polish's tenth of
  * the share; its weight matters little. Measured on the refined limbs4 and coil and on cow
@@ -350,58 +426,25 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
   double *B = malloc(sizeof(double) * 6 * (size_t)nv), *Y = malloc(sizeof(double) * 3 * (size_t)nv);
   double *grad = malloc(sizeof(double) * (size_t)n), *dx = malloc(sizeof(double) * (size_t)n);
   double *rhs = malloc(sizeof(double) * (size_t)n);
-  int *vf_start = calloc((size_t)nv + 1, sizeof(int)), *vf = malloc(sizeof(int) * 3 * (size_t)nf), *fill = NULL;
+  int *vf_start = calloc((size_t)nv + 1, sizeof(int)), *vf = malloc(sizeof(int) * 3 * (size_t)nf);
   double *H = NULL;
   g.C = malloc(sizeof(double) * (size_t)nf), g.cell = malloc(sizeof(double) * (size_t)nv);
-  g.orient = malloc(sizeof(double) * (size_t)nf);
+  g.orient = malloc(sizeof(double) * (size_t)nf), g.Gf = malloc(sizeof(double) * 9 * (size_t)nf);
   au_spd *spd = NULL;
   au_status st = AU_OK;
   if (!share || !cshare || !lo || !tau || !B || !Y || !grad || !dx || !rhs || !vf_start || !vf || !g.C ||
-      !g.cell || !g.orient || !build_pattern(&g, t)) {
+      !g.cell || !g.orient || !g.Gf || !build_pattern(&g, t)) {
     st = au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
     goto done;
   }
-  for (int i = 0; i < 3 * nf; i++) vf_start[F[i] + 1]++;
-  for (int v = 0; v < nv; v++) {
-    /* A vertex cell's row holds its star's vertices; past the fixed row size the polish does not run. */
-    if (vf_start[v + 1] > GP_MAX_STAR) goto done;
-    vf_start[v + 1] += vf_start[v];
-  }
-  fill = calloc((size_t)nv, sizeof(int));
+  /* A vertex cell's row holds its star's vertices; past the fixed row size the polish does not run. */
+  int fv = faces_by_vertex(nv, nf, F, vf_start, vf);
+  if (fv == 0) goto done;
   H = malloc(sizeof(double) * (size_t)g.colstart[n]);
-  if (!fill || !H) {
+  g.lo = lo, g.tau = tau, g.beta = o->angle_weight;
+  if (fv < 0 || !H || !build_index(&g, vf_start, vf) || !surface_terms(&g, m->X, face_w, share, cshare)) {
     st = au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
     goto done;
-  }
-  for (int f = 0; f < nf; f++)
-    for (int k = 0; k < 3; k++) vf[vf_start[F[3 * f + k]] + fill[F[3 * f + k]]++] = f;
-  if (!build_index(&g, vf_start, vf)) {
-    st = au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
-    goto done;
-  }
-  au_dec_face_areas(nf, F, m->X, share);
-  double sA = 0;
-  for (int f = 0; f < nf; f++) share[f] *= face_w ? face_w[f] : 1.0, sA += share[f];
-  for (int f = 0; f < nf; f++) {
-    share[f] /= sA;
-    for (int k = 0; k < 3; k++) cshare[F[3 * f + k]] += share[f] / 3;
-  }
-  g.share = share, g.cshare = cshare, g.lo = lo, g.tau = tau;
-  g.beta = o->angle_weight;
-  if (g.beta > 0) {
-    double *cot = malloc(sizeof(double) * 3 * (size_t)nf);
-    if (!cot) {
-      st = au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
-      goto done;
-    }
-    for (int f = 0; f < nf; f++)
-      for (int i = 0; i < 3; i++) {
-        const double *x0 = m->X + 3 * F[3 * f + i], *x1 = m->X + 3 * F[3 * f + (i + 1) % 3], *x2 = m->X + 3 * F[3 * f + (i + 2) % 3];
-        double a[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]}, b[3] = {x2[0] - x0[0], x2[1] - x0[1], x2[2] - x0[2]}, n[3];
-        cross(a, b, n);
-        cot[3 * f + i] = dot(a, b) / sqrt(dot(n, n));
-      }
-    g.cot = cot;
   }
   double Cs = 0;
   for (int f = 0; f < nf; f++) lo[f] = 0, tau[f] = 0;
@@ -417,7 +460,7 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
   if (!isfinite(c0) || g.verr <= o->tol) goto done;
   st = au_spd_create(n, g.colstart, g.rows, NULL, &spd, msg);
   if (st != AU_OK) goto done;
-  double lam = 1e-3, *val = au_spd_values(spd);
+  double lam = 1e-3;
   int stall = 0;
   for (int it = 0; it < o->max_iter; it++) {
     if (o->cancel && __atomic_load_n(o->cancel, __ATOMIC_ACQUIRE)) {
@@ -430,29 +473,8 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     double c1 = INFINITY, Cs1 = 0;
     int found = 0;
     for (int tr = 0; tr < GP_DAMP_TRIES && !found; tr++, lam *= 4) {
-      /* LM damping: the diagonal raised by lam times itself. */
-      memcpy(val, H, sizeof(double) * (size_t)g.colstart[n]);
-      for (int j = 0; j < n; j++) {
-        int d = g.colstart[j + 1] - 1; /* the diagonal closes each column */
-        val[d] = H[d] * (1 + lam) + 1e-300;
-      }
-      if (au_spd_factor(spd, NULL) != AU_OK || au_spd_solve(spd, rhs, dx, NULL) != AU_OK) break;
-      /* Shortened until no face turns over (dx scaled; the basis is P's). */
-      double s = 1;
-      int ok = 0;
-      for (int h = 0; h < GP_HALVINGS; h++, s *= 0.5) {
-        for (int v = 0; v < nv; v++) {
-          const double *e1 = B + 6 * v, *e2 = e1 + 3;
-          double q[3];
-          for (int c = 0; c < 3; c++) q[c] = P[3 * v + c] + s * (dx[2 * v] * e1[c] + dx[2 * v + 1] * e2[c]);
-          double l = sqrt(dot(q, q));
-          for (int c = 0; c < 3; c++) Y[3 * v + c] = q[c] / l;
-        }
-        if (orients_ok(&g, Y, g.orient)) {
-          ok = 1;
-          break;
-        }
-      }
+      int ok = damped_step(&g, spd, H, rhs, lam, P, B, dx, Y);
+      if (ok < 0) break;
       if (!ok) continue;
       c1 = cost(&g, Y, &Cs1);
       if (c1 < c0) found = 1;
@@ -472,7 +494,7 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
 done:
   au_spd_free(&spd);
   free(share), free(cshare), free(lo), free(tau), free(B), free(Y), free(grad), free(dx), free(rhs);
-  free(vf_start), free(vf), free(fill), free(H), free(g.C), free(g.cell), free(g.orient), free(g.colstart), free(g.rows);
+  free(vf_start), free(vf), free(H), free(g.C), free(g.cell), free(g.orient), free(g.Gf), free(g.colstart), free(g.rows);
   free(g.fidx), free(g.vidx_start), free(g.vidx), free((void *)g.cot);
   return st;
 }
