@@ -140,6 +140,8 @@ typedef struct au_gpolish_opts {
   double barrier_weight; /* its weight (>= 0; 0: no barrier) */
   double min_orient;     /* least triple product, as a fraction of the share (>= 0) */
   double angle_weight;   /* weight of each face's squared log conformal distortion (>= 0; 0: areas only) */
+  double robust;         /* > 0: area residuals r enter as the pseudo-Huber loss 2 d^2 (sqrt(1 + (r/d)^2) - 1)
+                          * with d this (>= 0; 0: squares) */
   double tol;            /* stop once the vertex cells' mean |log ratio| is at most this */
   const int *cancel;     /* when *cancel is nonzero at the start of a step (read atomically): AU_E_CANCELLED */
 } au_gpolish_opts;
@@ -148,7 +150,8 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
 /* The sphere map and the refinement run it on meshes of at most this many vertices: its factor, on the
  * two-ring pattern, takes about 9 KB per vertex (armadillo, 43k vertices: peak 167 -> 537 MB). */
 #define AU_GPOLISH_MAX_VERTICES 100000
-/* The settings the sphere map and the refinement use, with max_iter, angle_weight, tol and cancel as given. */
+/* The settings the sphere map and the refinement use, with max_iter, angle_weight, tol and cancel as given
+ * (robust 0: the refinement sets its own). */
 au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, double tol, const int *cancel);
 
 /* au_sphere_vertex_polish with o->vertex_polish sweeps and o->polish_cells, on a copy of P, which

@@ -52,6 +52,7 @@ typedef struct gp {
   const double *cot; /* [3 nf] the surface's cotangents, corner by corner (with an angle weight) */
   double beta;       /* the angle weight */
   double verr; /* cost()'s vertex error: the cells' mean |log ratio| (the metrics') */
+  double delta;  /* au_gpolish_opts.robust */
   int *fidx;            /* [36 nf] add_row's index table of each face's row */
   size_t *vidx_start;   /* [nv + 1] where each cell's row's table starts in vidx */
   int *vidx;
@@ -80,6 +81,20 @@ static double mips_num(const gp *g, const double *P, int f) {
   return N;
 }
 
+/* The residual of a log ratio r and its derivative: with a robust delta, rho = r sqrt(2 / (1 + s)), s =
+ * sqrt(1 + (r / delta)^2), so that rho^2 = 2 delta^2 (s - 1), the pseudo-Huber loss: quadratic below
+ * delta and growing as |r| above it, like the metrics' mean |r - 1| and mean |log ratio|. Squares let a
+ * few faces that cannot reach their share (a long edge's floor) pull many others off theirs. */
+static double rho(const gp *g, double r, double *drho) {
+  if (!(g->delta > 0)) {
+    if (drho) *drho = 1;
+    return r;
+  }
+  double s = sqrt(1 + (r / g->delta) * (r / g->delta));
+  if (drho) *drho = sqrt((1 + s) / 2) / s;
+  return r * sqrt(2 / (1 + s));
+}
+
 /* The cost at P (faces' squared log ratios, the weighted cells', the barriers'); fills C, cell and
  * orient, and the chord total in *Cs. INFINITY where a chord triangle or a cell is empty. */
 static double cost(gp *g, const double *P, double *Cs) {
@@ -97,7 +112,7 @@ static double cost(gp *g, const double *P, double *Cs) {
   memset(g->cell, 0, sizeof(double) * (size_t)nv);
   for (int f = 0; f < nf; f++) {
     if (!(g->C[f] > 0)) return INFINITY;
-    double r = log(g->C[f] / s / g->share[f]);
+    double r = rho(g, log(g->C[f] / s / g->share[f]), NULL);
     E += r * r;
     for (int k = 0; k < 3; k++) g->cell[F[3 * f + k]] += g->C[f] / (3 * s);
     if (g->beta > 0) {
@@ -115,7 +130,7 @@ static double cost(gp *g, const double *P, double *Cs) {
   for (int v = 0; v < nv; v++)
     if (g->cshare[v] > 0) {
       if (!(g->cell[v] > 0)) return INFINITY;
-      double l = log(g->cell[v] / g->cshare[v]), r = g->wv * l;
+      double l = log(g->cell[v] / g->cshare[v]), r = g->wv * rho(g, l, NULL);
       E += r * r, g->verr += fabs(l), nc++;
     }
   g->verr = nc ? g->verr / nc : 0;
@@ -206,9 +221,10 @@ static void assemble(const gp *g, const double *P, const double *B, double Cs, c
     memcpy(g->Gf + 9 * (size_t)f, G, sizeof G);
     const int *v = F + 3 * f, *idx = g->fidx + 36 * (size_t)f;
     face_cols(v, col);
+    double dr, r = rho(g, log(g->C[f] / Cs / g->share[f]), &dr);
     for (int k = 0; k < 3; k++)
-      for (int d = 0; d < 2; d++) val[2 * k + d] = dot(G[k], B + 6 * v[k] + 3 * d) / g->C[f];
-    add_row(H, grad, 6, col, val, log(g->C[f] / Cs / g->share[f]), idx);
+      for (int d = 0; d < 2; d++) val[2 * k + d] = dr * dot(G[k], B + 6 * v[k] + 3 * d) / g->C[f];
+    add_row(H, grad, 6, col, val, r, idx);
     if (g->beta > 0) {
       const double *p[3] = {P + 3 * v[0], P + 3 * v[1], P + 3 * v[2]};
       double N = mips_num(g, P, f), sb = sqrt(g->beta);
@@ -234,15 +250,16 @@ static void assemble(const gp *g, const double *P, const double *B, double Cs, c
   for (int v = 0; v < nv; v++) {
     if (!(g->cshare[v] > 0)) continue;
     int n = cell_cols(F, vf_start, vf, v, col, slot);
+    double dr, r = rho(g, log(g->cell[v] / g->cshare[v]), &dr);
     memset(val, 0, sizeof(double) * (size_t)n);
     for (int i = vf_start[v]; i < vf_start[v + 1]; i++) {
       const double *Gi = g->Gf + 9 * (size_t)vf[i];
       for (int k = 0; k < 3; k++) {
         int u = F[3 * vf[i] + k], c = slot[3 * (i - vf_start[v]) + k];
-        for (int d = 0; d < 2; d++) val[c + d] += g->wv * dot(Gi + 3 * k, B + 6 * u + 3 * d) / (3 * Cs * g->cell[v]);
+        for (int d = 0; d < 2; d++) val[c + d] += dr * g->wv * dot(Gi + 3 * k, B + 6 * u + 3 * d) / (3 * Cs * g->cell[v]);
       }
     }
-    add_row(H, grad, n, col, val, g->wv * log(g->cell[v] / g->cshare[v]), g->vidx + g->vidx_start[v]);
+    add_row(H, grad, n, col, val, g->wv * r, g->vidx + g->vidx_start[v]);
   }
 }
 
@@ -409,7 +426,7 @@ static int damped_step(gp *g, au_spd *spd, const double *H, const double *rhs, d
  * the share; its weight matters little. Measured on the refined limbs4 and coil and on cow
  * (docs/hard-meshes.md, session 20). */
 au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, double tol, const int *cancel) {
-  au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, angle_weight, tol, cancel};
+  au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, angle_weight, 0, tol, cancel};
   return o;
 }
 
@@ -417,10 +434,10 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
                                   const au_gpolish_opts *o, int *iters, au_msg *msg) {
   if (iters) *iters = 0;
   if (!m || !t || !P || !o || o->max_iter < 0 || !(o->cell_weight >= 0) || !(o->barrier >= 0) ||
-      !(o->barrier_weight >= 0) || !(o->min_orient >= 0) || !(o->angle_weight >= 0))
+      !(o->barrier_weight >= 0) || !(o->min_orient >= 0) || !(o->angle_weight >= 0) || !(o->robust >= 0))
     return au_msg_set(msg, AU_E_ARG, "global polish: bad arguments");
   const int nv = m->nv, nf = m->nf, n = 2 * nv, *F = m->F;
-  gp g = {.nv = nv, .nf = nf, .F = F, .wv = o->cell_weight, .mu = o->barrier_weight};
+  gp g = {.nv = nv, .nf = nf, .F = F, .wv = o->cell_weight, .mu = o->barrier_weight, .delta = o->robust};
   double *share = malloc(sizeof(double) * (size_t)nf), *cshare = calloc((size_t)nv, sizeof(double));
   double *lo = malloc(sizeof(double) * (size_t)nf), *tau = malloc(sizeof(double) * (size_t)nf);
   double *B = malloc(sizeof(double) * 6 * (size_t)nv), *Y = malloc(sizeof(double) * 3 * (size_t)nv);

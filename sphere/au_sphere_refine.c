@@ -497,7 +497,15 @@ static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
  * input's; its map is kept if its vertex error is lower and its per-face error not higher. The vertex
  * polish that ends each candidate moves one vertex at a time and leaves the bands around a limb's base
  * where only a joint move gains (limbs4 at twice the faces: 0.0258 / 0.0083 -> 0.0189 / 0.0038,
- * docs/hard-meshes.md, session 20). */
+ * docs/hard-meshes.md, session 20).
+ * Its residuals enter robustly (pseudo-Huber, linear beyond a log ratio of 0.01), as the errors the
+ * refinement is asked to bring down are mean absolute ones: with squares, the faces a long edge's floor
+ * keeps over their share pull their neighbours off theirs (refined limbs8 at twice the faces, per-face
+ * / vertex: 0.0536 / 0.0124 -> 0.0421 / 0.0036; 0.004 and 0.02 in between; session 21). It gets five
+ * times the sphere map's steps, which tpose uses before its gains stall (200: 0.0806 / 0.0246, 600:
+ * 0.0545 / 0.0056, 1500 the same). */
+#define AU_REFINE_GPOLISH_ROBUST 0.01
+#define AU_REFINE_GPOLISH_STEPS 5
 static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_opts *o, au_sphere_report *rep,
                                au_msg *msg) {
   au_topo *t = NULL;
@@ -505,7 +513,8 @@ static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_op
   au_status st = P2 ? au_mesh_topology(mr, &t, msg) : au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
   if (st == AU_OK) {
     memcpy(P2, Pr, sizeof(double) * 3 * (size_t)mr->nv);
-    au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, 0, o->flow.tol, o->flow.cancel);
+    au_gpolish_opts go = au_sphere_gpolish_settings(AU_REFINE_GPOLISH_STEPS * o->global_polish, 0, o->flow.tol, o->flow.cancel);
+    go.robust = AU_REFINE_GPOLISH_ROBUST;
     int steps = 0;
     st = au_sphere_global_polish(mr, t, NULL, P2, &go, &steps, msg);
     if (st == AU_OK) {

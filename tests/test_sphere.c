@@ -748,9 +748,9 @@ static int refine_spherical_split_limbs8(void) {
   return 0;
 }
 
-/* The global polish (au_sphere_global_polish) on limbs4's default map, with au_sphere_refine's
- * settings: fold-free with every triple product at or above the least it allows, the vertex error down
- * by a third or more (0.0436 -> 0.0221) and the per-face error not up; a cancel leaves the map alone;
+/* The global polish (au_sphere_global_polish) on limbs4's default map, on areas alone: fold-free with every triple product at or above the least it allows, the vertex error down
+ * by a third or more (0.0436 -> 0.0221) and the per-face error not up; with robust residuals both mean
+ * errors lower still (0.0754 / 0.0230 -> 0.0745 / 0.0157); a cancel leaves the map alone;
  * bad options are refused. */
 static int global_polish_limbs4(void) {
   loaded L;
@@ -767,7 +767,7 @@ static int global_polish_limbs4(void) {
   memcpy(P0, L.P, sizeof(double) * 3 * (size_t)nv);
   au_metrics q0, q;
   AU_CHECK_STATUS(au_metrics_compute(nv, nf, L.m->X, L.P, F, AU_DOMAIN_SPHERE, &q0, NULL, NULL), AU_OK, (au_msg *)NULL);
-  au_gpolish_opts go = au_sphere_gpolish_settings(200, 0, 0.002, NULL); /* au_sphere_refine's */
+  au_gpolish_opts go = au_sphere_gpolish_settings(200, 0, 0.002, NULL); /* on areas alone, as au_sphere_refine */
   int one = 1, steps = -1;
   go.cancel = &one;
   AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &go, &steps, &msg), AU_E_CANCELLED, &msg);
@@ -802,6 +802,19 @@ static int global_polish_limbs4(void) {
     low += !(o1 >= least * (1 - 1e-6));
   }
   AU_CHECK_INT(low, ==, 0);
+  /* With robust residuals (pseudo-Huber, as au_sphere_refine polishes), from the same start: fold-free,
+   * and the mean absolute errors it stands for lower than with squares'. */
+  memcpy(L.P, P0, sizeof(double) * 3 * (size_t)nv);
+  go.robust = 0.01;
+  bad = go, bad.robust = -1;
+  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
+  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &go, &steps, &msg), AU_OK, &msg);
+  au_metrics qr;
+  AU_CHECK_STATUS(au_metrics_compute(nv, nf, L.m->X, L.P, F, AU_DOMAIN_SPHERE, &qr, NULL, NULL), AU_OK, (au_msg *)NULL);
+  fprintf(stderr, "limbs4, robust: %d steps; per-face %.4f, vertex %.4f\n", steps, qr.r_mean_abs_dev, qr.vertex_logr_mean_abs);
+  AU_CHECK_INT(qr.folds, ==, 0);
+  AU_CHECK_DBL(qr.r_mean_abs_dev, <, q.r_mean_abs_dev);
+  AU_CHECK_DBL(qr.vertex_logr_mean_abs, <, q.vertex_logr_mean_abs);
   free(P0), free(A), free(C);
   unload(&L);
   return 0;
