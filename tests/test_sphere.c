@@ -748,10 +748,10 @@ static int refine_spherical_split_limbs8(void) {
   return 0;
 }
 
-/* The global polish (au_sphere_global_polish) on limbs4's default map, on areas alone: fold-free with every triple product at or above the least it allows, the vertex error down
- * by a third or more (0.0436 -> 0.0221) and the per-face error not up; with robust residuals both mean
- * errors lower still (0.0754 / 0.0230 -> 0.0745 / 0.0157); a cancel leaves the map alone;
- * bad options are refused. */
+/* The global polish (au_sphere_global_polish) on limbs4's default map, on areas alone: fold-free with
+ * every triple product at or above the least it allows, the vertex error down by a third or more (0.0436
+ * -> 0.0221) and the per-face error not up; with robust residuals both mean errors lower still (0.0754 /
+ * 0.0230 -> 0.0745 / 0.0157); a cancel leaves the map alone; bad options are refused. */
 static int global_polish_limbs4(void) {
   loaded L;
   if (load("limbs4.obj", 1, &L)) return 1;
