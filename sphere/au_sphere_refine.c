@@ -421,14 +421,21 @@ static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_
 
 static double vertex_error(const au_mesh *m, const double *P);
 
+/* The splits come in this many stages, each spending its part of the budget, with the spherical flow and
+ * polish between them: a first half's splits move the map, and the second half goes where the chord and
+ * the sphere still part (twice the faces, per-face / vertex, one stage -> two: limbs8 0.0420 / 0.0035 ->
+ * 0.0391 / 0.0034, tpose 0.0545 / 0.0056 -> 0.0526 / 0.0051, limbs4 0.0164 / 0.0019 -> 0.0151 /
+ * 0.0018; three stages: limbs8 0.0410 / 0.0036; session 21). */
+#define AU_REFINE_KAPPA_STAGES 2
+
 /* The fourth candidate, from the (polished) map (m, P): the flow and the polish of the spherical
  * triangles' areas, then the splits where a face's chord triangle parts most from its spherical one
- * (split_by_kappa, the whole budget in one go), the spherical flow again on the refined mesh, and the
- * chord polish last. A map of spherical areas has no floor to fight, so its long, thin triangles come
- * out where the chord and the sphere part, which is what the splits lift; the chord polish then moves
- * the vertices the floor held (docs/hard-meshes.md, session 19: the thin-limbed family's refined maps,
- * limbs8 at twice the faces 0.1219 / 0.0560 -> 0.0568 / 0.0247, tpose 0.2373 / 0.1134 -> 0.0983 /
- * 0.0512). */
+ * (split_by_kappa, the budget in AU_REFINE_KAPPA_STAGES stages with the spherical flow between them), the
+ * spherical flow again on the refined mesh, and the chord polish last. A map of spherical areas has no
+ * floor to fight, so its long, thin triangles come out where the chord and the sphere part, which is what
+ * the splits lift; the chord polish then moves the vertices the floor held (docs/hard-meshes.md, session
+ * 19: the thin-limbed family's refined maps, limbs8 at twice the faces 0.1219 / 0.0560 -> 0.0568 / 0.0247,
+ * tpose 0.2373 / 0.1134 -> 0.0983 / 0.0512). */
 static au_status refine_spherical(const au_mesh *m, const double *P, const au_sphere_opts *o, double max_faces,
                                   au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                                   au_advect_report *ar, au_sphere_report *pol, au_msg *msg) {
@@ -446,8 +453,16 @@ static au_status refine_spherical(const au_mesh *m, const double *P, const au_sp
   au_topo *t = NULL;
   if ((st = au_mesh_topology(mr, &t, msg)) == AU_OK) st = au_advect_run(mr, t, &dom, &os.flow, Pr, ar, msg);
   if (st >= 0 && o->vertex_polish > 0) st = au_sphere_polish_map(mr, t, &os, Pr, &sp, msg);
-  if (st >= 0) st = split_by_kappa(&mr, t, &Pr, (long)(max_faces * m->nf), parent, param, nnew, msg);
-  au_topo_free(&t);
+  for (int sg = 1; sg <= AU_REFINE_KAPPA_STAGES && st >= 0; sg++) {
+    long capk = (long)(m->nf + (max_faces - 1) * m->nf * sg / AU_REFINE_KAPPA_STAGES);
+    if (sg > 1) {
+      if ((st = au_mesh_topology(mr, &t, msg)) != AU_OK) break;
+      st = au_advect_run(mr, t, &dom, &os.flow, Pr, ar, msg);
+      if (st >= 0 && o->vertex_polish > 0) st = au_sphere_polish_map(mr, t, &os, Pr, &sp, msg);
+    }
+    if (st >= 0) st = split_by_kappa(&mr, t, &Pr, capk, parent, param, nnew, msg);
+    au_topo_free(&t);
+  }
   if (st >= 0 && (st = au_mesh_topology(mr, &t, msg)) == AU_OK) {
     st = au_advect_run(mr, t, &dom, &os.flow, Pr, ar, msg);
     if (st >= 0 && o->vertex_polish > 0) st = au_sphere_polish_map(mr, t, &oc, Pr, pol, msg);
