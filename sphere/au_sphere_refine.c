@@ -210,8 +210,8 @@ static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const 
   return AU_OK;
 }
 
-/* The fourth candidate's splits (refine_spherical): the faces whose chord triangle is furthest from
- * their spherical one in area, |ln(chord / spherical)| the most first, each by its longest edge, and
+/* The fourth candidate's splits (refine_spherical): the faces whose chord triangle lacks the most of
+ * their spherical one's area (kap_key) first, each by its longest edge, and
  * the faces the splits make are candidates in turn, until the budget of cap faces is spent. m, P
  * (a map of spherical areas) and the parents grow in place, as in split_round. */
 typedef struct kap_item {
@@ -239,13 +239,20 @@ static kap_item kap_pop(kap_item *h, int *n) {
   return top;
 }
 
+/* A face's claim to a split: the area its chord triangle lacks of its spherical one, |1 - chord / sph|
+ * sph, over sqrt(sph). What the chord polish has to make up is that missing area, and it can only move
+ * area across the face's edges, whose length goes as sqrt(sph). The relative lack alone (|ln(chord /
+ * sph)|, sessions 19-21) spends the budget on slivers whose chords are flat but which lack little area;
+ * the absolute lack on the largest faces (docs/hard-meshes.md, session 22: refined at 2x, per-face /
+ * vertex, relative -> this key -> absolute: limbs8 0.0391 / 0.0034 -> 0.0350 / 0.0027 -> 0.0370 /
+ * 0.0032, tpose 0.0526 / 0.0051 -> 0.0378 / 0.0039 -> 0.0399 / 0.0046). */
 static double kap_key(const int *F, const double *P, int f) {
   const double *a = P + 3 * F[3 * f], *b = P + 3 * F[3 * f + 1], *c = P + 3 * F[3 * f + 2];
   double u[3], v[3];
   for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], v[d] = c[d] - a[d];
   double n0 = u[1] * v[2] - u[2] * v[1], n1 = u[2] * v[0] - u[0] * v[2], n2 = u[0] * v[1] - u[1] * v[0];
   double chord = 0.5 * sqrt(n0 * n0 + n1 * n1 + n2 * n2), sph = fabs(au_dec_sphere_area(a, b, c, NULL));
-  return chord > 0 && sph > 0 ? fabs(log(chord / sph)) : INFINITY;
+  return sph > 0 ? fabs(sph - chord) / sqrt(sph) : 0;
 }
 
 /* Replace face old by face nu among h's neighbours (h >= 0). */
@@ -425,7 +432,9 @@ static double vertex_error(const au_mesh *m, const double *P);
  * polish between them: a first half's splits move the map, and the second half goes where the chord and
  * the sphere still part (twice the faces, per-face / vertex, one stage -> two: limbs8 0.0420 / 0.0035 ->
  * 0.0391 / 0.0034, tpose 0.0545 / 0.0056 -> 0.0526 / 0.0051, limbs4 0.0164 / 0.0019 -> 0.0151 /
- * 0.0018; three stages: limbs8 0.0410 / 0.0036; session 21). */
+ * 0.0018; three stages: limbs8 0.0410 / 0.0036; session 21; with session 22's key one, two and three
+ * stages are within the runs' spread of each other: limbs8 0.0376, 0.0350, 0.0331, tpose 0.0357, 0.0378,
+ * 0.0418). */
 #define AU_REFINE_KAPPA_STAGES 2
 
 /* The fourth candidate, from the (polished) map (m, P): the flow and the polish of the spherical

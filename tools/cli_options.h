@@ -71,7 +71,7 @@ enum {
     "(1 - t) parent1 + t parent2")                                                                                   \
   X(OPT_REFINE_BUDGET, "refine-budget", "K", CLI_VALUE, CLI_SPHERE,                                                  \
     "with --refine-mesh: at most K times the input's faces instead of twice (K above 1, at most 16); long, "         \
-    "thin limbs meet issue 21's refined bounds at 2x (limbs4, coil), about 3x (limbs8) or 4x (tpose; docs/hard-meshes.md)") \
+    "thin limbs meet issue 21's refined bounds at 2x (limbs4, coil) or 3x (limbs8, tpose; docs/hard-meshes.md)") \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
   X(OPT_SPHERICAL_AREAS, "spherical-areas", NULL, CLI_FLAG, CLI_SPHERE,                                              \
     "equalize the spherical triangles' areas and skip the chord polish: the map `texture` and `sample` make "      \

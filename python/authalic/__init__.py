@@ -736,8 +736,8 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
     --refine-mesh: MapResult.X and F are then the refined mesh, P its map, parent and parent_t where
     each new vertex lies; the input's mesh stands (with a warning) when no refinement does better.
     refine_budget (with refine_mesh): at most this many times the input's faces, 1 < K <= 16 (None:
-    2; long, thin limbs meet issue 21's refined bounds at 2x (limbs4, coil), about 3x (limbs8)
-    or 4x (tpose), docs/hard-meshes.md).
+    2; long, thin limbs meet issue 21's refined bounds at 2x (limbs4, coil) or 3x (limbs8,
+    tpose), docs/hard-meshes.md).
     """
     if target not in _lib.TARGETS:
         _bad("target %r: expected 'sphere', 'disk', 'annulus', 'square' or 'torus'" % (target,))
