@@ -182,15 +182,16 @@ au_advect_domain au_sphere_domain(void);
 au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P, double *P0,
                         au_sphere_report *rep, au_msg *msg);
 
-/* Refine a sphere map where the chord floor binds (sphere/au_sphere_refine.c): the longest edge of each
- * face whose least chord area (au_dec_sphere_chord_floor) exceeds half its share is split at its
- * midpoint (on the surface: the average of its ends; on the sphere: the great arc's midpoint), and the
- * flow runs again on the refined mesh from there, at the shear weight's floor; up to eight rounds,
- * each spending at most half the face budget left (max_faces x m->nf). A second refinement does the same for every face
- * whose floor exceeds a tenth of its share; where some face is held, a third splits the map's longest
- * edges in one round (at most 3x the faces), and a fourth splits, from the map of spherical areas, the
- * faces whose chord triangles part most from their spherical ones, by their longest edges, then flows
- * the spherical areas and polishes the chord ones. The refined map with the lowest vertex error is kept.
+/* Refine a sphere map where the chord floor binds (sphere/au_sphere_refine.c), where some face's least
+ * chord area (au_dec_sphere_chord_floor) exceeds half its share: three refinements are made and the one
+ * with the lowest vertex error is kept. The first splits the longest edge of each face whose floor
+ * exceeds a tenth of its share at its midpoint (on the surface: the average of its ends; on the sphere:
+ * the great arc's midpoint) and flows again on the refined mesh from there, at the shear weight's floor;
+ * up to eight rounds, each spending at most half the face budget left (max_faces x m->nf). The second
+ * splits the map's longest edges in one round (at most 3x the faces); the third splits, from the map of
+ * spherical areas, the faces whose chord triangles lack the most of their spherical ones' area, by their
+ * longest edges, then flows the spherical areas and polishes the chord ones. Where no face is held only
+ * the first is made.
  * m: the input mesh (validated, closed, genus 0); P: its map (nv x 3, fold-free, e.g. au_sphere_map's).
  * opts: the flow's options (may be NULL); max_faces >= 1 (2: at most twice the faces).
  * out, Pout: the refined mesh and its map, library-allocated (au_mesh_free, free): the input's vertices

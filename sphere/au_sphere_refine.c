@@ -11,16 +11,18 @@
  * Which faces to split is a trade the measurements do not settle one way (docs/hard-meshes.md,
  * session 11): splitting only the faces on the floor leaves the rest of a limb's band as the next
  * floor (cow), while splitting the whole band spends the budget where the re-flow gains nothing and
- * leaves more vertices to settle (cheburashka). So both are made, from the same map, and the map
- * whose vertex cells are nearer their shares is kept.
+ * leaves more vertices to settle (cheburashka). So several candidates are made, from the same map, and
+ * the map whose vertex cells are nearer their shares is kept. The first splits the floor faces and the
+ * band around them. (A candidate splitting the floor faces alone was never kept on the fourteen meshes
+ * measured in session 22 and is no longer made.)
  *
- * A third candidate splits the map's longest edges, whatever their faces' floors, with the whole budget
+ * A second candidate splits the map's longest edges, whatever their faces' floors, with the whole budget
  * in one round. Where a limb's base is stretched around its ring (docs/hard-meshes.md, session 15),
  * its bands' corners stand over the ends of the long ring edges; splitting only a floor face's edge
  * puts the band's next face onto its floor, round after round, while splitting every long edge of a
  * band (ring edges and diagonals alike: they are about as long) keeps its corners over the ends.
  *
- * A fourth starts from the map of spherical areas (refine_spherical): there no face is held, and the
+ * A third starts from the map of spherical areas (refine_spherical): there no face is held, and the
  * faces whose chord triangles part most from their spherical ones are split, by their longest edges,
  * again and again where they still part, before the flow runs once more. */
 #include <math.h>
@@ -32,11 +34,15 @@
 #include "au_sphere.h"
 
 /* A face counts as held by the floor when its chord floor exceeds this fraction of its share: from
- * there the polish's steps shrink towards nothing at it (docs/hard-meshes.md). The second candidate
- * also splits the band around such faces, whose floors are a tenth of their share and up; the third
- * (0) splits the longest edges of the map, the fourth (-1) splits from the map of spherical areas
- * (refine_spherical). The third and fourth run only where the first found a face held. */
-static const double refine_floor_share[] = {0.5, 0.1, 0, -1};
+ * there the polish's steps shrink towards nothing at it (docs/hard-meshes.md). */
+#define AU_REFINE_HELD 0.5
+/* The candidates: the first splits the band around the held faces, the faces whose floors are a tenth
+ * of their share and up; the second (0) the longest edges of the map, the third (-1) splits from the
+ * map of spherical areas (refine_spherical). The second and third run only where some face is held.
+ * Splitting only the held faces (0.5, sessions 11-21) lost to one of these on every mesh measured (the
+ * generated family, cow, cheburashka, hand_closed, spot_lowres, spot, hippocampus, blub, maxplanck,
+ * bunny; docs/hard-meshes.md, session 22) and cost up to 5 s (tpose). */
+static const double refine_floor_share[] = {0.1, 0, -1};
 
 /* Rounds of split and re-flow at most, each spending at most 1/AU_REFINE_SHARE of the face budget
  * left: after a re-flow the faces the floor holds are others than before, and a budget spent at once
@@ -210,7 +216,7 @@ static au_status split_round(au_mesh **mp, const au_topo *t, double **Pp, const 
   return AU_OK;
 }
 
-/* The fourth candidate's splits (refine_spherical): the faces whose chord triangle lacks the most of
+/* The third candidate's splits (refine_spherical): the faces whose chord triangle lacks the most of
  * their spherical one's area (kap_key) first, each by its longest edge, and
  * the faces the splits make are candidates in turn, until the budget of cap faces is spent. m, P
  * (a map of spherical areas) and the parents grow in place, as in split_round. */
@@ -437,7 +443,7 @@ static double vertex_error(const au_mesh *m, const double *P);
  * 0.0418). */
 #define AU_REFINE_KAPPA_STAGES 2
 
-/* The fourth candidate, from the (polished) map (m, P): the flow and the polish of the spherical
+/* The third candidate, from the (polished) map (m, P): the flow and the polish of the spherical
  * triangles' areas, then the splits where a face's chord triangle parts most from its spherical one
  * (split_by_kappa, the budget in AU_REFINE_KAPPA_STAGES stages with the spherical flow between them), the
  * spherical flow again on the refined mesh, and the chord polish last. A map of spherical areas has no
@@ -530,6 +536,10 @@ static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
  * 0.0545 / 0.0056, 1500 the same). */
 #define AU_REFINE_GPOLISH_ROBUST 0.01
 #define AU_REFINE_GPOLISH_STEPS 5
+/* The global polish lowers a map's vertex error five-fold or so, not twenty-fold (the input's maps in
+ * --refine-mesh, session 22: cow 0.0078 -> 0.0018, limbs8 0.160 -> 0.028, tpose 0.249 -> 0.066, the
+ * last two 2.5 and 6.4 s spent on a map the refinement beats 59 and 64 times over). */
+#define AU_REFINE_OUT_OF_REACH 20
 static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_opts *o, au_sphere_report *rep,
                                au_msg *msg) {
   au_topo *t = NULL;
@@ -592,7 +602,7 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   double best = INFINITY, e_in = vertex_error(m, Pin);
   int any_split = 0;
   const int ncand = (int)(sizeof refine_floor_share / sizeof *refine_floor_share);
-  const int held = held_faces(m, P, refine_floor_share[0]);
+  const int held = held_faces(m, P, AU_REFINE_HELD);
   if (held < 0) {
     free(ar), free(Pin);
     return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
@@ -648,7 +658,11 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
       if (rep) rep->flow.converged = 1;
     }
   }
-  if (st >= 0 && polish_in && o.global_polish > 0 && e_in > o.flow.tol && m->nv <= AU_GPOLISH_MAX_VERTICES) {
+  /* The input's global polish is skipped where it cannot win: its vertex error more than
+   * AU_REFINE_OUT_OF_REACH times the kept refinement's, with its per-face error higher too. */
+  const int out_of_reach = *out && e_in > AU_REFINE_OUT_OF_REACH * best && face_error(m, Pin) > face_error(*out, *Pout);
+  if (st >= 0 && polish_in && o.global_polish > 0 && e_in > o.flow.tol && m->nv <= AU_GPOLISH_MAX_VERTICES &&
+      !out_of_reach) {
     au_status sg = refine_global(m, Pin, &o, &prin, msg);
     if (sg < 0) st = sg;
     e_in = vertex_error(m, Pin);
