@@ -13,7 +13,7 @@
  * floor (cow), while splitting the whole band spends the budget where the re-flow gains nothing and
  * leaves more vertices to settle (cheburashka). So several candidates are made, from the same map, and
  * the map whose vertex cells are nearer their shares is kept. The first splits the floor faces and the
- * band around them. (A candidate splitting the floor faces alone was never kept on the fourteen meshes
+ * band around them. (A candidate splitting the floor faces alone was never kept on the thirteen meshes
  * measured in session 22 and is no longer made.)
  *
  * A second candidate splits the map's longest edges, whatever their faces' floors, with the whole budget
