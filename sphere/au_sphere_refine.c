@@ -13,8 +13,8 @@
  * floor (cow), while splitting the whole band spends the budget where the re-flow gains nothing and
  * leaves more vertices to settle (cheburashka). So several candidates are made, from the same map, and
  * the map whose vertex cells are nearer their shares is kept. The first splits the floor faces and the
- * band around them. (A candidate splitting the floor faces alone was never kept on the thirteen meshes
- * measured in session 22 and is no longer made.)
+ * band around them (one that split the floor faces alone was never kept on the thirteen meshes measured
+ * in session 22 and is no longer made).
  *
  * A second candidate splits the map's longest edges, whatever their faces' floors, with the whole budget
  * in one round. Where a limb's base is stretched around its ring (docs/hard-meshes.md, session 15),
@@ -23,8 +23,8 @@
  * band (ring edges and diagonals alike: they are about as long) keeps its corners over the ends.
  *
  * A third starts from the map of spherical areas (refine_spherical): there no face is held, and the
- * faces whose chord triangles part most from their spherical ones are split, by their longest edges,
- * again and again where they still part, before the flow runs once more. */
+ * faces whose chord triangles lack the most of their spherical ones' area for their size are split, by
+ * their longest edges, again and again where they still lack it, before the flow runs once more. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
