@@ -660,17 +660,18 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   }
   /* The input's global polish is skipped where it cannot win: its vertex error more than
    * AU_REFINE_OUT_OF_REACH times the kept refinement's, with its per-face error higher too. */
-  const int out_of_reach = *out && e_in > AU_REFINE_OUT_OF_REACH * best && face_error(m, Pin) > face_error(*out, *Pout);
+  const double f_out = *out ? face_error(*out, *Pout) : INFINITY;
+  double f_in = face_error(m, Pin);
   if (st >= 0 && polish_in && o.global_polish > 0 && e_in > o.flow.tol && m->nv <= AU_GPOLISH_MAX_VERTICES &&
-      !out_of_reach) {
+      !(*out && e_in > AU_REFINE_OUT_OF_REACH * best && f_in > f_out)) {
     au_status sg = refine_global(m, Pin, &o, &prin, msg);
     if (sg < 0) st = sg;
-    e_in = vertex_error(m, Pin);
+    e_in = vertex_error(m, Pin), f_in = face_error(m, Pin);
   }
   /* The input's mesh and its (polished) map stand when nothing was split, when neither refinement beat
    * it (a refined band can hold the flow back more than the floor it lifts), or when the better one's
    * vertex cells came at the faces' expense (tpose: vertex 7.09 -> 4.23 but per-face 1.68 -> 28). */
-  if (st >= 0 && (!*out || e_in < best || face_error(*out, *Pout) > face_error(m, Pin))) {
+  if (st >= 0 && (!*out || e_in < best || f_out > f_in)) {
     au_mesh *mc = NULL;
     if (au_mesh_copy(m, &mc) != AU_OK) {
       st = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
