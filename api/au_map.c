@@ -86,9 +86,10 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
   /* The refined mesh's new vertices and faces would have no density (and the flow would read past it). */
   if (o->refine_mesh && (o->vertex_density || o->face_density))
     return au_msg_set(msg, AU_E_ARG, "refine_mesh does not take a density");
-  if (o->refine_mesh && o->refine_max_faces != 0 && !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES))
-    return au_msg_set(msg, AU_E_ARG, "refine_max_faces: expected more than 1 and at most %d (0: the default %d)", AU_REFINE_MAX_FACES,
-                      AU_REFINE_DEFAULT_FACES);
+  if (o->refine_mesh && o->refine_max_faces != 0 && o->refine_max_faces != AU_REFINE_AUTO &&
+      !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES))
+    return au_msg_set(msg, AU_E_ARG, "refine_max_faces: expected more than 1 and at most %d (0: the default %d; AU_REFINE_AUTO)",
+                      AU_REFINE_MAX_FACES, AU_REFINE_DEFAULT_FACES);
   if (o->expert && (o->expert->vertex_polish < 0 || !(o->expert->polish_cells >= 0) || isinf(o->expert->polish_cells)))
     return au_msg_set(msg, AU_E_ARG, "expert vertex_polish: expected sweeps >= 0 and polish_cells >= 0");
   if (o->expert && o->expert->staged_retry < 0) return au_msg_set(msg, AU_E_ARG, "expert staged_retry: expected stages >= 0");
@@ -227,9 +228,20 @@ static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_r
   int *par = NULL, nnew = 0;
   double t0 = now_s();
   const double max_faces = x->o->refine_max_faces > 0 ? x->o->refine_max_faces : AU_REFINE_DEFAULT_FACES;
-  au_status st = au_sphere_refine(x->m, r->P, so, max_faces, &mr, &Pr, &par, &prm, &nnew, rep, msg);
+  au_refine_trial tr[AU_REFINE_AUTO_TRIALS];
+  int ntr = 0, kept = -1;
+  au_status st = x->o->refine_max_faces == AU_REFINE_AUTO
+                     ? au_sphere_refine_auto(x->m, r->P, so, &mr, &Pr, &par, &prm, &nnew, rep, tr, &ntr, &kept, msg)
+                     : au_sphere_refine(x->m, r->P, so, max_faces, &mr, &Pr, &par, &prm, &nnew, rep, msg);
   r->t_flow += now_s() - t0;
   if (st < 0) return st;
+  if (ntr > 0) {
+    char line[AU_REFINE_AUTO_TRIALS * 64] = "", *q = line;
+    for (int i = 0; i < ntr; i++)
+      q += snprintf(q, sizeof line - (size_t)(q - line), "%s%gx: %d faces, per-face %.4f, vertex %.4f%s", i ? "; " : "",
+                    tr[i].budget, tr[i].nf, tr[i].face_err, tr[i].vertex_err, i == kept ? " (kept)" : "");
+    warn(r, "refine budget auto (per-face <= %g and vertex <= %g wanted): %s", AU_REFINE_AUTO_FACE, AU_REFINE_AUTO_VERTEX, line);
+  }
   double *P0 = realloc(r->P0, sizeof(double) * 3 * (size_t)mr->nv);
   double *X = malloc(sizeof(double) * 3 * (size_t)mr->nv);
   int *F = malloc(sizeof(int) * 3 * (size_t)mr->nf);

@@ -311,6 +311,7 @@ AU_API au_status au_mesh_check(const double *V, int nv, const int *F, int nf, au
 #define AU_MAX_STEPS 512      /* the most advection steps a map may take (au_options.max_steps) */
 #define AU_MAX_ANGLE_STEPS 50 /* the most angle steps (au_options.angle_steps) */
 #define AU_REFINE_MAX_FACES 16 /* the largest face budget of refine_mesh (au_options.refine_max_faces) */
+#define AU_REFINE_AUTO (-1.0) /* au_options.refine_max_faces: the budget raised until the map meets bounds */
 
 /* The defaults au_map uses for target t when au_options leaves them open: the most steps, and the
  * tolerance (vertex mean |ln ratio|). Either pointer may be NULL. */
@@ -402,7 +403,10 @@ typedef struct au_options {
                              measures it itself) */
   double refine_max_faces; /* sphere with refine_mesh: the refined mesh has at most this many times the
                               input's faces, 1 < x <= AU_REFINE_MAX_FACES; 0 (default): 2. Long thin limbs gain from
-                              more (docs/hard-meshes.md) */
+                              more (docs/hard-meshes.md). AU_REFINE_AUTO: 2, then 3 and 4 while the refined
+                              map's per-face mean |r - 1| is over 0.02 or its vertex mean |log r| over 0.005;
+                              the first budget that meets both is kept, else the one with the lowest per-face
+                              error, and a warning lists what was tried (each budget is a whole refinement) */
   int spherical_areas;    /* sphere: 1: equalize the spherical triangles' areas only, with no chord polish
                              (the map `authalic texture` and `sample` make for themselves: texels and
                              grid cells lie on the sphere; au_metrics' sph_ figures measure it, its chord

@@ -209,6 +209,27 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
                            au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                            au_sphere_report *rep, au_msg *msg);
 
+/* One face budget au_sphere_refine_auto tried: the budget (x the input's faces), the refined mesh's
+ * faces, and its map's per-face mean |r - 1| and vertex mean |log r| (the chord triangles', as param-eval). */
+typedef struct au_refine_trial {
+  double budget;
+  int nf;
+  double face_err, vertex_err;
+} au_refine_trial;
+
+#define AU_REFINE_AUTO_TRIALS 3
+#define AU_REFINE_AUTO_FACE 0.02   /* what au_sphere_refine_auto asks of a refined map: per-face mean |r - 1| */
+#define AU_REFINE_AUTO_VERTEX 0.005 /* and vertex mean |log r| */
+
+/* au_sphere_refine at twice the faces, then at 3x and 4x while the refined map misses a per-face mean
+ * |r - 1| of 0.02 or a vertex mean |log r| of 0.005 (issue 21's bounds for a refined map): the first
+ * budget that meets both is kept, else the one with the lowest per-face error. Each budget runs from P
+ * afresh (the refinement is not incremental). trials[AU_REFINE_AUTO_TRIALS] (may be NULL) and *ntrials
+ * tell what was tried, *kept which of them stands. Arguments and returns as au_sphere_refine's. */
+au_status au_sphere_refine_auto(const au_mesh *m, const double *P, const au_sphere_opts *opts, au_mesh **out,
+                                double **Pout, int **parent, double **param, int *nnew, au_sphere_report *rep,
+                                au_refine_trial *trials, int *ntrials, int *kept, au_msg *msg);
+
 #ifdef __cplusplus
 }
 #endif

@@ -697,3 +697,55 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
   }
   return st;
 }
+
+/* The budgets au_sphere_refine_auto tries: the generated family met issue 21's refined bounds at 2x
+ * (limbs4, coil) or 3x (limbs8, tpose; 4x for tpose before session 22), cow, cheburashka and hand_closed
+ * at 2x (docs/hard-meshes.md). */
+static const double refine_auto_budget[AU_REFINE_AUTO_TRIALS] = {2, 3, 4};
+
+au_status au_sphere_refine_auto(const au_mesh *m, const double *P, const au_sphere_opts *opts, au_mesh **out,
+                                double **Pout, int **parent, double **param, int *nnew, au_sphere_report *rep,
+                                au_refine_trial *trials, int *ntrials, int *kept, au_msg *msg) {
+  if (!m || !P || !out || !Pout || !parent || !param || !nnew || !ntrials || !kept)
+    return au_msg_set(msg, AU_E_ARG, "refine: bad arguments");
+  *out = NULL, *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0, *ntrials = 0, *kept = -1;
+  au_sphere_report rep_in, rep_kept;
+  if (rep) rep_in = *rep;
+  au_status st = AU_OK;
+  int kept_met = 0;
+  double kept_face = INFINITY;
+  for (int i = 0; i < AU_REFINE_AUTO_TRIALS; i++) {
+    au_mesh *mr = NULL;
+    double *Pr = NULL, *prm = NULL;
+    int *par = NULL, nn = 0;
+    au_sphere_report ri;
+    if (rep) ri = rep_in; /* each run reads the input map's report */
+    au_status s2 = au_sphere_refine(m, P, opts, refine_auto_budget[i], &mr, &Pr, &par, &prm, &nn, rep ? &ri : NULL, msg);
+    if (s2 < 0) {
+      st = s2;
+      break;
+    }
+    const double fe = face_error(mr, Pr), ve = vertex_error(mr, Pr);
+    const int met = fe <= AU_REFINE_AUTO_FACE && ve <= AU_REFINE_AUTO_VERTEX;
+    if (trials) trials[i] = (au_refine_trial){refine_auto_budget[i], mr->nf, fe, ve};
+    *ntrials = i + 1;
+    if (*kept < 0 || (met && !kept_met) || (met == kept_met && fe < kept_face)) {
+      au_mesh_free(out), free(*Pout), free(*parent), free(*param);
+      *out = mr, *Pout = Pr, *parent = par, *param = prm, *nnew = nn, *kept = i, kept_met = met, kept_face = fe;
+      st = s2;
+      if (rep) rep_kept = ri;
+    } else {
+      au_mesh_free(&mr), free(Pr), free(par), free(prm);
+    }
+    /* Nothing held by the floor at one budget is nothing at any (the input's map stands); a refinement
+     * that lost to the input's map may win with more faces. */
+    if (met || (nn == 0 && (!rep || !ri.refine_kept_input))) break;
+  }
+  if (st < 0) {
+    au_mesh_free(out), free(*Pout), free(*parent), free(*param);
+    *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0, *kept = -1;
+    return st;
+  }
+  if (rep) *rep = rep_kept;
+  return st;
+}

@@ -158,7 +158,7 @@ static int bad_options(void) {
   AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &r, &msg), AU_E_ARG, &msg);
   o = au_options_default(), o.restore_shapes = 2;
   AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &r, &msg), AU_E_ARG, &msg);
-  const double budgets[] = {1, 0.5, -1, AU_REFINE_MAX_FACES + 0.5, NAN, INFINITY};
+  const double budgets[] = {1, 0.5, -2, -0.5, AU_REFINE_MAX_FACES + 0.5, NAN, INFINITY}; /* -1: AU_REFINE_AUTO */
   for (size_t k = 0; k < sizeof budgets / sizeof *budgets; k++) {
     o = au_options_default(), o.refine_mesh = 1, o.refine_max_faces = budgets[k];
     AU_CHECK_STATUS(au_map(m->X, m->nv, m->F, m->nf, AU_TARGET_SPHERE, &o, &r, &msg), AU_E_ARG, &msg);

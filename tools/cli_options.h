@@ -70,8 +70,10 @@ enum {
     "SURF.parents.txt one line per new vertex: its number, its parents' numbers (0-based) and t, the vertex being " \
     "(1 - t) parent1 + t parent2")                                                                                   \
   X(OPT_REFINE_BUDGET, "refine-budget", "K", CLI_VALUE, CLI_SPHERE,                                                  \
-    "with --refine-mesh: at most K times the input's faces instead of twice (K above 1, at most 16); long, "         \
-    "thin limbs meet issue 21's refined bounds at 2x (limbs4, coil) or 3x (limbs8, tpose; docs/hard-meshes.md)") \
+    "with --refine-mesh: at most K times the input's faces instead of twice (K above 1, at most 16), or auto: 2x, "  \
+    "then 3x and 4x while the refined map's per-face mean |r-1| is over 0.02 or its vertex error over 0.005 (the "   \
+    "first that meets both is kept); long, thin limbs meet those at 2x (limbs4, coil) or 3x (limbs8, tpose; "       \
+    "docs/hard-meshes.md)")                                                                                          \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
   X(OPT_SPHERICAL_AREAS, "spherical-areas", NULL, CLI_FLAG, CLI_SPHERE,                                              \
     "equalize the spherical triangles' areas and skip the chord polish: the map `texture` and `sample` make "      \

@@ -78,9 +78,11 @@ static int map_options(const cli_args *a, au_options *o) {
     return cli_usage_error(h, "--restore-shapes '%s': expected a number from 0 to 1", v);
   o->refine_faces = a->val[OPT_REFINE_FACES] != NULL;
   o->refine_mesh = a->val[OPT_REFINE_MESH] != NULL;
-  if ((v = a->val[OPT_REFINE_BUDGET]) &&
-      (cli_parse_nonneg(v, &o->refine_max_faces) || !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES)))
-    return cli_usage_error(h, "--refine-budget '%s': expected a number above 1 and at most %d", v, AU_REFINE_MAX_FACES);
+  if ((v = a->val[OPT_REFINE_BUDGET]) && strcmp(v, "auto") == 0)
+    o->refine_max_faces = AU_REFINE_AUTO;
+  else if (v && (cli_parse_nonneg(v, &o->refine_max_faces) ||
+                 !(o->refine_max_faces > 1 && o->refine_max_faces <= AU_REFINE_MAX_FACES)))
+    return cli_usage_error(h, "--refine-budget '%s': expected auto or a number above 1 and at most %d", v, AU_REFINE_MAX_FACES);
   o->init_only = a->val[OPT_INIT_ONLY] != NULL;
   o->balance = a->val[OPT_NO_BALANCE] == NULL;
   if ((v = a->val[OPT_BOUNDARY])) {

@@ -628,7 +628,10 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
     if v is not None:
         if not extra.get("refine_mesh"):
             _bad("refine_budget: applies with refine_mesh=True only")
-        o.refine_max_faces = _real_opt("refine_budget", v, 1, _lib.AU_REFINE_MAX_FACES, True)
+        if isinstance(v, str) and v != "auto":
+            _bad("refine_budget %r: expected 'auto' or a number > 1 and <= %d" % (v, _lib.AU_REFINE_MAX_FACES))
+        o.refine_max_faces = (_lib.AU_REFINE_AUTO if isinstance(v, str)
+                              else _real_opt("refine_budget", v, 1, _lib.AU_REFINE_MAX_FACES, True))
     if _flag_opt("spherical_areas", extra.get("spherical_areas")):
         o.spherical_areas = 1
         flow_given.append("spherical_areas")
@@ -736,8 +739,9 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
     --refine-mesh: MapResult.X and F are then the refined mesh, P its map, parent and parent_t where
     each new vertex lies; the input's mesh stands (with a warning) when no refinement does better.
     refine_budget (with refine_mesh): at most this many times the input's faces, 1 < K <= 16 (None:
-    2; long, thin limbs meet issue 21's refined bounds at 2x (limbs4, coil) or 3x (limbs8,
-    tpose), docs/hard-meshes.md).
+    2), or "auto": 2x, then 3x and 4x while the refined map's per-face mean |r - 1| is over 0.02 or
+    its vertex error over 0.005, the first that meets both kept (a warning lists the budgets tried);
+    long, thin limbs meet those at 2x (limbs4, coil) or 3x (limbs8, tpose), docs/hard-meshes.md.
     """
     if target not in _lib.TARGETS:
         _bad("target %r: expected 'sphere', 'disk', 'annulus', 'square' or 'torus'" % (target,))

@@ -54,7 +54,9 @@ OPTIONS = [
                                          "parents' numbers (0-based) and t, the vertex being (1 - t) parent1 + t "
                                          "parent2"),
     ("refine-budget", "K", ("sphere",), "with --refine-mesh: at most K times the input's faces instead of twice (K "
-                                        "above 1, at most %d)" % _lib.AU_REFINE_MAX_FACES),
+                                        "above 1, at most %d), or auto: 2x, then 3x and 4x while the refined "
+                                        "map's per-face mean |r-1| is over 0.02 or its vertex error over 0.005 "
+                                        "(the first that meets both is kept)" % _lib.AU_REFINE_MAX_FACES),
     ("no-balance", None, ("sphere",), "skip the Moebius balancing of the conformal start"),
     ("spherical-areas", None, ("sphere",), "equalize the spherical triangles' areas and skip the chord polish: the "
                                            "map `texture` and `sample` make for themselves (closer texture areas; "
@@ -207,9 +209,10 @@ def map_kwargs(cmd, vals):
         kw["refine_mesh"] = True
     if "refine-budget" in vals:
         v = vals["refine-budget"]
-        k = c_number(v, False)
-        if k is None or not (1 < k <= _lib.AU_REFINE_MAX_FACES):
-            raise Usage("--refine-budget '%s': expected a number above 1 and at most %d" % (v, _lib.AU_REFINE_MAX_FACES))
+        k = "auto" if v == "auto" else c_number(v, False)
+        if k is None or (k != "auto" and not (1 < k <= _lib.AU_REFINE_MAX_FACES)):
+            raise Usage("--refine-budget '%s': expected auto or a number above 1 and at most %d"
+                        % (v, _lib.AU_REFINE_MAX_FACES))
         kw["refine_budget"] = k
     kw["init_only"] = "init-only" in vals
     if "no-balance" in vals:

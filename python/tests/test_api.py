@@ -172,6 +172,8 @@ def test_bad_input_errors(tmp_path, star):
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_budget=3), "refine_mesh"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget=1), "refine_budget"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget=17), "refine_budget"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget="automatic"), "'auto'"),
+    (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget=-1), "refine_budget"),
     (lambda V, F: authalic.map_mesh(V, F, "disk", refine_mesh=True), "sphere"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh="no"), "refine_mesh"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=True, density=np.ones(V.shape[0])), "density"),
@@ -211,6 +213,20 @@ def test_refine_mesh():
     assert m["folds"] == 0
     assert m["r_mean_abs_dev"] < 0.5 * m0["r_mean_abs_dev"] and m["vertex_logr_mean_abs"] < 0.5 * m0["vertex_logr_mean_abs"]
     assert plain.parent is None and plain.parent_t is None
+
+
+def test_refine_budget_auto():
+    """refine_budget="auto" on limbs4 (four thin legs, issue 21): 2x meets per-face 0.02 and vertex 0.005
+    there, so it is kept without trying 3x, and the warning says what was tried."""
+    V, F = authalic.read_mesh(os.path.join(DATA, "limbs4.obj"))
+    with pytest.warns(authalic.AuthalicWarning) as w:
+        r = authalic.map_mesh(V, F, "sphere", refine_mesh=True, refine_budget="auto")
+    said = [str(x.message) for x in w if "refine budget auto" in str(x.message)]
+    assert len(said) == 1 and "2x: %d faces" % r.F.shape[0] in said[0] and "(kept)" in said[0], said
+    assert "3x" not in said[0]
+    assert F.shape[0] < r.F.shape[0] <= 2 * F.shape[0]
+    m = authalic.metrics(r.X, r.F, r.P)
+    assert m["folds"] == 0 and m["r_mean_abs_dev"] <= 0.02 and m["vertex_logr_mean_abs"] <= 0.005
 
 
 def test_bad_option_from_the_library():

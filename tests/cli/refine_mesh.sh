@@ -3,8 +3,9 @@
 # parameter (SURF.parents.txt), at most BUDGET times the faces (default 2); the map is on the unit
 # sphere, and ../shared/tools/param-eval SURF OUT finds 0 folds and issue 21's bounds for a refined map
 # (per-face mean |r - 1| <= 0.02, vertex mean |log r| <= 0.005). Skipped without ../shared.
-# sh refine_mesh.sh PROG SOURCE_DIR SHARED_DIR MESH [BUDGET]
-#   (MESH: a file name in ../shared/meshes, or data/NAME for a mesh of this project)
+# sh refine_mesh.sh PROG SOURCE_DIR SHARED_DIR MESH [BUDGET [KEPT]]
+#   (MESH: a file name in ../shared/meshes, or data/NAME for a mesh of this project; BUDGET auto: the
+#   warning lists the budgets tried, 2x first, and KEPT (e.g. 3) is the one kept, within 4x)
 . "$(dirname "$0")/lib.sh"
 case "$1" in
   data/*)
@@ -19,10 +20,16 @@ OUT=$T/o/map.obj
 SURF=$T/o/surf.obj
 run sphere "$IN" "$OUT" --refine-mesh "$SURF" --refine-budget "$BUDGET" --quiet
 expect_status 0
+CAP=$BUDGET
+if [ "$BUDGET" = auto ]; then
+  CAP=4
+  expect_err "refine budget auto .*: 2x: [0-9]* faces, per-face"
+  expect_err " ${3:?KEPT}x: [0-9]* faces, per-face [0-9.]*, vertex [0-9.]* \(kept\)"
+fi
 [ -f "$SURF" ] && [ -f "$SURF.parents.txt" ] || fail "the refined surface or its parents file is missing"
 expect_on_sphere "$OUT" 1e-12
 "$PE" "$SURF" "$OUT" --json >"$T/log/pe.json" || fail "param-eval failed"
-$PY - "$IN" "$SURF" "$SURF.parents.txt" "$T/log/pe.json" "$BUDGET" <<'PYEOF' || fail "the refined map (above)"
+$PY - "$IN" "$SURF" "$SURF.parents.txt" "$T/log/pe.json" "$CAP" <<'PYEOF' || fail "the refined map (above)"
 import json, sys
 def read(path):
     V, F = [], []

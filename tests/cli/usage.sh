@@ -77,7 +77,7 @@ bad_number)
     run sphere "$IN" "$OUT" --restore-shapes "$v"
     expect_rejected "--restore-shapes '$v'"
   done
-  for v in abc '' 1 0.5 16.5 nan inf; do
+  for v in abc '' 1 0.5 16.5 nan inf autox AUTO; do
     run sphere "$IN" "$OUT" --refine-mesh "$T/o/surf.obj" --refine-budget "$v"
     expect_rejected "--refine-budget '$v'"
   done
