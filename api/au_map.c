@@ -236,10 +236,11 @@ static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_r
   r->t_flow += now_s() - t0;
   if (st < 0) return st;
   if (ntr > 0) {
-    char line[AU_REFINE_AUTO_TRIALS * 64] = "", *q = line;
+    char line[AU_REFINE_AUTO_TRIALS * 96] = "", *q = line;
     for (int i = 0; i < ntr; i++)
-      q += snprintf(q, sizeof line - (size_t)(q - line), "%s%gx: %d faces, per-face %.4f, vertex %.4f%s", i ? "; " : "",
-                    tr[i].budget, tr[i].nf, tr[i].face_err, tr[i].vertex_err, i == kept ? " (kept)" : "");
+      q += snprintf(q, sizeof line - (size_t)(q - line), "%s%gx: %d faces%s, per-face %.4f, vertex %.4f%s", i ? "; " : "",
+                    tr[i].budget, tr[i].nf, tr[i].nf == x->m->nf ? " (the input's mesh)" : "", tr[i].face_err,
+                    tr[i].vertex_err, i == kept ? " (kept)" : "");
     warn(r, "refine budget auto (per-face <= %g and vertex <= %g wanted): %s", AU_REFINE_AUTO_FACE, AU_REFINE_AUTO_VERTEX, line);
   }
   double *P0 = realloc(r->P0, sizeof(double) * 3 * (size_t)mr->nv);
