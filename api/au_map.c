@@ -501,7 +501,9 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
          "long edges (a long edge's chord runs under the sphere; excess %.2g%% of the area): %s; the spherical "
          "triangles' areas are not held by it (--spherical-areas)",
          r->metrics.chord_floor_faces, 100 * r->metrics.chord_floor_excess,
-         x->o->refine_mesh ? "a larger face budget lowers that error (--refine-budget)"
+         x->o->refine_mesh ? (x->o->refine_max_faces == AU_REFINE_AUTO
+                                  ? "a larger face budget than auto's 4x lowers that error (--refine-budget K)"
+                                  : "a larger face budget lowers that error (--refine-budget K, or auto)")
                            : "a finer mesh there lowers that error (--refine-mesh)");
   int nfar = 0;
   /* Against the surface's own areas: with a density, cells are meant to be small (not measured). */

@@ -18,7 +18,7 @@ for k in 1.5 3; do
   # times the faces the map is within the tolerance (since session 20's global polish: vertex 0.0019),
   # and a map within it is not warned about.
   if [ $k = 1.5 ]; then
-    expect_err 'chord area down.*a larger face budget lowers that error \(--refine-budget\)'
+    expect_err 'chord area down.*a larger face budget lowers that error \(--refine-budget K, or auto\)'
   else
     ! grep -q "warning: .*tolerance" "$T/log/stderr" || fail "budget 3 warns: $(cat "$T/log/stderr")"
   fi
