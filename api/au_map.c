@@ -186,6 +186,7 @@ typedef struct map_run {
   au_result *r;
   int outer; /* annulus: the loop index on the unit circle */
   double t_split;
+  double refine_budget; /* refine_mesh: the face budget of the map kept (with AU_REFINE_AUTO, the one it chose) */
 } map_run;
 
 static au_status alloc_result(map_run *x, au_msg *msg) {
@@ -235,12 +236,17 @@ static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_r
                      : au_sphere_refine(x->m, r->P, so, max_faces, &mr, &Pr, &par, &prm, &nnew, rep, msg);
   r->t_flow += now_s() - t0;
   if (st < 0) return st;
+  x->refine_budget = kept >= 0 ? tr[kept].budget : max_faces;
   if (ntr > 0) {
-    char line[AU_REFINE_AUTO_TRIALS * 96] = "", *q = line;
-    for (int i = 0; i < ntr; i++)
-      q += snprintf(q, sizeof line - (size_t)(q - line), "%s%gx: %d faces%s, per-face %.4f, vertex %.4f%s", i ? "; " : "",
-                    tr[i].budget, tr[i].nf, tr[i].nf == x->m->nf ? " (the input's mesh)" : "", tr[i].face_err,
-                    tr[i].vertex_err, i == kept ? " (kept)" : "");
+    char line[AU_REFINE_AUTO_TRIALS * 96] = "";
+    size_t len = 0;
+    for (int i = 0; i < ntr && len < sizeof line; i++) {
+      int k = snprintf(line + len, sizeof line - len, "%s%gx: %d faces%s, per-face %.4g, vertex %.4g%s", i ? "; " : "",
+                       tr[i].budget, tr[i].nf, tr[i].nf == x->m->nf ? " (the input's mesh)" : "", tr[i].face_err,
+                       tr[i].vertex_err, i == kept ? " (kept)" : "");
+      if (k < 0) break;
+      len += (size_t)k;
+    }
     warn(r, "refine budget auto (per-face <= %g and vertex <= %g wanted): %s", AU_REFINE_AUTO_FACE, AU_REFINE_AUTO_VERTEX, line);
   }
   double *P0 = realloc(r->P0, sizeof(double) * 3 * (size_t)mr->nv);
@@ -494,6 +500,9 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
    * its tolerance was missed for another reason. The remedies are named as the program spells them;
    * Python's keywords are the same words (refine_mesh, refine_budget, spherical_areas), C's fields too
    * but for refine_max_faces. */
+  char budget_hint[96];
+  snprintf(budget_hint, sizeof budget_hint, "a face budget over the %gx auto kept lowers that error (--refine-budget K)",
+           x->refine_budget);
   if (dom == AU_DOMAIN_SPHERE && not_converged && x->flow.sphere_areas != 2 && r->metrics.chord_floor_faces > 0 &&
       r->metrics.chord_floor_excess >= AU_FLOOR_WARN_EXCESS)
     warn(r,
@@ -501,10 +510,9 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
          "long edges (a long edge's chord runs under the sphere; excess %.2g%% of the area): %s; the spherical "
          "triangles' areas are not held by it (--spherical-areas)",
          r->metrics.chord_floor_faces, 100 * r->metrics.chord_floor_excess,
-         x->o->refine_mesh ? (x->o->refine_max_faces == AU_REFINE_AUTO
-                                  ? "a larger face budget than auto's 4x lowers that error (--refine-budget K)"
-                                  : "a larger face budget lowers that error (--refine-budget K, or auto)")
-                           : "a finer mesh there lowers that error (--refine-mesh)");
+         !x->o->refine_mesh ? "a finer mesh there lowers that error (--refine-mesh)"
+         : x->o->refine_max_faces == AU_REFINE_AUTO ? budget_hint
+                                                     : "a larger face budget lowers that error (--refine-budget K, or auto)");
   int nfar = 0;
   /* Against the surface's own areas: with a density, cells are meant to be small (not measured). */
   const int density = x->flow.weight || x->flow.face_weight;

@@ -73,6 +73,8 @@ def main():
         print("%s: %d faces, %.1f%% of the error" % (name, k.sum(), 100 * e[k].sum() / tot))
     print("chord area / sphere area, all faces: %.4f" % (chord.sum() / sph.sum()))
 
+    if a.face is not None and not 0 <= a.face < len(F):
+        fail("--face %d: expected a face number from 0 to %d" % (a.face, len(F) - 1))
     f0 = a.face if a.face is not None else int(np.nanargmax(np.where(ok, e, -1)))
     cen = P[F[f0]].mean(0)
     cen /= np.linalg.norm(cen)

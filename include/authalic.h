@@ -406,7 +406,8 @@ typedef struct au_options {
                               more (docs/hard-meshes.md). AU_REFINE_AUTO: 2, then 3 and 4 while the refined
                               map's per-face mean |r - 1| is over 0.02 or its vertex mean |log r| over 0.005;
                               the first budget that meets both is kept, else the one with the lowest per-face
-                              error, and a warning lists what was tried (each budget is a whole refinement) */
+                              error; it stops at 2 where no face is held by the chord floor. A warning lists
+                              what was tried (each budget is a whole refinement) */
   int spherical_areas;    /* sphere: 1: equalize the spherical triangles' areas only, with no chord polish
                              (the map `authalic texture` and `sample` make for themselves: texels and
                              grid cells lie on the sphere; au_metrics' sph_ figures measure it, its chord

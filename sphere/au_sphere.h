@@ -224,8 +224,10 @@ typedef struct au_refine_trial {
 /* au_sphere_refine at twice the faces, then at 3x and 4x while the refined map misses a per-face mean
  * |r - 1| of 0.02 or a vertex mean |log r| of 0.005 (issue 21's bounds for a refined map): the first
  * budget that meets both is kept, else the one with the lowest per-face error. Each budget runs from P
- * afresh (the refinement is not incremental). trials[AU_REFINE_AUTO_TRIALS] (may be NULL) and *ntrials
- * tell what was tried, *kept which of them stands. Arguments and returns as au_sphere_refine's. */
+ * afresh (the refinement is not incremental). It stops early where a budget split nothing because no
+ * face is held by the floor (with rep NULL, where a budget split nothing at all). An error at 3x or 4x
+ * other than AU_E_CANCELLED leaves the best map so far. trials[AU_REFINE_AUTO_TRIALS] (may be NULL) and
+ * *ntrials tell what was tried, *kept which of them stands. Arguments and returns as au_sphere_refine's. */
 au_status au_sphere_refine_auto(const au_mesh *m, const double *P, const au_sphere_opts *opts, au_mesh **out,
                                 double **Pout, int **parent, double **param, int *nnew, au_sphere_report *rep,
                                 au_refine_trial *trials, int *ntrials, int *kept, au_msg *msg);

@@ -722,7 +722,9 @@ au_status au_sphere_refine_auto(const au_mesh *m, const double *P, const au_sphe
     if (rep) ri = rep_in; /* each run reads the input map's report */
     au_status s2 = au_sphere_refine(m, P, opts, refine_auto_budget[i], &mr, &Pr, &par, &prm, &nn, rep ? &ri : NULL, msg);
     if (s2 < 0) {
-      st = s2;
+      /* A larger budget that could not be made (out of memory, a flow that failed) leaves the best map so
+       * far standing; a cancel cancels. */
+      if (*kept < 0 || s2 == AU_E_CANCELLED) st = s2;
       break;
     }
     const double fe = face_error(mr, Pr), ve = vertex_error(mr, Pr);

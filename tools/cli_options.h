@@ -72,7 +72,8 @@ enum {
   X(OPT_REFINE_BUDGET, "refine-budget", "K", CLI_VALUE, CLI_SPHERE,                                                  \
     "with --refine-mesh: at most K times the input's faces instead of twice (K above 1, at most 16), or auto: 2x, "  \
     "then 3x and 4x while the refined map's per-face mean |r-1| is over 0.02 or its vertex error over 0.005 (the "   \
-    "first that meets both is kept); long, thin limbs meet those at 2x (limbs4, coil) or 3x (limbs8, tpose; "       \
+    "first that meets both is kept, else the lowest per-face); long, thin limbs meet those at 2x (limbs4, coil) or " \
+    "3x (limbs8, tpose; "                                                                                             \
     "docs/hard-meshes.md)")                                                                                          \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
   X(OPT_SPHERICAL_AREAS, "spherical-areas", NULL, CLI_FLAG, CLI_SPHERE,                                              \

@@ -628,10 +628,13 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
     if v is not None:
         if not extra.get("refine_mesh"):
             _bad("refine_budget: applies with refine_mesh=True only")
-        if isinstance(v, str) and v != "auto":
+        if isinstance(v, str) and v == "auto":
+            o.refine_max_faces = _lib.AU_REFINE_AUTO
+        elif (isinstance(v, _numbers.Real) and not isinstance(v, bool) and _math.isfinite(v)
+              and 1 < v <= _lib.AU_REFINE_MAX_FACES):
+            o.refine_max_faces = float(v)
+        else:
             _bad("refine_budget %r: expected 'auto' or a number > 1 and <= %d" % (v, _lib.AU_REFINE_MAX_FACES))
-        o.refine_max_faces = (_lib.AU_REFINE_AUTO if isinstance(v, str)
-                              else _real_opt("refine_budget", v, 1, _lib.AU_REFINE_MAX_FACES, True))
     if _flag_opt("spherical_areas", extra.get("spherical_areas")):
         o.spherical_areas = 1
         flow_given.append("spherical_areas")

@@ -56,7 +56,8 @@ OPTIONS = [
     ("refine-budget", "K", ("sphere",), "with --refine-mesh: at most K times the input's faces instead of twice (K "
                                         "above 1, at most %d), or auto: 2x, then 3x and 4x while the refined "
                                         "map's per-face mean |r-1| is over 0.02 or its vertex error over 0.005 "
-                                        "(the first that meets both is kept)" % _lib.AU_REFINE_MAX_FACES),
+                                        "(the first that meets both is kept, else the lowest per-face)"
+                                        % _lib.AU_REFINE_MAX_FACES),
     ("no-balance", None, ("sphere",), "skip the Moebius balancing of the conformal start"),
     ("spherical-areas", None, ("sphere",), "equalize the spherical triangles' areas and skip the chord polish: the "
                                            "map `texture` and `sample` make for themselves (closer texture areas; "

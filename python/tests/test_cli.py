@@ -127,10 +127,12 @@ def test_refine_mesh_outputs_checked_before_the_run(tmp_path):
     assert (tmp_path / "s.obj").read_text() == "user"
 
 
-@pytest.mark.parametrize("value", ["0x4", "1_5", " 3", "+3", "3 ", "1e999", "nan", "2.5", "\u0663", "-0", ""])
+@pytest.mark.parametrize("value", ["0x4", "1_5", " 3", "+3", "3 ", "1e999", "nan", "2.5", "\u0663", "-0", "",
+                                   "auto", "AUTO", " auto", "autox"])
 def test_numbers_read_as_the_program_reads_them(tmp_path, value):
-    """--steps and --refine-budget take the same spellings in both programs (C's strtol and strtod):
-    with a missing input, a value either is refused by name or lets the run reach the input."""
+    """--steps and --refine-budget take the same spellings in both programs (C's strtol and strtod, and
+    --refine-budget's auto): with a missing input, a value either is refused by name or lets the run reach
+    the input."""
     for opt in (["--steps", value], ["--refine-mesh", tmp_path / "s.obj", "--refine-budget", value]):
         a = subprocess.run([cli(), "sphere", tmp_path / "missing.obj", tmp_path / "o.obj"] + opt, capture_output=True,
                            text=True)
