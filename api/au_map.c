@@ -500,11 +500,11 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
    * its tolerance was missed for another reason. The remedies are named as the program spells them;
    * Python's keywords are the same words (refine_mesh, refine_budget, spherical_areas), C's fields too
    * but for refine_max_faces. */
-  char budget_hint[96];
-  snprintf(budget_hint, sizeof budget_hint, "a face budget over the %gx auto kept lowers that error (--refine-budget K)",
-           x->refine_budget);
   if (dom == AU_DOMAIN_SPHERE && not_converged && x->flow.sphere_areas != 2 && r->metrics.chord_floor_faces > 0 &&
-      r->metrics.chord_floor_excess >= AU_FLOOR_WARN_EXCESS)
+      r->metrics.chord_floor_excess >= AU_FLOOR_WARN_EXCESS) {
+    char budget_hint[96];
+    snprintf(budget_hint, sizeof budget_hint, "a face budget over the %gx auto kept lowers that error (--refine-budget K)",
+             x->refine_budget);
     warn(r,
          "%d long, thin triangles of the map cannot bring their chord area down to their share without shorter "
          "long edges (a long edge's chord runs under the sphere; excess %.2g%% of the area): %s; the spherical "
@@ -513,6 +513,7 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
          !x->o->refine_mesh ? "a finer mesh there lowers that error (--refine-mesh)"
          : x->o->refine_max_faces == AU_REFINE_AUTO ? budget_hint
                                                      : "a larger face budget lowers that error (--refine-budget K, or auto)");
+  }
   int nfar = 0;
   /* Against the surface's own areas: with a density, cells are meant to be small (not measured). */
   const int density = x->flow.weight || x->flow.face_weight;
