@@ -112,7 +112,7 @@ au_options au_options_default(void) {
 }
 
 /* The angle preset's step count: five steps took spot's mean angle error from 28.7 to 25.4 degrees
- * with the vertex cells within 1e-4; more steps gain little (docs/face-areas.md). */
+ * with the vertex cells within 1e-4; more steps gain little (docs/flow.md). */
 #define AU_PRESET_ANGLE_STEPS 5
 
 au_options au_options_preset(au_preset p) {

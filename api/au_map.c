@@ -24,7 +24,7 @@
 
 /* A map that misses its tolerance is also said to be squeezed where at least this share of the surface
  * has vertex cells under 1/e of their share: long protrusions a conformal start squeezes by e^-20 and
- * more, which the flow does not open up (tpose; docs/hard-meshes.md). Cells too large are the chord
+ * more, which the flow does not open up (tpose; docs/sphere.md). Cells too large are the chord
  * floor's, which has its own warning. */
 #define AU_SQUEEZED_WARN_SHARE 0.01
 /* refine_mesh's face budget by default, as a multiple of the input's faces: issue 21's bound. */
@@ -99,7 +99,7 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
     return au_msg_set(msg, AU_E_ARG, "spherical_areas %d: expected 0 or 1", o->spherical_areas);
   /* The refinement splits where chord triangles cannot shrink to their shares and judges by chord
    * errors; a map of spherical areas has no such floor (and its refined maps read worse in chord
-   * terms: docs/hard-meshes.md, session 18). */
+   * terms: docs/sphere.md). */
   if (o->refine_mesh && (o->spherical_areas || (o->expert && o->expert->sphere_areas == 2)))
     return au_msg_set(msg, AU_E_ARG, "refine_mesh does not take spherical_areas (spherical triangles have no chord floor to refine)");
   if (!(o->inner_radius >= 0 && o->inner_radius < 1))

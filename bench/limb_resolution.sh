@@ -1,6 +1,6 @@
 #!/bin/sh
 # limb_resolution.sh BIN OUTDIR [MESH] - is the mesh's resolution what keeps a thin-limbed map from equal
-# area? (issue 21; docs/hard-meshes.md, session 15). MESH (default data/limbs4.obj) is split 1-to-4
+# area? (issue 21; docs/sphere.md). MESH (default data/limbs4.obj) is split 1-to-4
 # (every edge at its midpoint) once and twice, each mesh mapped from scratch by `BIN sphere` (the
 # default options) and measured with ../shared/tools/param-eval: per-face / vertex, faces, time.
 # Run from the source root: sh bench/limb_resolution.sh build/authalic /tmp/lr

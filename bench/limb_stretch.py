@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """limb_stretch.py ORIGINAL MAP - how far an equal-area sphere map must stretch each limb's base ring
-(issue 21; docs/hard-meshes.md, session 15), for the generated meshes data/limbs4.obj, limbs8.obj and
+(issue 21; docs/sphere.md), for the generated meshes data/limbs4.obj, limbs8.obj and
 coil.obj, whose body is the unit ball (a limb: a connected set of vertices off the unit sphere).
 
 A limb is a disk whose rim is its base ring (surface length c) and whose image must have area

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """map_patch.py - where a sphere map's per-face area error sits: a picture of a patch of the map
 (faces coloured by r - 1, r = chord share / surface share, as param-eval) and the figures that say
-which faces carry the error (issue 21; docs/hard-meshes.md, session 23).
+which faces carry the error (issue 21; docs/sphere.md).
 
     /usr/bin/python3 bench/map_patch.py SURFACE MAP OUT.png [--face F] [--radius R]
 

@@ -41,7 +41,7 @@
 /* The least-shear step weighs a face by its target area, but by at most this many times its current
  * area (a face squeezed by e^-20 would otherwise make the system singular in double precision). Not
  * much less either: the energy is an integral, so a face weighed by its own tiny area is free to be
- * sheared, and the step control then holds its whole neighbourhood back (docs/tuning-history.md). */
+ * sheared, and the step control then holds its whole neighbourhood back (docs/flow.md). */
 #define AU_WEIGHT_CAP 1e6
 
 /* The shape restoring (au_advect_opts.restore) acts in full while the vertex error is above this and
@@ -341,7 +341,7 @@ static void envelope(const au_topo *t, const adjacency *adj, int nv, const doubl
  * triangle of height h turned over once the boundary slid by sqrt(2h). An equal-area map of a surface
  * with a short boundary needs such triangles (aspect 30-50), and the step control held the whole mesh
  * back for them. At the disk's centre the bend goes to zero: full arcs there (a turn by s/r) cost many
- * steps, since a small move near the centre turns by a large angle (docs/tuning-history.md). */
+ * steps, since a small move near the centre turns by a large angle (docs/flow.md). */
 static void move_vertex(const au_advect_domain *dom, const double *q, const double *d, double t, double *out) {
   out[0] = q[0] + t * d[0], out[1] = q[1] + t * d[1], out[2] = q[2] + t * d[2];
   if (dom->spherical || !(dom->arc_radius > 0)) return;
@@ -566,7 +566,7 @@ static void measure_start_jump(flow_state *s) {
   }
   s->rep->start_jump = nj ? sj / nj : 0;
   /* Equal-area maps only: with a prescribed density the resolved schedule undid many steps and
-   * missed the tolerance (docs/tuning-history.md). */
+   * missed the tolerance (docs/flow.md). */
   s->rep->resolved = s->ls && nj > 0 && !o->weight && !o->face_weight && s->rep->start_jump <= o->resolved_jump;
   if (s->rep->resolved) s->alpha = o->resolved_shear;
   s->measured_jump = 1;
@@ -830,7 +830,7 @@ static au_status solve_least_shear(flow_state *s, flow_solved *out) {
    * only once restoring fades (error below AU_RESTORE_FADE) was less robust: tpose with restore 0.08
    * stayed squeezed (0.57 per face against 0.0155), 40 steps 0.0160 against 0.0121. In the chord maps
    * the spherical part hands over to the chord polish, and the same rule there moved the maps both
-   * ways (docs/hard-meshes.md, session 18). */
+   * ways (docs/sphere.md). */
   if (s->retry && s->restored && o->sphere_areas == 2) s->restore_off = 1;
   double restore = sph_areas && !s->retry && !s->restore_off ? o->restore * fmin(1, s->err / AU_RESTORE_FADE) : 0;
   s->restored = restore > 0;
@@ -1236,7 +1236,7 @@ static au_status plan_fill(au_advect_plan *p, int least_shear, au_msg *msg) {
   if (nv >= AU_REORDER_MIN) {
     /* Large meshes are worked on in a cache-friendly copy: the step's assembly and the area and step
      * control loops read each face's corners, and in a mesh stored in scan order those reads miss the
-     * cache (a quarter of the flow's time on lion_statue, docs/tuning-history.md). */
+     * cache (a quarter of the flow's time on lion_statue, docs/flow.md). */
     p->orig = malloc(sizeof(int) * (size_t)nv), p->forig = malloc(sizeof(int) * (size_t)nf);
     p->inv = malloc(sizeof(int) * (size_t)nv);
     if (!p->orig || !p->forig || !p->inv || au_mesh_alloc(nv, nf, &p->m2) != AU_OK || !locality_order(m, p->orig, p->inv, p->forig))

@@ -45,7 +45,7 @@ typedef enum au_advect_method {
 } au_advect_method;
 
 /* The flow's options. Defaults (au_advect_opts_default) are in parentheses; the measurements behind
- * them are in docs/tuning-history.md. Fields are grouped by the part of the flow that reads them. */
+ * them are in docs/flow.md. Fields are grouped by the part of the flow that reads them. */
 typedef struct au_advect_opts {
   /* ---- all methods and domains ---- */
   au_advect_method method; /* (AU_ADVECT_LEAST_SHEAR) */
@@ -97,7 +97,7 @@ typedef struct au_advect_opts {
   double lantern;       /* in the spherical part, once the vertex error is below 1: a face's shape restoring
                            is raised to min(1, restore (1 + lantern rho)), rho = l^3 / (16 share), l its
                            longest chord edge and share its target area. l^3 / 16 is the least chord area a
-                           spherical triangle with that edge can have (docs/hard-meshes.md): a face near it
+                           spherical triangle with that edge can have (docs/sphere.md): a face near it
                            cannot shrink to its share without a shorter edge (0: off; au_sphere_map's retry
                            uses 2, au_sphere_opts.lantern_retry) */
 

@@ -1054,7 +1054,7 @@ static void *format_part(void *arg) {
 }
 
 /* From this many vertices the lines are formatted in two halves on the two cores: printf's conversion
- * of doubles at 17 digits is most of a write (docs/tuning-history.md). */
+ * of doubles at 17 digits is most of a write (docs/flow.md). */
 #define AU_WRITE_SPLIT_MIN 20000
 
 static int emit_mesh(FILE *fp, const void *ctx) {

@@ -37,7 +37,7 @@
  * small and a global mode (a rotation of a sliding boundary) is nearly free; without it the last pivot
  * can come out non-positive in double precision. Not on the sphere: it pulls every vertex towards
  * standing still in proportion to its stiffness, and a cluster of tiny squeezed triangles that must
- * travel far is torn by that pull (docs/tuning-history.md). */
+ * travel far is torn by that pull (docs/flow.md). */
 #define AU_LM_PLANAR_DIAG 1e-8
 
 /* An axis whose constrained, orthogonalized remainder is shorter than this is not an allowed direction:

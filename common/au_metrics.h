@@ -29,7 +29,7 @@ au_status au__metrics_vt(int nv, int nf, const double *X, const int *F, int nvt,
 
 /* The share of the surface whose barycentric vertex cells have under 1/e of their share in the map P
  * (its straight triangles: chord triangles on the sphere, plane triangles with z 0), and how many
- * vertices those are (*count): the squeezed protrusions a map leaves (tpose; docs/hard-meshes.md).
+ * vertices those are (*count): the squeezed protrusions a map leaves (tpose; docs/sphere.md).
  * Unlike au_metrics_vertex_distortion it counts cells of any size, the degenerate ones too: those are
  * the most squeezed. Returns -1 out of memory. */
 double au__metrics_squeezed(int nv, int nf, const double *X, const double *P, const int *F, int *count);

@@ -1,5 +1,5 @@
 /* au_par.h - two-way parallelism for the flow's heavy loops and factorizations (the target machine
- * has two cores; see docs/multilevel.md, "Both cores"). */
+ * has two cores; see docs/flow.md, "Where the time goes"). */
 #ifndef AU_PAR_H
 #define AU_PAR_H
 

@@ -24,7 +24,7 @@ struct au_solver {
 };
 
 /* Mesh Laplacians are planar-graph matrices: nested dissection (METIS) gives less fill and about half
- * the flops of AMD on them (docs/tuning-history.md), and the analysis is paid once. */
+ * the flops of AMD on them (docs/flow.md), and the analysis is paid once. */
 static void configure(cholmod_common *c) {
   c->print = 0;
   c->nmethods = 1;
@@ -48,7 +48,7 @@ static au_status factorize(cholmod_sparse *A, cholmod_factor *L, cholmod_common 
 }
 
 /* METIS (through GKlib) catches SIGTERM while it runs and turns it into an error return: a run told
- * to stop then failed with "ordering failed" instead of dying of the signal (docs/tuning-history.md
+ * to stop then failed with "ordering failed" instead of dying of the signal (docs/flow.md
  * has how often). And on its way out it puts the previous handler back with signal(),
  * i.e. one-shot (SA_RESETHAND). So SIGTERM is held back for the length of an ordering, the handler is
  * put back exactly as it was, and a signal that came meanwhile reaches it afterwards. */
@@ -304,7 +304,7 @@ struct au_spd {
 };
 
 /* Below this many unknowns a system is factored whole: smaller, the second thread's start and the dense
- * separator block cost more than the halves save (docs/tuning-history.md). The test sets it. */
+ * separator block cost more than the halves save (docs/flow.md). The test sets it. */
 int au__spd_split_min = 8000;
 
 au_status au_graph_order(int n, int ne, const int *E, int *perm, au_msg *msg) {

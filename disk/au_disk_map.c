@@ -76,7 +76,7 @@ au_advect_domain au_disk_bc_domain(const au_disk_bc *bc) {
   /* Vertices sliding on circles about the origin (disk, annulus): the flow moves along arcs, bent fully
    * from the smallest circle outward (au_advect_domain.arc_radius), so that the thin triangles at a
    * short boundary turn with their sliding corner. A fixed boundary does not slide and keeps straight
-   * moves, which suit it better (docs/tuning-history.md). */
+   * moves, which suit it better (docs/flow.md). */
   for (int i = 0; i < bc->nv; i++)
     if (bc->kind[i] == AU_BC_CIRCLE && (d.arc_radius == 0 || bc->value[i] < d.arc_radius)) d.arc_radius = bc->value[i];
   return d;
@@ -86,7 +86,7 @@ au_disk_opts au_disk_opts_default(void) {
   au_disk_opts o;
   memset(&o, 0, sizeof o);
   o.flow = au_advect_opts_default();
-  /* The measurements behind these planar defaults are in docs/tuning-history.md. */
+  /* The measurements behind these planar defaults are in docs/flow.md. */
   /* Planar maps stop earlier than the loop's own defaults: the planar maps reach these bounds in a
    * fraction of the budget, and every map then ends below per-face 0.01 anyway. */
   o.flow.tol = 3e-3;

@@ -403,7 +403,7 @@ typedef struct au_options {
                              measures it itself) */
   double refine_max_faces; /* sphere with refine_mesh: the refined mesh has at most this many times the
                               input's faces, 1 < x <= AU_REFINE_MAX_FACES; 0 (default): 2. Long thin limbs gain from
-                              more (docs/hard-meshes.md). AU_REFINE_AUTO: 2, then 3 and 4 while the refined
+                              more (docs/sphere.md). AU_REFINE_AUTO: 2, then 3 and 4 while the refined
                               map's per-face mean |r - 1| is over 0.02 or its vertex mean |log r| over 0.005;
                               the first budget that meets both is kept, else the one with the lowest per-face
                               error; it stops at 2 where no face is held by the chord floor. A warning lists
@@ -424,7 +424,7 @@ AU_API au_options au_options_preset(au_preset p);
 
 /* The flow's tuning, for experiments: most users never need it. Get the values au_map would use
  * from au_expert_default, change some, and point au_options.expert at the struct. The meaning of
- * each rule is in docs/tuning-history.md and the flow's source (common/au_advect.h). */
+ * each rule is in docs/flow.md and the flow's source (common/au_advect.h). */
 struct au_expert {
   int method;             /* 0 least-shear steps (default), 1 the paper's Poisson steps */
   double shear;           /* shear weight against the area residual while the schedule runs, >= 0 (1) */
@@ -455,7 +455,7 @@ struct au_expert {
   double retry_above;     /* see lantern_retry (2) */
   double twist_retry;     /* sphere: a map still missing tol by more than retry_above x, with a chord
                              floor excess above this, is mapped again from the twisted start, the better
-                             map kept (0.02; 0 off; docs/hard-meshes.md) */
+                             map kept (0.02; 0 off; docs/sphere.md) */
   int vertex_polish;      /* sphere: a map still missing tol gets at most this many sweeps of the vertex
                              polish (each vertex alone steps on its own triangles' chord areas, or the
                              spherical ones' with sphere_areas 2), kept if its vertex error falls and its
@@ -474,13 +474,13 @@ struct au_expert {
   int staged_retry;       /* sphere: a map still missing tol with at least 1% of the surface in vertex
                              cells under 1/e of their share (squeezed limbs) is mapped again from its
                              start in at most this many stages, each towards part of the way, the better
-                             map kept (8; 0 off; docs/hard-meshes.md) */
+                             map kept (8; 0 off; docs/sphere.md) */
   int global_polish;      /* sphere: a chord map still missing tol after the vertex polish gets at most
                              this many steps of the global polish (every vertex at once, on the chord
                              triangles' and the vertex cells' areas and, in a small weight, their
                              conformal distortion), kept on the vertex polish's terms (200; 0 off: the
                              vertex polish's map; not on meshes of more than 100000 vertices, for its
-                             memory; docs/hard-meshes.md) */
+                             memory; docs/sphere.md) */
 };
 
 /* The tuning au_map uses for target t, with or without refine_faces. */

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """face_areas_proto.py - measured sketches of per-face area steps on a sphere map (not used by the build
-or the tests; needs Debian's python3-numpy and python3-scipy). See docs/face-areas.md.
+or the tests; needs Debian's python3-numpy and python3-scipy). See docs/flow.md.
 
 usage: scripts/face_areas_proto.py MODE SURFACE MAP.obj [options]
 

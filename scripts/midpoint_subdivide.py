@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """midpoint_subdivide.py IN OUT.obj -- split every triangle of IN (.obj or .off) into four at its
 edge midpoints. The surface stays exactly the same; edges halve. Used to measure how the chord
-(Schwarz lantern) error of a sphere map falls with resolution (docs/hard-meshes.md)."""
+(Schwarz lantern) error of a sphere map falls with resolution (docs/sphere.md)."""
 import sys
 
 

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """multilevel_proto.py - a measured sketch of a two-level start for the sphere flow (not used by the
-build or the tests; needs Debian's python3-numpy and python3-scipy). See docs/multilevel.md.
+build or the tests; needs Debian's python3-numpy and python3-scipy). See docs/flow.md.
 
 usage: scripts/multilevel_proto.py MESH.obj [RATIO] [--bin build/authalic]
 

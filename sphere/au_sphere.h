@@ -23,7 +23,7 @@ typedef struct au_sphere_opts {
                            restoring raised on the faces a long chord edge keeps from shrinking), and
                            the map with the smaller vertex error of the chord triangles is kept (default
                            2; 0: off). It helps the meshes whose long chord edges keep faces from
-                           shrinking; where it does worse, the first map stays (docs/tuning-history.md) */
+                           shrinking; where it does worse, the first map stays (docs/flow.md) */
   double retry_above;   /* see lantern_retry (default 2) */
   double twist_retry;   /* > 0: if the map (after the lantern retry) still misses retry_above x its
                            tolerance and its chord floor's excess (au_metrics.chord_floor_excess) is

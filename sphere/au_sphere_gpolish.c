@@ -3,7 +3,7 @@
  *
  * Why: the vertex polish moves one vertex at a time, and on a refined mesh of a thin-limbed shape it
  * stops where a vertex cannot gain without its neighbours moving with it: the bands around a limb's
- * base must widen or narrow together (docs/hard-meshes.md, session 20). A joint step over all vertices
+ * base must widen or narrow together (docs/sphere.md). A joint step over all vertices
  * does that. Its unknowns are each vertex's displacement in its tangent plane; its residuals are the
  * faces' log(chord share / surface share), the vertex cells' (weighted, as the metrics' vertex error is
  * the harder of the two) and, for a face whose triple product has come below a threshold, a log
@@ -424,7 +424,7 @@ static int damped_step(gp *g, au_spd *spd, const double *H, const double *rhs, d
 /* The cells weigh 3 against the faces, as the vertex error is the harder of the two to bring down; the
  * barrier acts from 0.15 of a face's share above its least triple product, the vertex polish's tenth of
  * the share; its weight matters little. Measured on the refined limbs4 and coil and on cow
- * (docs/hard-meshes.md, session 20). */
+ * (docs/sphere.md). */
 au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, double tol, const int *cancel) {
   au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, angle_weight, 0, tol, cancel};
   return o;

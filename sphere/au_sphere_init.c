@@ -47,7 +47,7 @@ static int pick_face(const au_mesh *m, const double *area) {
 typedef long double xreal;
 
 /* The compressed start (attempt 2): the largest jump of the flat log scale across a triangle left where
- * protrusions are compressed (docs/hard-meshes.md). */
+ * protrusions are compressed (docs/sphere.md). */
 #define AU_SQUEEZE_JUMP 0.3
 /* The strong twisted start (a start for meshes whose every other start folds, tpose): compressed and
  * sheared down to this jump, in both halves of u. */

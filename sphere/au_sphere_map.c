@@ -15,7 +15,7 @@
 #define AU_STAGED_SQUEEZED 0.01
 /* Each stage asks the flow for the targets current area x (target / current)^AU_STAGED_PART, per face:
  * tpose from its flow's map (vertex error 7.86) ends 0.54 with 0.6, 0.89 with 0.5 in 10 stages, and
- * stalls at 4.7 with 0.3 (docs/hard-meshes.md). */
+ * stalls at 4.7 with 0.3 (docs/sphere.md). */
 #define AU_STAGED_PART 0.6
 /* The stages end once two in a row lower the map's vertex error (map_vertex_error) by less than this
  * fraction. */
@@ -24,7 +24,7 @@
 /* The weight of the global polish's angle term in the sphere map. Areas alone halve cow's and
  * cheburashka's errors but raise their mean conformal distortion (lambda 1.68 -> 1.80, 1.22 -> 1.35);
  * with 1e-3 both errors fall nearly as far (cow 0.0261 / 0.0078 -> 0.0143 / 0.0024) with lambda at or
- * under the flow's (1.66, 1.22); 1e-2 keeps cow at 0.0253 / 0.0046 (docs/hard-meshes.md, session 20).
+ * under the flow's (1.66, 1.22); 1e-2 keeps cow at 0.0253 / 0.0046 (docs/sphere.md).
  * --refine-mesh polishes on areas alone: it is asked for the issue's area bounds. */
 #define AU_GPOLISH_ANGLE 1e-3
 
@@ -221,7 +221,7 @@ static int keep_better(int nv, au_status st2, double e2, const double *P2, const
 /* The staged retry (au_sphere_opts.staged_retry). A single flow asks every cell for its whole way at
  * once (in steps of at most e^1.2): on a map with limbs squeezed by e^-20 beside an over-grown half, the
  * wanted motion is a radian or more, of which the step control lets 1-12% through, and the flow stands
- * still (tpose; docs/hard-meshes.md). A flow towards a part of the way, run to its end, then the next
+ * still (tpose; docs/sphere.md). A flow towards a part of the way, run to its end, then the next
  * from there, keeps going. Each stage's targets are the map's own face areas times (share / area)^part;
  * the last run asks for the shares themselves, from the best stage's map. Its map replaces P (with its
  * report and status) if its vertex error (map_vertex_error) is lower. */

@@ -3,7 +3,7 @@
  * Gauss-Seidel), after the flow.
  *
  * Why: the flow moves the whole map along one velocity field, the gradient of a potential. Where long,
- * thin chord triangles sit on their floor (a leg's or a finger's base, docs/hard-meshes.md) the field
+ * thin chord triangles sit on their floor (a leg's or a finger's base, docs/sphere.md) the field
  * that would shrink them also stretches their neighbours, and its steps shrink to nothing. A single
  * vertex has no such tie: moved alone in its tangent plane it can slide along a long edge towards one
  * end, which lowers that edge's chord floor, while every triangle around it stays the right way up.

@@ -1,23 +1,23 @@
 /* au_sphere_refine.c - refinement of a sphere map where the chord floor binds (issue 21, point 3).
  *
  * A long edge of the map keeps the chord triangles beside it from shrinking to their share (the chord
- * runs l^2/8 under the sphere; docs/hard-meshes.md): no motion of the input's vertices removes that.
+ * runs l^2/8 under the sphere; docs/sphere.md): no motion of the input's vertices removes that.
  * So those edges are split: the new vertex lies on the surface at the edge's midpoint (exact: the
  * average of two points of one surface triangle) and on the sphere at the midpoint of the great arc,
  * which splits each spherical triangle into spherical sub-triangles, so the refined map is as fold-free
  * as the map it came from. Then the flow runs again on the refined mesh from there. Rounds repeat
  * while faces still sit on the floor and the face budget allows.
  *
- * Which faces to split is a trade the measurements do not settle one way (docs/hard-meshes.md,
- * session 11): splitting only the faces on the floor leaves the rest of a limb's band as the next
+ * Which faces to split is a trade the measurements do not settle one way (docs/sphere.md):
+ * splitting only the faces on the floor leaves the rest of a limb's band as the next
  * floor (cow), while splitting the whole band spends the budget where the re-flow gains nothing and
  * leaves more vertices to settle (cheburashka). So several candidates are made, from the same map, and
  * the map whose vertex cells are nearer their shares is kept. The first splits the floor faces and the
  * band around them (one that split the floor faces alone was never kept on the thirteen meshes measured
- * in session 22 and is no longer made).
+ * and is no longer made).
  *
  * A second candidate splits the map's longest edges, whatever their faces' floors, with the whole budget
- * in one round. Where a limb's base is stretched around its ring (docs/hard-meshes.md, session 15),
+ * in one round. Where a limb's base is stretched around its ring (docs/sphere.md),
  * its bands' corners stand over the ends of the long ring edges; splitting only a floor face's edge
  * puts the band's next face onto its floor, round after round, while splitting every long edge of a
  * band (ring edges and diagonals alike: they are about as long) keeps its corners over the ends.
@@ -34,20 +34,20 @@
 #include "au_sphere.h"
 
 /* A face counts as held by the floor when its chord floor exceeds this fraction of its share: from
- * there the polish's steps shrink towards nothing at it (docs/hard-meshes.md). */
+ * there the polish's steps shrink towards nothing at it (docs/sphere.md). */
 #define AU_REFINE_HELD 0.5
 /* The candidates: the first splits the band around the held faces, the faces whose floors are a tenth
  * of their share and up; the second (0) the longest edges of the map, the third (-1) splits from the
  * map of spherical areas (refine_spherical). The second and third run only where some face is held.
- * Splitting only the held faces (0.5, sessions 11-21) lost to one of these on every mesh measured (the
+ * Splitting only the held faces (0.5, an earlier rule) lost to one of these on every mesh measured (the
  * generated family, cow, cheburashka, hand_closed, spot_lowres, spot, hippocampus, blub, maxplanck,
- * bunny; docs/hard-meshes.md, session 22) and cost up to 5 s (tpose). */
+ * bunny; docs/sphere.md) and cost up to 5 s (tpose). */
 static const double refine_floor_share[] = {0.1, 0, -1};
 
 /* Rounds of split and re-flow at most, each spending at most 1/AU_REFINE_SHARE of the face budget
  * left: after a re-flow the faces the floor holds are others than before, and a budget spent at once
  * went to the first round's (cow, 2x the faces: 3 rounds spending all they may, vertex error 0.0071;
- * 8 rounds spending half of what is left, 0.0025; docs/hard-meshes.md). */
+ * 8 rounds spending half of what is left, 0.0025; docs/sphere.md). */
 #define AU_REFINE_ROUNDS 8
 #define AU_REFINE_SHARE 2
 /* The longest edges' single round stops at this many times the input's faces (refine_with). */
@@ -248,8 +248,8 @@ static kap_item kap_pop(kap_item *h, int *n) {
 /* A face's claim to a split: the area its chord triangle lacks of its spherical one, |1 - chord / sph|
  * sph, over sqrt(sph). What the chord polish has to make up is that missing area, and it can only move
  * area across the face's edges, whose length goes as sqrt(sph). The relative lack alone (|ln(chord /
- * sph)|, sessions 19-21) spends the budget on slivers whose chords are flat but which lack little area;
- * the absolute lack on the largest faces (docs/hard-meshes.md, session 22: refined at 2x, per-face /
+ * sph)|, an earlier key) spends the budget on slivers whose chords are flat but which lack little area;
+ * the absolute lack on the largest faces (docs/sphere.md: refined at 2x, per-face /
  * vertex, relative -> this key -> absolute: limbs8 0.0391 / 0.0034 -> 0.0350 / 0.0027 -> 0.0370 /
  * 0.0032, tpose 0.0526 / 0.0051 -> 0.0378 / 0.0039 -> 0.0399 / 0.0046). */
 static double kap_key(const int *F, const double *P, int f) {
@@ -362,7 +362,7 @@ static au_status copy_map(const au_mesh *m, const double *P, au_mesh **mr, doubl
 /* One candidate: rounds of splits by floor_share and re-flows, from the map (m, P); with floor_share 0
  * (the longest edges) one round spending the whole budget: the longest edges after a re-flow are the
  * halves of the first round's (limbs4 at 2x the faces, from the flow's map: vertex error 0.0160 in one
- * round, 0.0181 over the rounds below; docs/hard-meshes.md). */
+ * round, 0.0181 over the rounds below; docs/sphere.md). */
 static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_opts *o, double max_faces,
                              double floor_share, au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
                              au_advect_report *ar, au_sphere_report *pol, au_msg *msg) {
@@ -372,12 +372,12 @@ static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_
   if (st != AU_OK) return st;
   /* The longest edges' round splits at most two thirds of the edges (AU_REFINE_LONG_MAX x the faces):
    * all of them is a plain 1-to-4 split, whose re-flow loses what the targeted one gains (coil: vertex
-   * error 0.0053 at 3x, 0.0060 at 4x; docs/hard-meshes.md). */
+   * error 0.0053 at 3x, 0.0060 at 4x; docs/sphere.md). */
   const long cap = (long)((floor_share > 0 ? max_faces : fmin(max_faces, AU_REFINE_LONG_MAX)) * m->nf);
   au_advect_domain dom = au_sphere_domain();
   /* The map is already near equal area where it is not held: the re-flow starts at the shear weight
    * the first flow ended with, not the schedule's 1, which re-stretched the bands it had split (cow:
-   * vertex error 0.0159 from shear 1, 0.0134 from the tail; docs/hard-meshes.md). */
+   * vertex error 0.0159 from shear 1, 0.0134 from the tail; docs/sphere.md). */
   au_advect_opts fo = o->flow;
   fo.shear = fo.shear_tail;
   const int rounds = floor_share > 0 ? AU_REFINE_ROUNDS : 1, share = floor_share > 0 ? AU_REFINE_SHARE : 1;
@@ -438,7 +438,7 @@ static double vertex_error(const au_mesh *m, const double *P);
  * polish between them: a first half's splits move the map, and the second half goes where the chord and
  * the sphere still part (twice the faces, per-face / vertex, one stage -> two: limbs8 0.0420 / 0.0035 ->
  * 0.0391 / 0.0034, tpose 0.0545 / 0.0056 -> 0.0526 / 0.0051, limbs4 0.0164 / 0.0019 -> 0.0151 /
- * 0.0018; three stages: limbs8 0.0410 / 0.0036; session 21; with session 22's key one, two and three
+ * 0.0018; three stages: limbs8 0.0410 / 0.0036, under the relative key; with this key one, two and three
  * stages are within the runs' spread of each other: limbs8 0.0376, 0.0350, 0.0331, tpose 0.0357, 0.0378,
  * 0.0418). */
 #define AU_REFINE_KAPPA_STAGES 2
@@ -448,7 +448,7 @@ static double vertex_error(const au_mesh *m, const double *P);
  * (split_by_kappa, the budget in AU_REFINE_KAPPA_STAGES stages with the spherical flow between them), the
  * spherical flow again on the refined mesh, and the chord polish last. A map of spherical areas has no
  * floor to fight, so its long, thin triangles come out where the chord and the sphere part, which is what
- * the splits lift; the chord polish then moves the vertices the floor held (docs/hard-meshes.md, session
+ * the splits lift; the chord polish then moves the vertices the floor held (docs/sphere.md, session
  * 19: the thin-limbed family's refined maps, limbs8 at twice the faces 0.1219 / 0.0560 -> 0.0568 / 0.0247,
  * tpose 0.2373 / 0.1134 -> 0.0983 / 0.0512). */
 static au_status refine_spherical(const au_mesh *m, const double *P, const au_sphere_opts *o, double max_faces,
@@ -527,17 +527,17 @@ static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
  * input's; its map is kept if its vertex error is lower and its per-face error not higher. The vertex
  * polish that ends each candidate moves one vertex at a time and leaves the bands around a limb's base
  * where only a joint move gains (limbs4 at twice the faces: 0.0258 / 0.0083 -> 0.0189 / 0.0038,
- * docs/hard-meshes.md, session 20).
+ * docs/sphere.md).
  * Its residuals enter robustly (pseudo-Huber, linear beyond a log ratio of 0.01), as the errors the
  * refinement is asked to bring down are mean absolute ones: with squares, the faces a long edge's floor
  * keeps over their share pull their neighbours off theirs (refined limbs8 at twice the faces, per-face
- * / vertex: 0.0536 / 0.0124 -> 0.0421 / 0.0036; 0.004 and 0.02 in between; session 21). It gets five
+ * / vertex: 0.0536 / 0.0124 -> 0.0421 / 0.0036; 0.004 and 0.02 in between). It gets five
  * times the sphere map's steps, which tpose uses before its gains stall (200: 0.0806 / 0.0246, 600:
  * 0.0545 / 0.0056, 1500 the same). */
 #define AU_REFINE_GPOLISH_ROBUST 0.01
 #define AU_REFINE_GPOLISH_STEPS 5
 /* The global polish lowers a map's vertex error five-fold or so, not twenty-fold (the input's maps in
- * --refine-mesh, session 22: cow 0.0078 -> 0.0018, limbs8 0.160 -> 0.028, tpose 0.249 -> 0.066, the
+ * --refine-mesh: cow 0.0078 -> 0.0018, limbs8 0.160 -> 0.028, tpose 0.249 -> 0.066, the
  * last two 2.5 and 6.4 s spent on a map the refinement beats 59 and 64 times over). */
 #define AU_REFINE_OUT_OF_REACH 20
 static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_opts *o, au_sphere_report *rep,
@@ -699,8 +699,8 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
 }
 
 /* The budgets au_sphere_refine_auto tries: the generated family met issue 21's refined bounds at 2x
- * (limbs4, coil) or 3x (limbs8, tpose; 4x for tpose before session 22), cow, cheburashka and hand_closed
- * at 2x (docs/hard-meshes.md). */
+ * (limbs4, coil) or 3x (limbs8, tpose; 4x for tpose under the relative split key), cow, cheburashka and hand_closed
+ * at 2x (docs/sphere.md). */
 static const double refine_auto_budget[AU_REFINE_AUTO_TRIALS] = {2, 3, 4};
 
 au_status au_sphere_refine_auto(const au_mesh *m, const double *P, const au_sphere_opts *opts, au_mesh **out,

@@ -153,22 +153,22 @@ foreach(mesh spiky_ico bumpy_star)
   au_cli_test(param_eval.${mesh} param_eval.sh data/${mesh}.obj)
 endforeach()
 au_cli_test(init_only.spiky_ico quality.sh init_only data/spiky_ico.obj)
-# limbs4: both retries run and the twisted start's map is kept (docs/hard-meshes.md).
+# limbs4: both retries run and the twisted start's map is kept (docs/sphere.md).
 au_cli_test(quality.limbs4 quality.sh map data/limbs4.obj)
 # --refine-mesh (issue 21) where it meets the issue's bounds for a refined map: cheburashka, and cow
-# since session 13 (rounds spending half the budget left: 0.0079 / 0.0025).
+# (rounds spending half the budget left: 0.0079 / 0.0025).
 au_cli_test(refine_mesh.cheburashka refine_mesh.sh cheburashka.off)
 au_cli_test(refine_mesh.cow refine_mesh.sh cow.off)
 au_cli_test(refine_mesh.nothing refine_nothing.sh)
-# limbs4 meets them at three times the faces since session 19 (the spherical split candidate: 0.0124 /
-# 0.0033; 0.0185 / 0.0088 before).
+# limbs4 meets them at three times the faces with the spherical split candidate (0.0124 /
+# 0.0033; 0.0185 / 0.0088 without it).
 au_cli_test(refine_mesh.limbs4_3x refine_mesh.sh data/limbs4.obj 3)
-# limbs4 and coil meet them at twice the faces since session 20 (the global polish of the refined map:
-# 0.0189 / 0.0038 and 0.0137 / 0.0031; 0.0258 / 0.0083 and 0.0219 / 0.0102 before).
+# limbs4 and coil meet them at twice the faces with the global polish of the refined map
+# (0.0189 / 0.0038 and 0.0137 / 0.0031; 0.0258 / 0.0083 and 0.0219 / 0.0102 without it).
 au_cli_test(refine_mesh.limbs4 refine_mesh.sh data/limbs4.obj)
 au_cli_test(refine_mesh.coil refine_mesh.sh data/coil.obj)
-# limbs8 meets them at three times the faces since session 22 (the spherical candidate's splits where the
-# chord triangles lack the most area for their size: 0.0166 / 0.0019; 0.0199 / 0.0020 before), not at
+# limbs8 meets them at three times the faces with the spherical candidate's splits where the
+# chord triangles lack the most area for their size (0.0166 / 0.0019; 0.0199 / 0.0020 with the relative key), not at
 # twice (0.0350 / 0.0027): --refine-budget auto tries 2x, then keeps 3x.
 au_cli_test(refine_mesh.limbs8_auto refine_mesh.sh data/limbs8.obj auto 3)
 # limbs4 meets them at 2x: auto stops there.

@@ -506,7 +506,7 @@ static int staged_retry(void) {
 }
 
 /* The global polish (issue 21): on limbs4's map, which the vertex polish leaves short of the tolerance,
- * it runs and is kept (measured 2026-12-04: vertex error 0.0436 -> 0.0220); with au_expert.global_polish
+ * it runs and is kept (measured: vertex error 0.0436 -> 0.0220); with au_expert.global_polish
  * 0 it does not, and the map is the vertex polish's. */
 static int global_polish(void) {
   au_mesh *m = load("limbs4.obj");
@@ -536,7 +536,7 @@ static int global_polish(void) {
 /* au_options.spherical_areas: the map of the spherical triangles' areas that `authalic texture` makes
  * for itself, the same as the expert's sphere_areas 2; on limbs4's long legs its spherical figures are
  * within issue 21's unrefined bounds and far below its own chord ones, while the default map is the
- * nearer in chord terms (measured 2026-12-03: spherical 0.0092 / 0.0020, chord 0.101 / 0.079; default
+ * nearer in chord terms (measured: spherical 0.0092 / 0.0020, chord 0.101 / 0.079; default
  * map chord 0.084 / 0.044). */
 static int spherical_areas(void) {
   au_mesh *m = load("limbs4.obj");

@@ -275,7 +275,7 @@ static int map_disk_bump(void) {
 
 /* The resolved schedule (au_advect_opts.resolved_jump): disk_bump's start is smooth at its mesh's
  * scale (measured jump of log r across edges 0.033), so the flow drops its shear weight faster and
- * lets faces grow more per step. Measured 2026-12-02: 10 steps against 13 on the ordinary schedule,
+ * lets faces grow more per step. Measured: 10 steps against 13 on the ordinary schedule,
  * both fold-free, per-face 0.0099 / 0.0100. The quality bounds hold on both. */
 static int resolved_schedule(void) {
   au_mesh *m = NULL;
@@ -307,7 +307,7 @@ static int resolved_schedule(void) {
 }
 
 /* The angle steps (au_advect_opts.angle_steps, --angles) on the disk, with the boundary sliding on the
- * circle. Measured 2026-12-02 on disk_bump (5 steps): mean angle difference 19.06 -> 18.06 degrees,
+ * circle. Measured on disk_bump (5 steps): mean angle difference 19.06 -> 18.06 degrees,
  * vertex 0.00103 -> 0.000034, per-face 0.0099 -> 0.0102. */
 static int angle_steps(void) {
   au_mesh *m = NULL;
@@ -338,7 +338,7 @@ static int angle_steps(void) {
 
 /* The per-face refinement's shear floor (au_advect_opts.face_shear_tail), as --refine-faces sets it:
  * with 3e-4 instead of the planar 0.003 the refinement gets further in the same budget. Measured
- * 2026-12-02 on disk_bump: per-face 0.0040 in 35 steps against 0.0052 in 60. */
+ * on disk_bump: per-face 0.0040 in 35 steps against 0.0052 in 60. */
 static int refine_floor(void) {
   au_mesh *m = NULL;
   au_topo *t = NULL;
@@ -385,7 +385,7 @@ static int arc_radius_of_domains(void) {
 
 /* holed_sphere's boundary is short for its area, so its equal-area disk map lays the triangles along
  * the circle out long and thin. With moves along arcs the flow is not held back by them: measured
- * 2026-12-02, 9 steps (per-face 0.0070) against 16 with straight moves (0.0058). Quality as for every
+ * on it, 9 steps (per-face 0.0070) against 16 with straight moves (0.0058). Quality as for every
  * disk map, and fewer than 12 steps. */
 static int map_short_boundary(void) {
   au_mesh *m = NULL;

@@ -107,7 +107,7 @@ static int map_quality(const char *name, double max_vertex, double max_rmad) {
   return 0;
 }
 
-/* ellipsoid: measured vertex 0.00075, per-face 0.0100 (2026-12-01, with shape restoring; without it
+/* ellipsoid: measured vertex 0.00075, per-face 0.0100 (with shape restoring; without it
  * 0.0022 / 0.0240: the per-face residual was a mode the least-shear step removed only slowly). */
 static int map_ellipsoid(void) { return map_quality("ellipsoid.obj", 0.003, 0.03); }
 /* spiky_ico: measured vertex 0.037, per-face 0.077 (chord-only flow: 0.056 / 0.106): its spikes'
@@ -130,7 +130,7 @@ static double dirichlet(const loaded *L) {
 
 /* The angle steps (au_advect_opts.angle_steps, --angles): from a vertex error of 0.01 on
  * (angle_switch), towards the map of least Dirichlet energy with the vertex cells held at their areas.
- * On bumpy_star (measured 2026-12-02, 5 steps): vertex error 0.00193 -> 0.000046, mean angle difference
+ * On bumpy_star (measured, 5 steps): vertex error 0.00193 -> 0.000046, mean angle difference
  * 41.759 -> 41.572 degrees, per-face 0.0138 -> 0.0195, 16 steps instead of 19. Taken after the flow,
  * from its map, the energy falls; the cells come within 3e-4, the faces stay within 0.025, and no
  * triangle folds. (On ellipsoid the angle
@@ -178,7 +178,7 @@ static int angle_steps(void) {
 /* The lantern retry (au_sphere_opts.lantern_retry): a map that misses its tolerance by more than
  * retry_above runs again with the lantern-aware shape restoring, and the map with the smaller vertex
  * error is the one returned, whichever it is. On spiky_ico's needles (43 faces at their chord floor)
- * the retry is a different map; measured 2026-12-02 (default 2): vertex 0.0289 first, 0.0356 retry,
+ * the retry is a different map; measured (default 2): vertex 0.0289 first, 0.0356 retry,
  * the first kept. */
 static int lantern_retry(void) {
   loaded L;
@@ -220,7 +220,7 @@ static int lantern_retry(void) {
 
 /* au_advect_opts.restore (0.1, the default, against 0): aiming the shear back at the surface's
  * triangle shapes lowers the angle distortion and, on spiky_ico's needles, the area error too.
- * Measured 2026-12-01: mean angle difference 49.1 -> 47.9 degrees, per-face 0.086 -> 0.077. */
+ * Measured: mean angle difference 49.1 -> 47.9 degrees, per-face 0.086 -> 0.077. */
 static int restore_shapes(void) {
   loaded L;
   if (load("spiky_ico.obj", 1, &L)) return 1;
@@ -286,8 +286,8 @@ static int resolved_schedule(void) {
   return 0;
 }
 
-/* bumpy_star: measured vertex 0.0019, per-face 0.0138 with the default tolerance 2e-3 (2026-12-01;
- * 0.0011 / 0.0055 with 1e-3). */
+/* bumpy_star: measured vertex 0.0019, per-face 0.0138 with the default tolerance 2e-3
+ * (0.0011 / 0.0055 with 1e-3). */
 static int map_bumpy(void) { return map_quality("bumpy_star.obj", 0.004, 0.025); }
 /* dumbbell: measured vertex 0.0018, per-face 0.0175. A step undone for making the areas worse is
  * retried without the shape restoring; retried with it, ever stiffer, the flow stuck at 0.21. */
@@ -515,7 +515,7 @@ static int phase_transitions(void) {
 
 /* Prescribed density (issue 6): weight 4 on the faces of one half of the ellipsoid (centroid x > 0)
  * gives that half 4x the domain area per unit surface area. Per vertex: weight 4 on the vertices with
- * x > 0, measured on the faces whose corners all lie in one half. Measured 2026-12-01: per face 3.99868, per vertex 3.99934, i.e. within 3.3e-4 and 1.6e-4 relative;
+ * x > 0, measured on the faces whose corners all lie in one half. Measured: per face 3.99868, per vertex 3.99934, i.e. within 3.3e-4 and 1.6e-4 relative;
  * the checks ask 1e-3 relative (the issue's bound). */
 static double half_ratio(const loaded *L, const double *P, int by_vertex) {
   const au_mesh *m = L->m;
@@ -627,8 +627,8 @@ static int folded_start_refused(void) {
 
 /* limbs8 (data/mklimbs.c): eight legs up to 20 diameters long, squeezed by the conformal start past any
  * coordinate's resolution, so cotan and clamped weights fold; the start compressed along the legs
- * (au_sphere_init.c, attempt 2) is fold-free and the flow keeps it so. Measured 2026-12-03: vertex 0.566,
- * per-face 0.806; with the twisted retry (kept) 0.224 / 0.321 (docs/hard-meshes.md; the equal-area
+ * (au_sphere_init.c, attempt 2) is fold-free and the flow keeps it so. Measured: vertex 0.566,
+ * per-face 0.806; with the twisted retry (kept) 0.224 / 0.321 (docs/sphere.md; the equal-area
  * bounds of issue 21 are not reached). */
 static int compressed_start_limbs8(void) {
   loaded L;
@@ -697,7 +697,7 @@ static int refine_mesh_limbs4(void) {
   return 0;
 }
 
-/* The spherical split candidate of au_sphere_refine (session 19) on limbs8, whose eight legs' refined
+/* The spherical split candidate of au_sphere_refine on limbs8, whose eight legs' refined
  * map the other candidates left at 0.1219 / 0.0560 (a third of the unrefined errors, 0.272 / 0.164): it
  * is kept, and the refined map has at most a quarter of the unrefined per-face and a fifth of its vertex
  * error (0.0568 / 0.0247), 0 folds, at most twice the faces, every new vertex at its parents' midpoint
@@ -860,8 +860,8 @@ static int map_measured(loaded *L, const au_sphere_opts *o, au_sphere_report *re
 
 /* The twisted retry (au_sphere_opts.twist_retry): limbs4's map misses its tolerance with 11% of the
  * chord area on the floor, so it is made again from the twisted start and that map kept; its vertex
- * and per-face errors are well below the map without the retry (measured 2026-12-03: vertex 0.178 ->
- * 0.065, per-face 0.240 -> 0.089; docs/hard-meshes.md). */
+ * and per-face errors are well below the map without the retry (measured: vertex 0.178 ->
+ * 0.065, per-face 0.240 -> 0.089; docs/sphere.md). */
 static int twist_retry_limbs4(void) {
   loaded L;
   if (load("limbs4.obj", 1, &L)) return 1;
@@ -890,7 +890,7 @@ static int twist_retry_limbs4(void) {
  * vertex at a time on its chord triangles, and the polished map is returned only if its vertex error is
  * lower and its per-face error not higher; it stays fold-free and on the sphere. On spiky_ico's needles
  * and limbs4's legs (long, thin triangles on their chord floor) it lowers the vertex error by at least a
- * tenth and the per-face one by 3% (measured 2026-12-03: spiky_ico vertex 0.0289 -> 0.0124, per-face 0.0699 -> 0.0473; limbs4
+ * tenth and the per-face one by 3% (measured: spiky_ico vertex 0.0289 -> 0.0124, per-face 0.0699 -> 0.0473; limbs4
  * 0.0646 -> 0.0436, 0.0886 -> 0.0840). Each error is measured here with au_metrics, as param-eval does. */
 static int vertex_polish(void) {
   const char *names[] = {"spiky_ico.obj", "limbs4.obj"};
@@ -936,7 +936,7 @@ static int vertex_polish(void) {
 /* The vertex polish of a map of spherical areas only (flow.sphere_areas 2, `--spherical-areas`, the
  * texture command's map): it moves the vertices on their spherical triangles' areas, the measure that
  * map is made for, and is kept only if the spherical vertex error falls and the spherical per-face one
- * does not rise. On limbs8 it lowers both (measured 2026-12-03: vertex 0.0066 -> 0.0036, per-face
+ * does not rise. On limbs8 it lowers both (measured: vertex 0.0066 -> 0.0036, per-face
  * 0.0168 -> 0.0120; before, the polish ran on chord maps only); the report's before and after are
  * au_metrics' spherical figures, as param-eval's sph_ ones. */
 static int vertex_polish_spherical(void) {
@@ -969,8 +969,8 @@ static int vertex_polish_spherical(void) {
 /* tpose (data/mklimbs.c): fingers on flat hands on arms, every conformal start folds, even compressed
  * (au_sphere_conformal refuses it). au_sphere_map then starts from the strong twisted start
  * (au_sphere_twisted_strong) and returns a fold-free map on the unit sphere that the flow moved
- * towards equal area; without the twisted retries it refuses the mesh as before. Measured 2026-12-03:
- * start vertex error 11.1, map 7.09, per-face 1.68 (far from equal area; docs/hard-meshes.md). */
+ * towards equal area; without the twisted retries it refuses the mesh as before. Measured:
+ * start vertex error 11.1, map 7.09, per-face 1.68 (far from equal area; docs/sphere.md). */
 static int strong_start_tpose(void) {
   loaded L;
   if (load("tpose.obj", 1, &L)) return 1;

@@ -748,8 +748,8 @@ static int bad_args(void) {
 /* ---------------------------------------------------------------- a real map */
 
 /* data/bumpy_star.obj through the whole chain: its sphere map, cea coordinates, and the cells of a
- * 64x32 sampling grid, whose surface areas agree (measured: std/mean 0.008 with the map of
- * 2026-11-22; the bound leaves room for the map's development). */
+ * 64x32 sampling grid, whose surface areas agree (measured: std/mean 0.008 with the first
+ * map; the bound leaves room for the map's development). */
 static int star_cells(void) {
   char path[1024];
   snprintf(path, sizeof path, "%s/data/bumpy_star.obj", AU_SOURCE_DIR);
@@ -764,7 +764,7 @@ static int star_cells(void) {
   au_tex_mesh *t = NULL;
   AU_CHECK_STATUS(au_tex_coords(m, P, AU_TEX_CEA, &t, &msg), AU_OK, &msg);
   /* The map has slivers near the arms' tips and ordinary faces near the poles that would flip with
-   * straight (u, v) edges (measured 2026-12-01: 12 of them); the cea layout splits their edges, so
+   * straight (u, v) edges (measured: 12 of them); the cea layout splits their edges, so
    * none may be left. */
   AU_CHECK_INT(t->edge_splits, >, 0);
   if (check_coords(t)) return 1;
@@ -949,8 +949,8 @@ static double map_r(const au_mesh *m, const double *P, int spherical) {
  * per-face error + 0.002; but a straight texture triangle's area tends to its spherical triangle's
  * only as the faces are split, so the map's spherical per-face error is a floor, and by default (no
  * area splitting, folds only) the straight triangles miss their spherical areas by more: 2-10 x the
- * floor on the shared meshes, per-face 0.02-0.09. With the area splitting (area_tol auto) measured
- * (2026-12-02): laea 0.99-1.62 x the spherical error, oct 1.54-2.49 x, cea 1.40-3.13 x (spot: the
+ * floor on the shared meshes, per-face 0.02-0.09. With the area splitting (area_tol auto) measured:
+ * laea 0.99-1.62 x the spherical error, oct 1.54-2.49 x, cea 1.40-3.13 x (spot: the
  * faces at the poles are exempt), at 0.23-0.52 x the default's error and 8-22 x the faces. The tests
  * hold what is met: 3.5 x the spherical error + 0.002 and 0.6 x the default's. docs/textures.md gives
  * the table. */
@@ -1031,7 +1031,7 @@ static int vt_quality(const char *name, int shared, int axis_auto) {
         AU_CHECK_DBL(e, ==, e_default);
       } else if (!strcmp(name, "spiky_ico.obj") && proj == AU_TEX_CEA) {
         /* spiky_ico, cea: the area splits leave slivers along the spikes that the fold mending takes
-         * past 64 rounds to turn back (it gave up there until session 17); the texture stays above the
+         * past 64 rounds to turn back (it once gave up there); the texture stays above the
          * bound (0.405 against 0.337) but below the default's 0.446 */
         AU_CHECK_DBL(e, <, e_default);
       } else {
@@ -1140,7 +1140,7 @@ static int area_rules(void) {
  * faces of the tries that meet it (each rule alone with the target; no splits). On the maps of
  * spherical areas (those `authalic texture` makes; the polished map's spherical error is a floor near
  * the bound, docs/textures.md) the target is met on every projection of spot, where the 8x budget
- * without a target missed it with cea (0.0195 against 0.0161, session 12). */
+ * without a target missed it with cea (0.0195 against 0.0161). */
 static int area_target_of(const char *name, int shared) {
   char path[1024];
   if (!mesh_path(name, shared, path, sizeof path)) return AU_SKIP;

@@ -74,7 +74,7 @@ enum {
     "then 3x and 4x while the refined map's per-face mean |r-1| is over 0.02 or its vertex error over 0.005 (the "   \
     "first that meets both is kept, else the lowest per-face); long, thin limbs meet those at 2x (limbs4, coil) or " \
     "3x (limbs8, tpose; "                                                                                             \
-    "docs/hard-meshes.md)")                                                                                          \
+    "docs/sphere.md)")                                                                                          \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
   X(OPT_SPHERICAL_AREAS, "spherical-areas", NULL, CLI_FLAG, CLI_SPHERE,                                              \
     "equalize the spherical triangles' areas and skip the chord polish: the map `texture` and `sample` make "      \

@@ -708,7 +708,7 @@ def _wait(thread, done, call):
     cancel flag and the wait goes on until the map has stopped; the first such exception is
     returned. No lock is waited on where the exception can land: not Thread.join (in Python 3.11 a
     join interrupted by KeyboardInterrupt can mark a running thread as stopped), and not done.wait,
-    an Event's condition lock (suspected: one CI run of session 16 waited 300 s for `python -m
+    an Event's condition lock (suspected: one CI run waited 300 s for `python -m
     authalic` to end after a SIGINT, with done.wait here; 25 runs of that test here did not repeat
     it)."""
     pending = None
@@ -744,7 +744,7 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
     refine_budget (with refine_mesh): at most this many times the input's faces, 1 < K <= 16 (None:
     2), or "auto": 2x, then 3x and 4x while the refined map's per-face mean |r - 1| is over 0.02 or
     its vertex error over 0.005, the first that meets both kept (a warning lists the budgets tried);
-    long, thin limbs meet those at 2x (limbs4, coil) or 3x (limbs8, tpose), docs/hard-meshes.md.
+    long, thin limbs meet those at 2x (limbs4, coil) or 3x (limbs8, tpose), docs/sphere.md.
     """
     if target not in _lib.TARGETS:
         _bad("target %r: expected 'sphere', 'disk', 'annulus', 'square' or 'torus'" % (target,))
@@ -840,7 +840,7 @@ sphere.__doc__ = """Map a closed genus-0 triangle mesh onto the unit sphere with
         sphere). info["metrics"]["sph_r_mean_abs_dev"] and ["sph_vertex_logr_mean_abs"] measure it;
         its chord figures (r_mean_abs_dev, vertex_logr_mean_abs) stay higher on long edges. On long,
         thin limbs the difference is large (data/tpose.obj: spherical 0.0118 / 0.0028, chord 0.53 /
-        0.38; docs/hard-meshes.md). False (default): the chord triangles' areas, param-eval's
+        0.38; docs/sphere.md). False (default): the chord triangles' areas, param-eval's
         headline figures.
 
     Returns (S, info): S float64 (nv, 3), the map, unit vectors in the order of V (unreferenced

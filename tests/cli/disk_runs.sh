@@ -126,7 +126,7 @@ sys.exit(0 if s < f else "sliding %g >= fixed %g" % (s, f))
 PYEOF
   ;;
 refine_faces)
-  # --refine-faces takes more steps for a lower per-face error (disk_bump, measured 2026-12-02:
+  # --refine-faces takes more steps for a lower per-face error (disk_bump, measured:
   # 10 steps / 0.0099 by default, 35 / 0.0040 refined). The default run is on the resolved schedule
   # (the start's jump of log r across edges is 0.033), the refined one on the ordinary schedule.
   IN=$(stage "$SRC/data/disk_bump.obj")

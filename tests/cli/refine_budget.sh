@@ -2,7 +2,7 @@
 # coiled tail of girth 6, issue 21), K 1.5 and 3: each refined mesh has at most K times the input's
 # faces (3: more than twice), and the larger budget's map is closer to equal area, by
 # ../shared/tools/param-eval: 0 folds, lower per-face and vertex errors; the small budget's warns of the
-# chord floor left with the budget as its remedy (since session 21 coil meets the tolerance at the
+# chord floor left with the budget as its remedy (coil meets the tolerance at the
 # default twice the faces). Skipped without param-eval.
 # sh refine_budget.sh PROG SOURCE_DIR SHARED_DIR
 . "$(dirname "$0")/lib.sh"
@@ -15,7 +15,7 @@ for k in 1.5 3; do
   expect_status 0
   expect_on_sphere "$T/o/map$k.obj" 1e-12
   # The refined map's chord-floor warning points at the budget, not at refine_mesh, which ran. At three
-  # times the faces the map is within the tolerance (since session 20's global polish: vertex 0.0019),
+  # times the faces the map is within the tolerance (with the global polish: vertex 0.0019),
   # and a map within it is not warned about.
   if [ $k = 1.5 ]; then
     expect_err 'chord area down.*a larger face budget lowers that error \(--refine-budget K, or auto\)'

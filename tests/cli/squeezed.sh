@@ -1,6 +1,6 @@
 # squeezed.sh - limbs squeezed by the start (data/tpose.obj: e^-20 and more, issue 21). By default the
 # staged retry opens them up: the report says it was kept, the map's vertex error (numpy, barycentric
-# cells of the chord triangles) falls below 0.5 from 6.9 before it (docs/hard-meshes.md), 0 folds,
+# cells of the chord triangles) falls below 0.5 from 6.9 before it (docs/sphere.md), 0 folds,
 # and nothing is left under 1/e of its share. With the flow cut short (--steps 4) the map says how
 # much of the surface is left squeezed, a figure that agrees with the map. limbs4 (no squeezed cells)
 # gets neither the retry nor the warning, nor does a map with a density; its chord-floor warning names
@@ -68,7 +68,7 @@ expect_status 0
 if grep -q 'of its area share' "$T/log/stderr"; then fail "limbs4 warned of squeezed cells"; fi
 if grep -q 'staged_retry' "$T/o/l.json"; then fail "limbs4 ran the staged retry"; fi
 # Its legs' chord triangles sit on their floor: the warning says so and names both ways out, the finer
-# mesh and the map of spherical areas (session 19; it named neither before).
+# mesh and the map of spherical areas (an older warning named neither).
 expect_err 'cannot bring their chord area down.*: a finer mesh there lowers that error \(--refine-mesh\); the spherical triangles.* \(--spherical-areas\)'
 # With a density, small cells are what was asked for: no warning (limbs4 with 0.05 on its first half
 # of faces warned of 38% when the shares were the surface's own).

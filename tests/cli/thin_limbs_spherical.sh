@@ -2,7 +2,7 @@
 # the generated thin-limbed family in data/ (issue 21): on the sphere's own triangles the map meets the
 # issue's unrefined bounds, per-face mean |r - 1| <= 0.03 and vertex mean |log r| <= 0.01 (numpy here;
 # param-eval's sph_ figures agree when ../shared is there), with no spherical triangle turned over, and
-# the report's sph_ metrics and the summary line say the same. tpose failed before session 18 (0.0623 / 0.0291: a shape
+# the report's sph_ metrics and the summary line say the same. tpose failed with shape restoring kept on (0.0623 / 0.0291: a shape
 # restoring step undone at every other solve).
 # sh thin_limbs_spherical.sh PROG SOURCE_DIR SHARED_DIR MESH   (MESH: limbs4, limbs8, coil or tpose)
 . "$(dirname "$0")/lib.sh"
@@ -13,7 +13,7 @@ run sphere "$IN" "$OUT" --spherical-areas --report "$T/o/r.json"
 expect_status 0
 expect_on_sphere "$OUT" 1e-12
 # The chord floor does not hold spherical triangles: no warning of it (limbs8 and tpose, which miss the
-# tolerance, had one before session 19).
+# tolerance, had one under an older rule).
 if grep -q 'chord area down' "$T/log/stderr"; then fail "a map of spherical areas warned of the chord floor"; fi
 said=$(sed -n 's/^authalic: sphere: .* sph|r-1|=\([^ ]*\) sph vertex|log r|=\([^ ]*\) time=.*/\1 \2/p' "$T/log/stderr")
 [ -n "$said" ] || fail "no spherical figures in the summary line"
