@@ -67,7 +67,7 @@ fuzz: build-fuzz
 	bash tests/fuzz/run.sh $(FUZZ_DIR) $(FUZZ_SECONDS)
 
 bench: build
-	bash bench/bench.sh
+	bash bench/bench.sh --results bench/RESULTS.md
 
 scale: build
 	bash bench/scale.sh --build $(BUILD_DIR)

@@ -12,10 +12,13 @@ bin=$root/build/authalic
 args=""
 limit=0
 runs=1
+results=""
+extras=1
 
 usage() {
   cat <<EOF
 usage: bench/bench.sh [--meshes "a.obj b.off"] [--out DIR] [--args "..."] [--bin PATH] [--timeout SEC] [--runs N]
+                      [--results FILE [--no-extras]]
 Maps each mesh with 'authalic sphere IN OUT.obj --report R.json --quiet ARGS' under /usr/bin/time,
 evaluates the result with ../shared/tools/param-eval, prints a table and writes it to DIR/bench.md.
   --meshes LIST  meshes of ../shared/meshes to run (default: all 14 closed genus-0 meshes)
@@ -25,6 +28,10 @@ evaluates the result with ../shared/tools/param-eval, prints a table and writes 
   --timeout SEC  stop a map after SEC seconds and count it as failed (default: 0, no limit)
   --runs N       map each mesh N times and keep the run with the least init + flow time (the maps are
                  the same; on a shared machine the times of one run vary by 20% and more) (default: 1)
+  --results FILE the committed results page (make bench: bench/RESULTS.md): a header with the date, the
+                 commit, the CPU model, its cores and the load average at the start (the machine may be
+                 shared), then this table, bench/planar.sh's planar maps and bench/thin_limbs.sh's table
+  --no-extras    with --results: the sphere table only (no planar maps, no thin limbs)
 Exit status: 0 all maps ran (or ../shared/meshes is absent), 1 some map failed, 2 bad usage.
 EOF
 }
@@ -32,11 +39,12 @@ EOF
 while [ $# -gt 0 ]; do
   case $1 in
     -h|--help) usage; exit 0 ;;
-    --meshes|--out|--args|--bin|--timeout|--runs)
+    --no-extras) extras=0; shift ;;
+    --meshes|--out|--args|--bin|--timeout|--runs|--results)
       if [ $# -lt 2 ]; then echo "bench: $1 needs a value" >&2; exit 2; fi
       case $1 in
         --meshes) meshes=$2 ;; --out) out=$2 ;; --args) args=$2 ;; --bin) bin=$2 ;; --timeout) limit=$2 ;;
-        --runs) runs=$2 ;;
+        --runs) runs=$2 ;; --results) results=$2 ;;
       esac
       shift 2 ;;
     *) echo "bench: unknown argument '$1' (see --help)" >&2; exit 2 ;;
@@ -63,8 +71,9 @@ guard=()
 if [ "$limit" -gt 0 ]; then guard=(timeout "$limit"); fi
 read -r -a extra <<<"$args"
 mkdir -p "$out" || exit 2
-results=$out/results.tsv
-: >"$results" || exit 2
+load_start=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null)
+tsv=$out/results.tsv
+: >"$tsv" || exit 2
 
 # One row per mesh: name, status, wall seconds, peak KiB, report path, param-eval path, message.
 for m in $meshes; do
@@ -72,7 +81,7 @@ for m in $meshes; do
   base=$out/${m%.*}
   rm -f "$base.obj" "$base.json" "$base.eval.json" "$base.err"
   if [ ! -f "$in" ]; then
-    printf '%s\tFAIL\t\t\t\t\t%s\n' "$m" "no such mesh in $shared/meshes" >>"$results"
+    printf '%s\tFAIL\t\t\t\t\t%s\n' "$m" "no such mesh in $shared/meshes" >>"$tsv"
     echo "bench: $m: no such mesh" >&2
     continue
   fi
@@ -90,13 +99,13 @@ for m in $meshes; do
   if [ $rc -ne 0 ]; then
     msg=$(grep . "$base.err" 2>/dev/null | tail -n 1 | tr '\t|' '  ' | cut -c1-200)
     [ $rc -eq 124 ] && [ "$limit" -gt 0 ] && msg="timed out after $limit s"
-    printf '%s\tFAIL\t%s\t%s\t%s\t\t%s\n' "$m" "$wall" "$rss" "$base.json" "exit $rc: ${msg:-no message}" >>"$results"
+    printf '%s\tFAIL\t%s\t%s\t%s\t\t%s\n' "$m" "$wall" "$rss" "$base.json" "exit $rc: ${msg:-no message}" >>"$tsv"
     echo "bench: $m: FAIL (exit $rc) ${msg}" >&2
     continue
   fi
   if ! /usr/bin/python3 "$shared/tools/param-eval" "$in" "$base.obj" --json >"$base.eval.json" 2>"$base.err"; then
     msg=$(grep . "$base.err" | tail -n 1 | tr '\t|' '  ' | cut -c1-200)
-    printf '%s\tEVAL\t%s\t%s\t%s\t\t%s\n' "$m" "$wall" "$rss" "$base.json" "param-eval failed: $msg" >>"$results"
+    printf '%s\tEVAL\t%s\t%s\t%s\t\t%s\n' "$m" "$wall" "$rss" "$base.json" "param-eval failed: $msg" >>"$tsv"
     echo "bench: $m: param-eval failed: $msg" >&2
     continue
   fi
@@ -113,11 +122,11 @@ sys.exit(0 if t[1]["init"] + t[1]["flow"] < t[0]["init"] + t[0]["flow"] else 1)'
     fi
   done
   rm -f "$base.try.obj" "$base.try.json"
-  printf '%s\tok\t%s\t%s\t%s\t%s\t\n' "$m" "$wall" "$rss" "$base.json" "$base.eval.json" >>"$results"
+  printf '%s\tok\t%s\t%s\t%s\t%s\t\n' "$m" "$wall" "$rss" "$base.json" "$base.eval.json" >>"$tsv"
 done
 
 # The table (Markdown, so bench.md renders and the terminal copy stays readable).
-/usr/bin/python3 - "$results" "$out/bench.md" "$bin" "$args" "$runs" <<'EOF'
+/usr/bin/python3 - "$tsv" "$out/bench.md" "$bin" "$args" "$runs" <<'EOF'
 import json, sys
 
 results, md, binary, args, runs = sys.argv[1:6]
@@ -190,3 +199,54 @@ with open(md, 'w') as f:
 print(f"\n{len(rows) - failed} of {len(rows)} meshes mapped; table in {md}")
 sys.exit(1 if failed else 0)
 EOF
+rc=$?
+[ -n "$results" ] || exit $rc
+
+# The results page: the machine and its load first, since the times depend on both.
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1)
+ncpu=$(grep -c '^processor' /proc/cpuinfo)
+commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+page=$out/RESULTS.md.tmp
+{
+  echo "# Benchmark results"
+  echo
+  echo "Regenerated by \`make bench\` (\`bash bench/bench.sh --results bench/RESULTS.md\`); the scripts are described in"
+  echo "[README.md](README.md). Times are wall-clock seconds of one run on a machine that may be shared: read them"
+  echo "against the load average below (two cores busy with other work double a time)."
+  echo
+  echo "| | |"
+  echo "|---|---|"
+  echo "| date (UTC) | $(date -u '+%Y-%m-%d %H:%M') |"
+  echo "| commit | $commit |"
+  echo "| CPU | ${cpu:-unknown}, $ncpu logical cores (/proc/cpuinfo) |"
+  echo "| load average at start (1, 5, 15 min) | ${load_start:-unknown} |"
+  echo "| sphere meshes | $( [ "$meshes" = "$all_meshes" ] && echo "all 14 closed genus-0 meshes of ../shared/meshes" || echo "subset: $meshes") |"
+  echo "| extra arguments | ${args:-none} |"
+  echo
+  echo "## Sphere: \`authalic sphere\` on the closed genus-0 meshes"
+  echo
+  tail -n +3 "$out/bench.md"
+  if [ $extras = 1 ]; then
+    echo
+    echo "## Planar domains: \`bench/planar.sh\`"
+    echo
+    echo "One line per map: steps, steps undone, init + flow seconds, mean angle difference (degrees), then"
+    echo "param-eval \`--coords v\`: folds, per-face mean |r-1| (r_mad), vertex mean |log r|, r_cv, boundary deviations."
+    echo
+    echo '```'
+    bash "$root/bench/planar.sh" --bin "$bin"
+    echo '```'
+    echo
+    echo "## Thin limbs: \`bench/thin_limbs.sh\`"
+    echo
+    echo "Per-face mean |r-1| / vertex mean |log r| by param-eval; the refined maps against their refined surface."
+    echo
+    echo "| mesh | default map | --refine-mesh (2x faces) | --refine-budget auto |"
+    echo "|---|---|---|---|"
+    (cd "$root" && sh bench/thin_limbs.sh "$bin" "$out/thin_limbs")
+  fi
+  echo
+  echo "Load average at the end: $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null)."
+} >"$page" && mv "$page" "$results" || { echo "bench: cannot write $results" >&2; exit 2; }
+echo "bench: results page written to $results" >&2
+exit $rc

@@ -1,6 +1,6 @@
 #!/bin/sh
-# texture_limbs.sh BIN OUTDIR - textures of the thin-limbed family (issue 21, docs/textures.md "Fold
-# mending on maps of needles"): `authalic texture` in cea, laea and oct with the texture command's own
+# texture_limbs.sh BIN OUTDIR - textures of the thin-limbed family (issue 21, docs/textures.md, "The per-face
+# area of a texture, and fold mending"): `authalic texture` in cea, laea and oct with the texture command's own
 # map, then ../shared/tools/param-eval OUT OUT --coords vt: texel per-face error, faces, folds, seconds
 # (or the error line). Run from the source root: sh bench/texture_limbs.sh build/authalic /tmp/tx
 BIN=$1; O=$2; mkdir -p $O
