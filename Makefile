@@ -6,6 +6,8 @@
 #               (LeakSanitizer), an invalid access or undefined behaviour makes the test fail
 #   make fuzz   the libFuzzer targets of tests/fuzz built with clang ($(FUZZ_DIR)), each run for
 #               FUZZ_SECONDS; any finding fails (tests/fuzz/run.sh says where it was saved)
+#   make bench  bench/bench.sh --results bench/RESULTS.md: the shared meshes' sphere, planar and thin-limb
+#               tables, with the date, the CPU and the load average in the page's header
 #   make scale  bench/scale.sh: generated meshes of 10k..1M faces mapped under /usr/bin/time -v
 #   make python the Python package (python/) installed for $(PYTHON) with its copy of the library;
 #               its pytest suite runs in `make test` (ctest case python.pytest, both builds)
