@@ -6,6 +6,7 @@
 
 #include <cjson/cJSON.h>
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,15 +37,16 @@ static const char *base_name(const char *p) {
 }
 
 /* An OBJ's `vt` rows and each face corner's row (f v/vt ...), when it has them: 1 with *vt, *Ft (nf
- * faces expected) and *nvt set, 0 when the file has no `vt` (or is not OBJ), else an exit code with
- * the error printed. Faces are triangles, as the program writes them. */
+ * faces expected) and *nvt set, 0 when the file has no `vt` (or is not OBJ) or its faces name none
+ * (per-vertex coordinates: a texture, the map is in `v`), else an exit code with the error printed.
+ * Faces are triangles, as the program writes them. */
 static int read_obj_vt(const char *path, int nf, double **vt, int **Ft, int *nvt) {
   if (!cli_has_ext(path, ".obj")) return 0;
   FILE *fp = fopen(path, "r");
   if (!fp) return fprintf(stderr, "authalic: error: %s: cannot open: %s\n", path, strerror(errno)), EXIT_USAGE;
   size_t cap = 1024, n = 0;
   double *t = malloc(2 * cap * sizeof *t);
-  int *C = malloc(3 * (size_t)nf * sizeof *C), f = 0, rc = 1, line = 0;
+  int *C = malloc(3 * (size_t)nf * sizeof *C), f = 0, rc = 1, line = 0, plain = 0;
   char buf[4096];
   while (t && C && rc == 1 && fgets(buf, sizeof buf, fp)) {
     line++;
@@ -59,7 +61,7 @@ static int read_obj_vt(const char *path, int nf, double **vt, int **Ft, int *nvt
         rc = EXIT_USAGE;
       }
       n++;
-    } else if (buf[0] == 'f' && (buf[1] == ' ' || buf[1] == '\t')) {
+    } else if (buf[0] == 'f' && (buf[1] == ' ' || buf[1] == '\t') && n > 0 && !plain) {
       char *p = buf + 2;
       for (int k = 0; k < 4 && rc == 1; k++) {
         while (*p == ' ' || *p == '\t') p++;
@@ -70,6 +72,10 @@ static int read_obj_vt(const char *path, int nf, double **vt, int **Ft, int *nvt
         char *slash = p;
         while (*slash && *slash != '/' && *slash != ' ' && *slash != '\t' && *slash != '\n') slash++;
         long r = *slash == '/' && slash[1] != '/' ? strtol(slash + 1, NULL, 10) : 0;
+        if (r == 0 && k == 0 && f == 0) { /* per-vertex vt (a texture of the map), not a map by corners */
+          plain = 1;
+          break;
+        }
         if (k == 3 || f >= nf || r == 0) rc = -1;
         else C[3 * (size_t)f + k] = (int)(r < 0 ? (long)n + r : r - 1);
         while (*p && *p != ' ' && *p != '\t' && *p != '\n') p++;
@@ -79,12 +85,12 @@ static int read_obj_vt(const char *path, int nf, double **vt, int **Ft, int *nvt
                 path, line, nf);
         rc = EXIT_USAGE;
       }
-      f++;
+      if (!plain) f++;
     }
   }
   fclose(fp);
   if (rc == 1 && (!t || !C)) fprintf(stderr, "authalic: error: %s: out of memory\n", path), rc = EXIT_INTERNAL;
-  if (rc == 1 && n == 0) rc = 0;
+  if (rc == 1 && (n == 0 || plain)) rc = 0;
   if (rc == 1 && f != nf)
     fprintf(stderr, "authalic: error: %s: %d faces; IN has %d\n", path, f, nf), rc = EXIT_USAGE;
   for (size_t c = 0; rc == 1 && c < 3 * (size_t)nf; c++)
@@ -174,9 +180,19 @@ int cli_cmd_view(int argc, char **argv) {
     rc = EXIT_USAGE;
     goto done;
   }
-  int got = read_obj_vt(map, m->nf, &vt, &Ft, &nvt);
+  /* The map is MAP's positions, unless those are IN's surface (a torus map, a texture): then its vt. */
+  int surface = mm->nv == m->nv;
+  double ext = 0;
+  for (size_t i = 0; surface && i < 3 * (size_t)m->nv; i++) ext = fmax(ext, fabs(m->X[i]));
+  for (size_t i = 0; surface && i < 3 * (size_t)m->nv; i++) surface = fabs(mm->X[i] - m->X[i]) <= 1e-6 * ext;
+  int got = surface ? read_obj_vt(map, m->nf, &vt, &Ft, &nvt) : 0;
   if (got != 0 && got != 1) {
     rc = got;
+    goto done;
+  }
+  if (surface && !got) {
+    fprintf(stderr, "authalic: error: %s: its vertices are those of %s and it has no per-corner `vt`: not a map of it\n", map, in);
+    rc = EXIT_USAGE;
     goto done;
   }
   if (!got && mm->nv != m->nv) {

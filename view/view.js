@@ -374,20 +374,24 @@ if (opts.has('probe')) probe();
 /* A resize (the first layout of a headless browser's window too) lays the page out afresh. */
 addEventListener('resize', () => { layout(); reset(); if (opts.has('probe')) probe(); });
 
-/* #probe (for tests; also redone on resize): turn the map to its most squeezed face, zoom until that face is some pixels
- * across, and say on the console where it is drawn and which colour the scale gives it. */
+/* #probe (for tests; also redone on resize): turn the map to its most squeezed face, zoom until its inscribed circle is
+ * some pixels across, and say on the console where it is drawn and which colour the scale gives it. */
 function probe() {
   let f0 = -1;
   for (let f = 0; f < nf; f++) if (Number.isFinite(logr[f]) && (f0 < 0 || logr[f] < logr[f0])) f0 = f;
-  const c = corner(mapPos, f0, new THREE.Vector3(1 / 3, 1 / 3, 1 / 3));
-  const e = Math.max(...[0, 1, 2].map(k => new THREE.Vector3().fromArray(mapPos, 9 * f0 + 3 * k).distanceTo(c)));
-  const px = 40; /* the face's size in pixels wanted at least */
+  /* The face's incentre, the point farthest from its edges, and its inradius e. */
+  const P = [0, 1, 2].map(k => new THREE.Vector3().fromArray(mapPos, 9 * f0 + 3 * k));
+  const len = [0, 1, 2].map(k => P[(k + 1) % 3].distanceTo(P[(k + 2) % 3])), per = len[0] + len[1] + len[2];
+  const c = new THREE.Vector3();
+  for (let k = 0; k < 3; k++) c.addScaledVector(P[k], len[k] / per);
+  const e = new THREE.Vector3().subVectors(P[1], P[0]).cross(new THREE.Vector3().subVectors(P[2], P[0])).length() / per;
+  const px = 8; /* the inradius wanted in pixels at least */
   if (sphere) {
     mapGroup.quaternion.setFromUnitVectors(c.clone().normalize(), new THREE.Vector3(0, 0, 1));
     const fl = view.h / 2 / Math.tan(35 / 2 * Math.PI / 180);
     mapCam.position.z = Math.min(DIST, Math.max(1.02, 1 + fl * e / px));
   } else {
-    view.half = Math.min(view.half, Math.max(e * view.h / 2 / px * 2, 1e-6));
+    view.half = Math.min(view.half, Math.max(e * view.h / 2 / px, 1e-6));
     view.panX = c.x - mapCenter.x, view.panY = c.y - mapCenter.y;
   }
   draw();
