@@ -401,4 +401,4 @@ function probe() {
   const col = ramp(DIV, (logr[f0] + Rr) / (2 * Rr));
   console.log(`AUTHALIC_PROBE ${x.toFixed(1)} ${y.toFixed(1)} ${col.join(' ')} face ${f0} logr ${logr[f0]}`);
 }
-console.log(`AUTHALIC_READY ${nf} faces`);
+console.log(`AUTHALIC_READY ${nf} faces, drawn ${Math.round(performance.now())} ms after the page began to load`);
