@@ -280,11 +280,14 @@ pickMat.uniforms.mode.value = 9;
 function pick(x, y) {
   const left = x < view.w / 2, scene = left ? surfScene : mapScene, cam = left ? surfCam : mapCam;
   const lx = left ? x : x - view.w / 2, W = view.w / 2, H = view.h;
+  const shown = [surfMark.visible, mapMark.visible];
+  surfMark.visible = mapMark.visible = false; /* the markers carry no face ids */
   cam.setViewOffset(W, H, lx, y, 1, 1);
   scene.overrideMaterial = pickMat, renderer.setRenderTarget(pickRT), renderer.setViewport(0, 0, 1, 1);
   renderer.setClearColor(0x000000, 0), renderer.clear(), renderer.render(scene, cam);
   renderer.readRenderTargetPixels(pickRT, 0, 0, 1, 1, pickPx);
   renderer.setRenderTarget(null), renderer.setClearColor(0x202124, 1), scene.overrideMaterial = null, cam.clearViewOffset();
+  [surfMark.visible, mapMark.visible] = shown;
   const f = pickPx[0] + 256 * pickPx[1] + 65536 * pickPx[2] - 1;
   if (f < 0 || f >= nf) return null;
   const ray = new THREE.Raycaster();
@@ -394,10 +397,19 @@ function probe() {
     view.half = Math.min(view.half, Math.max(e * view.h / 2 / px, 1e-6));
     view.panX = c.x - mapCenter.x, view.panY = c.y - mapCenter.y;
   }
+  /* Every colour mode drawn once (their errors would show on the console), then the area's. */
+  for (const m of modes) setMode(m), draw();
+  setMode('area');
   draw();
   mapCentral.updateMatrixWorld();
   const s = c.clone().applyMatrix4(mapCentral.matrixWorld).project(mapCam);
   const x = view.w / 2 + (s.x + 1) / 2 * view.w / 2, y = (1 - s.y) / 2 * view.h;
+  /* The linked cursor's path: the face picked there, and the surface point marked for it. */
+  hover(x, y);
+  const on = surfMark.visible && Number.isFinite(surfMark.position.x);
+  console.log(`AUTHALIC_PICK ${pick(x, y) ? pick(x, y).f : -1} marked ${on}`);
+  surfMark.visible = mapMark.visible = false, $('au-hover').textContent = '';
+  draw();
   const col = ramp(DIV, (logr[f0] + Rr) / (2 * Rr));
   console.log(`AUTHALIC_PROBE ${x.toFixed(1)} ${y.toFixed(1)} ${col.join(' ')} face ${f0} logr ${logr[f0]}`);
 }

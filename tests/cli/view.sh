@@ -2,7 +2,8 @@
 #   page MESH CMD       map MESH (../shared/meshes, else data/) with CMD --html, then open the page in Chromium
 #                       (WebGL through SwiftShader): no JavaScript error, 15% of a 1280x720 screenshot painted
 #                       in 50 colours or more, the pixel over the map's most squeezed face in the squeezed
-#                       colour (the page's #probe option turns the map to it and prints where it is); `view`
+#                       colour (the page's #probe option turns the map to it and prints where it is; every
+#                       colour mode is drawn once and the face picked there must be that face); `view`
 #                       of the written map makes the same page's data
 #   writer              the C writer alone (also under the sanitizers): a page with no URL whose figures are
 #                       the report's, --attr, and a MAP that is not IN's map refused (exit 2, no file)
@@ -20,7 +21,8 @@ page)
   CHROME=$(command -v chromium || command -v chromium-browser) || skip "chromium is not installed (scripts/setup-debian.sh)"
   mesh "$2" "$4"
   cmd=$3
-  run "$cmd" "$IN" "$T/o/map.obj" --html "$T/o/map.html" --report "$T/o/r.json" --quiet
+  # A few steps: the page, not the map, is under test.
+  run "$cmd" "$IN" "$T/o/map.obj" --steps 4 --html "$T/o/map.html" --report "$T/o/r.json" --quiet
   expect_status 0
   $PY "$SRC/tests/cli/viewcheck.py" page "$T/o/map.html" "$T/o/r.json" >&2 || fail "the page"
   run view "$IN" "$T/o/map.obj" "$T/o/view.html" --quiet

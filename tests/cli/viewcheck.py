@@ -92,6 +92,10 @@ def shot(log, png):
     colours = np.unique(rgb[painted].reshape(-1, 3), axis=0).shape[0]
     if frac < 0.15 or colours < 50:
         sys.exit(f"painted {frac:.1%} of the screenshot in {colours} colours (need 15% and 50)")
+    picks = [x for x in lines if "AUTHALIC_PICK" in x]
+    pf = picks[-1].split("AUTHALIC_PICK", 1)[1].split() if picks else ["none"]
+    if pf[0] != f[6] or len(pf) < 3 or not pf[2].startswith("true"):
+        sys.exit(f"the face picked under the most squeezed face's point is {pf[0]}, expected {f[6]} (marked: {pf[2:]})")
     i, j = int(round(y)), int(round(x))
     if not (0 <= i < 720 and 0 <= j < 1280):
         sys.exit(f"the most squeezed face is off the screen at ({x}, {y})")
