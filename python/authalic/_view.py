@@ -19,6 +19,10 @@ class _ViewInput(_ct.Structure):
                 ("steps", c_int), ("seconds", c_double)]
 
 
+if _L.au_struct_size(b"au_view_input") != _ct.sizeof(_ViewInput):
+    raise ImportError("authalic: au_view_input is %d bytes in the library but %d in this package: the library and "
+                      "the package are from different versions" % (_L.au_struct_size(b"au_view_input"),
+                                                                   _ct.sizeof(_ViewInput)))
 _L.au_view_html.restype = c_int
 _L.au_view_html.argtypes = [_ct.POINTER(_ViewInput), _ct.POINTER(_ct.c_void_p), _ct.POINTER(_ct.c_size_t),
                             _ct.POINTER(_lib.Msg)]
