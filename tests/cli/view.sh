@@ -6,7 +6,8 @@
 #                       colour mode is drawn once and the face picked there must be that face); `view`
 #                       of the written map makes the same page's data
 #   writer              the C writer alone (also under the sanitizers): a page with no URL whose figures are
-#                       the report's, --attr, and a MAP that is not IN's map refused (exit 2, no file)
+#                       the report's, --attr, a MAP that is not IN's map refused (exit 2, no file), and a
+#                       torus map read back from its OBJ vt
 . "$(dirname "$0")/lib.sh"
 case=$1
 [ -x "$PY" ] || skip "$PY is absent"
@@ -63,6 +64,14 @@ writer)
   expect_rejected "short.txt"
   run view "$IN" "$T/keep/s.obj"
   expect_rejected "expected IN MAP OUT.html"
+  # A map by per-corner vt (a torus): read back from the OBJ, tiled by the lattice found in it.
+  TR=$(stage "$SRC/data/torus_r3.obj")
+  run torus "$TR" "$T/o/t.obj" --html "$T/o/t.html" --quiet
+  expect_status 0
+  run view "$TR" "$T/o/t.obj" "$T/o/tv.html" --quiet
+  expect_status 0
+  grep -q '"kind":"torus","lattice":\[\[' "$T/o/tv.html" || fail "the torus map's page is not tiled"
+  $PY "$SRC/tests/cli/viewcheck.py" same "$T/o/t.html" "$T/o/tv.html" >&2 || fail "view's torus page differs from --html's"
   ;;
 *)
   fail "unknown case $case"
