@@ -31,7 +31,7 @@ const sphere = D.kind === 'sphere', lattice = D.lattice;
 /* ---------------------------------------------------------------- scales */
 
 function quantile(a, p) {
-  const v = Array.from(a).filter(Number.isFinite).sort((x, y) => x - y);
+  const v = Float32Array.from(a).filter(Number.isFinite).sort(); /* typed: a numeric sort, fast on 1M values */
   return v.length ? v[Math.min(v.length - 1, Math.floor(p * v.length))] : 0;
 }
 function absArray(a) { const b = new Float32Array(a.length); for (let i = 0; i < a.length; i++) b[i] = Math.abs(a[i]); return b; }
@@ -330,8 +330,14 @@ function rotate(group, dx, dy) {
   q.setFromEuler(new THREE.Euler(dy * k, dx * k, 0, 'XYZ'));
   group.quaternion.premultiply(q);
 }
+/* Picking draws the scene once more: at most once a frame, for the latest pointer position. */
+let hoverAt = null;
 canvas.addEventListener('pointermove', e => {
-  if (!drag) { hover(e.clientX, e.clientY); return; }
+  if (!drag) {
+    if (!hoverAt) requestAnimationFrame(() => { const [x, y] = hoverAt; hoverAt = null; hover(x, y); });
+    hoverAt = [e.clientX, e.clientY];
+    return;
+  }
   const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
   drag.x = e.clientX, drag.y = e.clientY;
   if (drag.left) rotate(surfGroup, dx, dy);
