@@ -888,6 +888,42 @@ AU_API au_status au_tex_seam_view(const au_tex_mesh *t, double view[3]);
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */
 AU_API au_status au_npy_write(const char *path, int ndim, const long *shape, const double *data, au_msg *msg);
 
+/* ---- the view page (docs/view.md) */
+
+/* What au_view_html shows: a surface and its map. The map is either P at the vertices (on a sphere
+ * about the origin of any radius, drawn as a globe; or in the plane z = 0, drawn flat) or per-corner
+ * plane coordinates (vt, Ft: drawn flat, tiled 3 x 3 when the copies of the vertices differ by a
+ * lattice, as a torus map's do). */
+typedef struct au_view_input {
+  int nv, nf;            /* the surface's vertices and faces (> 0) */
+  const double *X;       /* X [0..3*nv-1] */
+  const int *F;          /* F [0..3*nf-1], 0 <= F < nv */
+  const double *P;       /* P [0..3*nv-1]: the map at the vertices; NULL (default) when vt is given */
+  int nvt;               /* the map by corners instead: nvt rows of vt (0, default: none) */
+  const double *vt;      /* vt [0..2*nvt-1] */
+  const int *Ft;         /* Ft [0..3*nf-1], 0 <= Ft < nvt: the vt row of each corner */
+  const double *attr;    /* attr [0..nv-1]: a per-vertex value to colour by (curv, sulc, ...); NULL (default) */
+  const char *attr_name; /* its name on the page; NULL (default): "attribute" */
+  const char *title;     /* the page's title; NULL (default): none */
+  int steps;             /* the flow's steps, shown with the figures; -1 (default): not known */
+  double seconds;        /* the run's seconds, likewise; < 0 (default): not known */
+} au_view_input;
+
+/* An au_view_input with the defaults above and everything else 0 or NULL. */
+AU_API au_view_input au_view_input_default(void);
+
+/* One self-contained HTML page (nothing is fetched when it opens; three.js is inlined) with the
+ * surface and its map side by side, both coloured by the per-face area distortion log r on a
+ * diverging scale (switchable to the angle distortion Lambda, a checkerboard through the map and the
+ * attribute), linked cursors, the headline figures (folds, per-face mean |r - 1|, vertex mean |log r|
+ * as au_metrics_compute gives them, steps, time) and the distortion histograms. On success *html is
+ * the page (free with au_free) and *len its length (len may be NULL). Returns AU_OK, AU_E_ARG (a
+ * missing array, both or neither of P and vt, an index out of range), AU_E_NOMEM, or the status of
+ * the metrics (a zero total area). */
+AU_API au_status au_view_html(const au_view_input *in, char **html, size_t *len, au_msg *msg);
+/* au_view_html written to path atomically (au_write_text). Returns its statuses and AU_E_IO. */
+AU_API au_status au_view_write(const char *path, const au_view_input *in, au_msg *msg);
+
 #ifdef __cplusplus
 }
 #endif

@@ -20,7 +20,12 @@ PACKAGES=(
   clang libclang-rt-14-dev llvm  # libFuzzer and its runtime (make fuzz); llvm-symbolizer for sanitizer stacks
   snakemake python3-matplotlib  # workflow/: the cohort engine (7.x), previews and cohort.png
   slurmctld slurmd slurm-client munge  # workflow/: the cluster path, tested on a one-node Slurm on localhost
+  nodejs  # the view page's build: view/embed.mjs, and npm ci of three.js from view/package-lock.json
+  chromium  # the view tests open the page headless (WebGL through SwiftShader)
 )
+# npm comes with Debian's nodejs as its own package; a Node.js from elsewhere (NodeSource) carries its
+# own npm and conflicts with Debian's, so npm is asked for only when there is none.
+command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
   echo "setup-debian.sh: not a Debian system (no dpkg-query); install the equivalents of: ${PACKAGES[*]}" >&2

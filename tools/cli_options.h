@@ -133,6 +133,8 @@ enum {
     "IN drawn with the baked texture through OUT.obj's coordinates, from the side of the seam and from the "       \
     "opposite side (needs --bake)")                                                                                  \
   X(OPT_MARK_SEAM, "mark-seam", NULL, CLI_FLAG, CLI_TEXTURE, "tint the faces across the cea seam red in --render")  \
+  X(OPT_HTML, "html", "OUT.html", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
+    "the map as one self-contained interactive page (authalic view; docs/view.md)")                                  \
   X(OPT_QUIET, "quiet", NULL, CLI_FLAG, CLI_ALL, "no progress and no summary on stderr (errors and warnings remain)") \
   X(OPT_HELP, "help", NULL, CLI_FLAG, CLI_ALL, "this text")
 
@@ -141,7 +143,7 @@ typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
   OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_REFINE_BUDGET, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
   OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_AREA_TARGET, OPT_LONLAT,
-  OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
+  OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_HTML, OPT_QUIET, OPT_HELP,
   OPT_COUNT
 } cli_opt_id;
 

@@ -179,6 +179,12 @@ static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o)
                     (a->val[OPT_REPORT] && cli_same_file(pv, a->val[OPT_REPORT])) || (d && cli_same_file(pv, d))))
     return cli_usage_error(a->help, "--preview '%s' is also another input or output file", pv);
   if (!rc && pv) rc = cli_check_writable_path(a->help, pv, "--preview");
+  const char *hv = a->val[OPT_HTML];
+  if (!rc && hv && (cli_same_file(hv, a->pos[0]) || cli_same_file(hv, a->pos[1]) || (a->val[OPT_REPORT] && cli_same_file(hv, a->val[OPT_REPORT])) ||
+                    (d && cli_same_file(hv, d)) || (pv && cli_same_file(hv, pv)) || (sf && cli_same_file(hv, sf)) ||
+                    (dens && cli_same_file(hv, dens))))
+    return cli_usage_error(a->help, "--html '%s' is also another input or output file", hv);
+  if (!rc && hv) rc = cli_check_writable_path(a->help, hv, "--html");
   return rc ? rc : -1;
 }
 
@@ -303,8 +309,8 @@ static int run_map(const cli_args *a, au_options *o) {
   /* The outputs besides OUT and the report (the refined surface and its parents, the distortion, the
    * preview) wait under temporary names beside the files they replace until OUT is published: a run
    * that fails later leaves a user's earlier files, and the links to them, as they were. */
-  enum { P_SURF, P_PARENTS, P_DISTORTION, P_PREVIEW, NPENDING };
-  const char *names[NPENDING] = {surf, surf ? parents : NULL, distortion, preview};
+  enum { P_SURF, P_PARENTS, P_DISTORTION, P_PREVIEW, P_HTML, NPENDING };
+  const char *names[NPENDING] = {surf, surf ? parents : NULL, distortion, preview, a->val[OPT_HTML]};
   char *dest[NPENDING] = {NULL}, *tmp[NPENDING] = {NULL};
   int written[NPENDING] = {0};
   double *density = NULL;
@@ -385,6 +391,17 @@ static int run_map(const cli_args *a, au_options *o) {
       goto done;
     }
     written[P_PREVIEW] = 1;
+  }
+  if (names[P_HTML]) {
+    au_view_input v = au_view_input_default();
+    v.nv = r->nv, v.nf = r->nf, v.X = r->X, v.F = r->F;
+    if (t == AU_TARGET_TORUS) v.nvt = r->nvt, v.vt = r->vt, v.Ft = r->Ft;
+    else v.P = r->P;
+    v.steps = r->conv.steps, v.seconds = cli_now() - t_start;
+    const char *slash = strrchr(in, '/');
+    v.title = slash ? slash + 1 : in;
+    if ((rc = cli_write_view(tmp[P_HTML], names[P_HTML], &v, 1)) >= 0) goto done;
+    written[P_HTML] = 1;
   }
   rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
   for (int k = 0; rc == EXIT_OK && k < NPENDING; k++)

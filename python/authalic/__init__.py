@@ -938,3 +938,6 @@ torus.__doc__ = """Map a closed genus-1 triangle mesh onto a flat torus with equ
     Returns (VT, FT, info): VT float64 (nvt, 2) per-corner texture coordinates in the plane (nvt >=
     nv: row i < nv belongs to vertex i, the rows after it are copies shifted by lattice vectors),
     FT int32 (nf, 3) each corner's row of VT.""" + _RETURNS_DOC
+
+
+from ._view import View, view  # noqa: E402,F401  (the page of a map: docs/view.md)

@@ -108,6 +108,13 @@ def main(argv):
         P, G = meshio_np.read_mesh(os.path.join(d, "map.obj"))
         check(len(P) == rep["V"] and len(G) == rep["F"], f"{i}: map has {len(P)} vertices, {len(G)} faces")
         check(is_png(os.path.join(d, "preview.png")), f"{i}: preview.png is not a PNG picture")
+        view = os.path.join(d, "view.html")
+        if os.path.exists(view):  # a program with `authalic view`: the page, linked from cohort.md
+            page = open(view, encoding="utf-8").read()
+            check('id="au-data">{"v":1,' in page and f'"nf":{rep["F"]},' in page and "http://" not in page,
+                  f"{i}: view.html is not the page of its {rep['F']}-face map")
+            check(f"(surfaces/{i}/view.html)" in open(os.path.join(out, "cohort.md")).read(),
+                  f"{i}: cohort.md does not link its view.html")
         if m.get("attribute"):
             nval = len(open(os.path.normpath(os.path.join(base, m["attribute"]))).read().split())
             if nval == len(X):

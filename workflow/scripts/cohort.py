@@ -44,6 +44,8 @@ def read_row(status_path, report_path):
         row[k] = st.get(k)
     notes = [open(e).read().strip() for e in sorted(glob.glob(os.path.join(os.path.dirname(status_path), "*.error")))]
     row["notes"] = "; ".join(notes)
+    view = os.path.join(os.path.dirname(status_path), "view.html")
+    row["view"] = os.path.exists(view) and os.path.getsize(view) > 0  # linked from cohort.md, not a tsv column
     if st["status"] == 0 and os.path.getsize(report_path) > 0:
         rep = json.load(open(report_path))
         final = rep.get("final") or rep.get("metrics") or {}
@@ -136,6 +138,10 @@ def write_md(rows, path):
                        + ", ".join(f"{r['id']} ({r[key]:.3g})" for r in worst) + " |")
         notconv = [r["id"] for r in ok if r["converged"] is False]
         out += ["", f"Not converged to the tolerance: {', '.join(notconv) if notconv else 'none'}.", ""]
+    views = [r["id"] for r in ok if r.get("view")]
+    if views:
+        out += ["## Views", "", "Each map as an interactive page (the surface and its map side by side; docs/view.md):", ""]
+        out += [", ".join(f"[{i}](surfaces/{i}/view.html)" for i in views), ""]
     noted = [r for r in ok if r["notes"]]
     if noted:
         out += ["## Mapped, but a product failed", "", "| id | notes |", "|---|---|"]

@@ -1,7 +1,7 @@
 """run_map.py - run one `authalic` map for the workflow and record how it ended.
 
     run_map.py --authalic PROG --command sphere|disk|annulus|square --input IN --map MAP.obj
-               --report R.json --status S.json --log L.txt [--density FILE] [--distortion D]
+               --report R.json --status S.json --log L.txt [--density FILE] [--distortion D] [--html V.html]
                [--options "EXTRA OPTIONS"] [--id ID]
 
 A surface that fails must not stop the cohort, and a rerun must not retry it unless its input or
@@ -33,6 +33,7 @@ def main():
     ap.add_argument("--log", required=True)
     ap.add_argument("--density", default="")
     ap.add_argument("--distortion", default="")
+    ap.add_argument("--html", default="", help="the map's interactive page (authalic --html)")
     ap.add_argument("--options", default="")
     ap.add_argument("--id", default="")
     a = ap.parse_args()
@@ -42,9 +43,11 @@ def main():
         argv += ["--density", a.density]
     if a.distortion:
         argv += ["--distortion", a.distortion]
+    if a.html:
+        argv += ["--html", a.html]
     argv += shlex.split(a.options)
 
-    outputs = [a.map, a.report] + ([a.distortion] if a.distortion else [])
+    outputs = [a.map, a.report] + ([a.distortion] if a.distortion else []) + ([a.html] if a.html else [])
     for p in outputs + [a.status, a.log]:
         os.makedirs(os.path.dirname(os.path.abspath(p)), exist_ok=True)
     t0 = time.monotonic()
