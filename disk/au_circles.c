@@ -425,6 +425,17 @@ au_status au_circles_map(const au_mesh *m, const au_topo *t, const au_disk_opts 
   for (int l = 0; l < nl; l++)
     for (int k = t->loop_start[l]; k < t->loop_start[l + 1]; k++) cd.loop_of[t->loop_vert[k]] = l;
   cd.c[outer] = (au_circle){0, 0, 1};
+  /* An interior edge between two vertices of one hole's loop would be a chord of its circle, with the
+   * triangles on one side inside the hole: no map onto the circle domain keeps them unfolded. */
+  for (int e = 0; e < t->ne; e++) {
+    int a = t->E[2 * e], b = t->E[2 * e + 1], l = cd.loop_of[a];
+    if (t->EF[2 * e + 1] >= 0 && l >= 0 && l != outer && cd.loop_of[b] == l) {
+      free(target), free(cd.c), free(cd.loop_of);
+      return au_msg_set(msg, AU_E_BOUNDARY, "edge (%d, %d) joins two vertices of one hole's boundary loop across the "
+                        "surface: on the hole's circle its triangles would fold (split the edge, or the triangles "
+                        "beside it)", a, b);
+    }
+  }
   double t0 = au__disk_now();
   /* The flow's analysis needs only the mesh: it runs in a second thread beside the start. */
   au_advect_plan *plan = NULL;
