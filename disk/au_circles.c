@@ -35,7 +35,7 @@
 
 /* The holes move with the flow's first moves (backtracking tries count), where the bulk of the area is
  * moved; then they keep still (docs/circles.md has the measurements). */
-#define AU_CIRCLES_MOVES 30
+#define AU_CIRCLES_MOVES 16
 /* Holes keep this distance from each other and from the unit circle (relative to the smaller radius). */
 #define AU_CIRCLES_GAP 1e-3
 
