@@ -254,8 +254,8 @@ done:
 /* Grow each hole of the start towards its prescribed radius by a radial map about its centre that
  * stretches [r0, R] onto [r, R] linearly and leaves the rest (R: the hole's own part of the room
  * between its neighbours and the unit circle, split in proportion to the prescribed radii). A
- * homeomorphism of the plane; triangles it turns are mended (repair_folds), or the hole keeps its start
- * radius. Returns the folds left (0). */
+ * homeomorphism of the plane; triangles it turns are mended (repair_folds), or the hole grows half as
+ * much, a quarter, else keeps its start radius. Returns the folds left (0). */
 static int inflate_holes(const au_mesh *m, const au_topo *t, int outer, const double *target, const double *w,
                          double *P, au_circle *circ) {
   int nv = m->nv;
@@ -269,21 +269,28 @@ static int inflate_holes(const au_mesh *m, const au_topo *t, int outer, const do
       double d = hypot(circ[l].cx - circ[h].cx, circ[l].cy - circ[h].cy);
       R = fmin(R, d * fmax(target[l], circ[l].r) / (fmax(target[l], circ[l].r) + fmax(target[h], circ[h].r)));
     }
-    double r0 = circ[l].r, r = fmin(target[l], 0.8 * R);
-    if (!(r > r0) || !(R > r)) continue;
-    memcpy(keep, P, sizeof(double) * 3 * (size_t)nv);
-    for (int i = 0; i < nv; i++) {
-      double *p = P + 3 * i, nx = p[0] - circ[l].cx, ny = p[1] - circ[l].cy, d = hypot(nx, ny);
-      if (!t->vused[i] || d >= R || !(d > 0)) continue;
-      double d2 = d <= r0 ? r : r + (d - r0) * (R - r) / (R - r0);
-      p[0] = circ[l].cx + nx * d2 / d, p[1] = circ[l].cy + ny * d2 / d;
+    double r0 = circ[l].r, want = fmin(target[l], 0.8 * R);
+    if (!(want > r0) || !(R > want)) continue;
+    /* The whole way, else half of it, else a quarter. */
+    for (int part = 0; part < 3; part++) {
+      double r = r0 + (want - r0) / (1 << part);
+      memcpy(keep, P, sizeof(double) * 3 * (size_t)nv);
+      for (int i = 0; i < nv; i++) {
+        double *p = P + 3 * i, nx = p[0] - circ[l].cx, ny = p[1] - circ[l].cy, d = hypot(nx, ny);
+        if (!t->vused[i] || d >= R || !(d > 0)) continue;
+        double d2 = d <= r0 ? r : r + (d - r0) * (R - r) / (R - r0);
+        p[0] = circ[l].cx + nx * d2 / d, p[1] = circ[l].cy + ny * d2 / d;
+      }
+      for (int k = t->loop_start[l]; k < t->loop_start[l + 1]; k++) {
+        double *p = P + 3 * t->loop_vert[k], nx = p[0] - circ[l].cx, ny = p[1] - circ[l].cy, d = hypot(nx, ny);
+        p[0] = circ[l].cx + nx * r / d, p[1] = circ[l].cy + ny * r / d;
+      }
+      if (!au__disk_count_folds(m->nf, m->F, P) || !repair_folds(m, t, w, P)) {
+        circ[l].r = r;
+        break;
+      }
+      memcpy(P, keep, sizeof(double) * 3 * (size_t)nv);
     }
-    for (int k = t->loop_start[l]; k < t->loop_start[l + 1]; k++) {
-      double *p = P + 3 * t->loop_vert[k], nx = p[0] - circ[l].cx, ny = p[1] - circ[l].cy, d = hypot(nx, ny);
-      p[0] = circ[l].cx + nx * r / d, p[1] = circ[l].cy + ny * r / d;
-    }
-    if (au__disk_count_folds(m->nf, m->F, P) && repair_folds(m, t, w, P)) memcpy(P, keep, sizeof(double) * 3 * (size_t)nv);
-    else circ[l].r = r;
   }
   free(keep);
   return au__disk_count_folds(m->nf, m->F, P);
