@@ -50,9 +50,9 @@ static const char *const usage_circles =
     "usage: authalic circles IN OUT [options]\n\n"
     "Maps the genus-0 triangle mesh IN with k >= 1 boundary loops onto the unit disk with k - 1 round\n"
     "holes (a circle domain) so that every vertex cell keeps its share of the surface area. Every\n"
-    "boundary vertex slides along its circle, and each hole's centre and radius move with the flow;\n"
-    "a hole's area is that of the flat cap over its loop, scaled with the surface. k = 1 is the disk\n"
-    "map. The report lists each loop's circle: a vertex on it, centre and radius.\n\n";
+    "boundary vertex slides along its circle and each hole's centre moves with the flow; a hole's\n"
+    "area is that of the flat cap over its loop, scaled with the surface. k = 1 is the disk map.\n"
+    "The report lists each loop's circle: a vertex on it, centre and radius (docs/circles.md).\n\n";
 static const char *const usage_planar_out =
     "OUT (.obj .off .ply .gii, or FreeSurfer) has the input's vertices in the input's order and its\n"
     "faces, with positions (u, v, 0); an .obj also gets `vt` texture coordinates in [0,1]^2. Progress\n"
