@@ -68,7 +68,7 @@ au_status au_write_text(const char *path, const char *text, size_t len, au_msg *
 
 int au_mesh_can_write(const char *path) { return path ? au_io_can_write(path) : 0; }
 
-static const char *const target_names[] = {"sphere", "disk", "annulus", "square", "torus"};
+static const char *const target_names[] = {"sphere", "disk", "annulus", "square", "torus", "circles"};
 
 const char *au_target_name(au_target t) {
   return (int)t >= 0 && (int)t < (int)(sizeof target_names / sizeof target_names[0]) ? target_names[t] : NULL;
@@ -76,7 +76,7 @@ const char *au_target_name(au_target t) {
 
 au_mesh_expect au__target_expect(au_target t) {
   au_mesh_expect ex = au_mesh_expect_default();
-  ex.loops = t == AU_TARGET_SPHERE || t == AU_TARGET_TORUS ? 0 : t == AU_TARGET_ANNULUS ? 2 : 1;
+  ex.loops = t == AU_TARGET_SPHERE || t == AU_TARGET_TORUS ? 0 : t == AU_TARGET_ANNULUS ? 2 : t == AU_TARGET_CIRCLES ? -1 : 1;
   ex.genus = t == AU_TARGET_TORUS ? 1 : 0;
   ex.command = au_target_name(t);
   return ex;

@@ -49,6 +49,7 @@ void au_result_free(au_result **rp) {
   au_result *r = *rp;
   free(r->P), free(r->P0), free(r->X), free(r->F), free(r->uv), free(r->vt), free(r->Ft);
   free(r->parent), free(r->parent_t);
+  free(r->circles), free(r->circle_vertex);
   free(r->conv.err), free(r->conv.face_err), free(r->conv.frac);
   free(r);
   *rp = NULL;
@@ -108,6 +109,8 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
     return au_msg_set(msg, AU_E_ARG, "boundary: expected AU_BOUNDARY_SLIDE or AU_BOUNDARY_FIXED");
   if (o->lattice != AU_LATTICE_CONFORMAL && o->lattice != AU_LATTICE_SQUARE)
     return au_msg_set(msg, AU_E_ARG, "lattice: expected AU_LATTICE_CONFORMAL or AU_LATTICE_SQUARE");
+  if (!(o->aspect >= 0) || isinf(o->aspect))
+    return au_msg_set(msg, AU_E_ARG, "aspect: expected a positive finite width / height (0: the unit square)");
   if (o->outer_loop < AU_OUTER_SHORTER)
     return au_msg_set(msg, AU_E_ARG, "outer_loop %d: expected AU_OUTER_LONGER, AU_OUTER_SHORTER or a vertex index",
                       o->outer_loop);
@@ -184,8 +187,9 @@ typedef struct map_run {
   au_sphere_opts sphere; /* the sphere's retries and polish (its flow field unused: flow above) */
   progress_ctx pc;
   au_result *r;
-  int outer; /* annulus: the loop index on the unit circle */
+  int outer; /* annulus, circles: the loop index on the unit circle (circles: -1 for the longest) */
   double t_split;
+  double w, h; /* square: the rectangle's sides (au_options.aspect) */
   double refine_budget; /* refine_mesh: the face budget of the map kept (with AU_REFINE_AUTO, the one it chose) */
 } map_run;
 
@@ -316,6 +320,33 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
   return st;
 }
 
+/* The circle domain (disk/au_circles.c); with init_only, the start (a flow of no steps). */
+static au_status run_circles(map_run *x, au_disk_opts *d, au_disk_report *rep, au_msg *msg) {
+  au_result *r = x->r;
+  const au_topo *t = x->tt;
+  int nl = t->nloops;
+  au_circle *c = malloc(sizeof *c * (size_t)nl);
+  r->circles = malloc(3 * sizeof(double) * (size_t)nl), r->circle_vertex = malloc(sizeof(int) * (size_t)nl);
+  if (!c || !r->circles || !r->circle_vertex) {
+    free(c);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory");
+  }
+  if (x->o->init_only) d->flow.max_steps = 0;
+  au_status st = au_circles_map(x->mm, x->tt, d, x->outer, r->P, r->P0, c, rep, msg);
+  if (x->o->init_only && st == AU_W_NOT_CONVERGED) st = AU_OK;
+  if (st >= 0 && !x->o->init_only) {
+    au_status s2 = keep_log(r, &rep->flow, msg);
+    if (s2 != AU_OK) st = s2;
+  }
+  r->ncircles = nl, r->circle_outer = rep->outer_loop;
+  for (int l = 0; l < nl; l++) {
+    r->circles[3 * l] = c[l].cx, r->circles[3 * l + 1] = c[l].cy, r->circles[3 * l + 2] = c[l].r;
+    r->circle_vertex[l] = t->loop_vert[t->loop_start[l]];
+  }
+  free(c);
+  return st;
+}
+
 static au_status run_planar(map_run *x, au_msg *msg) {
   au_result *r = x->r;
   const au_options *o = x->o;
@@ -326,7 +357,9 @@ static au_status run_planar(map_run *x, au_msg *msg) {
   au_disk_report *rep = calloc(1, sizeof *rep);
   if (!rep) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
   au_status st;
-  if (o->init_only) {
+  if (x->target == AU_TARGET_CIRCLES) {
+    st = run_circles(x, &d, rep, msg);
+  } else if (o->init_only) {
     double t0 = now_s();
     if (x->target == AU_TARGET_DISK) st = au_disk_init(x->mm, x->tt, r->P, &rep->init, msg);
     else if (x->target == AU_TARGET_ANNULUS)
@@ -435,12 +468,18 @@ static au_status planar_finish(map_run *x, au_msg *msg) {
     const double *p = r->P + 3 * (size_t)i;
     if (x->target == AU_TARGET_SQUARE) {
       r->uv[2 * i] = p[0], r->uv[2 * i + 1] = p[1];
-      if (t->vb[i]) bdev = fmax(bdev, fmin(fmin(fabs(p[0]), fabs(p[0] - 1)), fmin(fabs(p[1]), fabs(p[1] - 1))));
+      if (t->vb[i]) bdev = fmax(bdev, fmin(fmin(fabs(p[0]), fabs(p[0] - x->w)), fmin(fabs(p[1]), fabs(p[1] - x->h))));
     } else {
       r->uv[2 * i] = 0.5 * (p[0] + 1), r->uv[2 * i + 1] = 0.5 * (p[1] + 1);
     }
   }
-  if (x->target != AU_TARGET_SQUARE)
+  if (x->target == AU_TARGET_CIRCLES)
+    for (int l = 0; l < r->ncircles; l++)
+      for (int k = t->loop_start[l]; k < t->loop_start[l + 1]; k++) {
+        const double *p = r->P + 3 * (size_t)t->loop_vert[k], *c = r->circles + 3 * l;
+        bdev = fmax(bdev, fabs(hypot(p[0] - c[0], p[1] - c[1]) - c[2]));
+      }
+  else if (x->target != AU_TARGET_SQUARE)
     for (int l = 0; l < t->nloops; l++) {
       double want = x->target == AU_TARGET_DISK || l == x->outer ? 1.0 : r->inner_radius;
       for (int k = t->loop_start[l]; k < t->loop_start[l + 1]; k++) {
@@ -526,6 +565,31 @@ static au_status measure(map_run *x, au_status st, au_msg *msg) {
   return dom == AU_DOMAIN_PLANE ? planar_finish(x, msg) : AU_OK;
 }
 
+/* The circle domain: at least one loop; the outer loop the user named by a vertex, or -1 (the longest). */
+static au_status circles_outer(map_run *x, au_msg *msg) {
+  const au_topo *t = x->t;
+  if (t->nloops == 0)
+    return au_msg_set(msg, AU_E_BOUNDARY, "mesh is closed (no boundary loop): the circles map needs at least one; "
+                                          "map a closed genus-0 mesh onto the sphere");
+  x->outer = -1;
+  if (x->o->outer_loop < 0) return AU_OK;
+  for (int l = 0; l < t->nloops; l++)
+    for (int k = t->loop_start[l]; k < t->loop_start[l + 1]; k++)
+      if (t->loop_vert[k] == x->o->outer_loop) x->outer = l;
+  if (x->outer < 0) return au_msg_set(msg, AU_E_ARG, "outer: vertex %d is on no boundary loop (outer_loop)", x->o->outer_loop);
+  return AU_OK;
+}
+
+/* The square's map stretched to the rectangle [0, w] x [0, h] (au_options.aspect): every area is scaled
+ * by w h alike, so the map stays equal area, and orientations are kept. */
+static void stretch_rectangle(map_run *x) {
+  au_result *r = x->r;
+  for (int i = 0; i < r->nv; i++) {
+    r->P[3 * (size_t)i] *= x->w, r->P[3 * (size_t)i + 1] *= x->h;
+    r->P0[3 * (size_t)i] *= x->w, r->P0[3 * (size_t)i + 1] *= x->h;
+  }
+}
+
 /* Check the mesh and prepare the mesh that is mapped. */
 static au_status prepare(map_run *x, const double *V, int nv, const int *F, int nf, au_status *check, au_msg *msg) {
   au_status st = au_mesh_alloc(nv, nf, &x->m);
@@ -540,7 +604,9 @@ static au_status prepare(map_run *x, const double *V, int nv, const int *F, int 
   if (*check > 0) warn(x->r, "%s", msg && msg->text[0] ? msg->text : au_status_str(*check));
   x->mm = x->m, x->tt = x->t;
   x->r->nv_in = nv, x->r->nf_in = nf;
-  if (x->target == AU_TARGET_ANNULUS) {
+  if (x->target == AU_TARGET_CIRCLES) {
+    if ((st = circles_outer(x, msg)) != AU_OK) return st;
+  } else if (x->target == AU_TARGET_ANNULUS) {
     if ((x->outer = pick_outer(x->o, x->t, msg)) < 0) return AU_E_ARG;
     const au_topo *t = x->t;
     x->r->outer_loop_vertex = t->loop_vert[t->loop_start[x->outer]];
@@ -583,6 +649,8 @@ au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, con
   if (st == AU_OK && cancelled(&x.pc)) st = au_msg_set(msg, AU_E_CANCELLED, "cancelled");
   if (st == AU_OK)
     st = t == AU_TARGET_SPHERE ? run_sphere(&x, msg) : t == AU_TARGET_TORUS ? run_torus(&x, msg) : run_planar(&x, msg);
+  x.w = o->aspect > 1 || o->aspect == 0 ? 1 : o->aspect, x.h = o->aspect > 1 ? 1 / o->aspect : 1;
+  if (st >= 0 && t == AU_TARGET_SQUARE && o->aspect > 0) stretch_rectangle(&x);
   if (st >= 0) {
     x.r->t_init += x.t_split;
     st = measure(&x, st, msg) == AU_OK ? st : AU_E_FOLD;
@@ -646,5 +714,7 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   if (r->target == AU_TARGET_TORUS)
     info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;
   info.start = r->target == AU_TARGET_TORUS ? r->init_method : NULL;
+  info.ncircles = r->ncircles, info.circles = r->circles, info.circle_vertex = r->circle_vertex;
+  info.circle_outer = r->circle_outer;
   return au_report_json(&info, json, msg);
 }

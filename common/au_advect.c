@@ -990,6 +990,7 @@ static void step_fractions(flow_state *s) {
 static int move_and_check(flow_state *s) {
   const int nv = s->nv, nf = s->nf, *F = s->F;
   double *P = s->P;
+  if (s->dom->begin_move) s->dom->begin_move(s->dom->ctx, NULL, s->Pold, s->D, s->lim);
   for (int i = 0; i < nv; i++) {
     double *p = P + 3 * i, *q = s->Pold + 3 * i, *d = s->D + 3 * i;
     if (s->lim[i] == 0) {
@@ -1115,6 +1116,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
 typedef struct reordered_domain {
   const au_advect_domain *dom;
   const int *orig; /* orig[i]: the caller's number of vertex i of the reordered mesh */
+  const int *inv;  /* inv[v]: the reordered number of the caller's vertex v */
 } reordered_domain;
 
 static void reordered_constrain(void *ctx, int i, const double *p, double *d) {
@@ -1125,6 +1127,12 @@ static void reordered_constrain(void *ctx, int i, const double *p, double *d) {
 static void reordered_retract(void *ctx, int i, double *p) {
   const reordered_domain *r = ctx;
   r->dom->retract(r->dom->ctx, r->orig[i], p);
+}
+
+static void reordered_begin_move(void *ctx, const int *row, const double *P, const double *D, const double *lim) {
+  const reordered_domain *r = ctx;
+  (void)row;
+  r->dom->begin_move(r->dom->ctx, r->inv, P, D, lim);
 }
 
 /* Spread the low 10 bits of x to every third bit. */
@@ -1381,8 +1389,9 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
   for (int f = 0; f < nf && fw2; f++) fw2[f] = o.face_weight[forig[f]];
   /* The shifts go with their faces (the copy keeps each face's corner order). */
   for (int f = 0; f < nf && sh2; f++) memcpy(sh2 + 9 * (size_t)f, dom->shift + 9 * (size_t)forig[f], 9 * sizeof(double));
-  reordered_domain rd = {dom, orig};
-  au_advect_domain dom2 = {reordered_constrain, reordered_retract, dom->spherical, &rd, dom->arc_radius, sh2};
+  reordered_domain rd = {dom, orig, plan->inv};
+  au_advect_domain dom2 = {reordered_constrain, reordered_retract, dom->spherical, &rd, dom->arc_radius, sh2,
+                           dom->begin_move ? reordered_begin_move : NULL};
   o.weight = w2, o.face_weight = fw2;
   st = advect_core(plan->m2, plan->t2, &dom2, &o, &plan->lm, P2, rep, msg);
   for (int k = 0; k < nv; k++) memcpy(P + 3 * orig[k], P2 + 3 * k, 3 * sizeof(double));

@@ -34,6 +34,13 @@ typedef struct au_advect_domain {
                           fixed for the run, so a periodic map is advected with its vertices free to leave
                           the fundamental domain (au_torus.h). The least-shear method only: the Poisson
                           method refuses shifts (AU_E_ARG) */
+  /* Optional (NULL: none): called before each move of a step, backtracking tries included, with the
+     positions at the step's start P, the step D and each vertex's fraction lim of it (rows of these
+     arrays: row[i] for the caller's vertex i, or i when row is NULL). A domain whose constraints have
+     unknowns of their own (au_circles_map: each hole's centre and radius) moves them here; retract then
+     puts the vertices on the moved constraint. A vertex whose fraction is 0 keeps its position without a
+     retract, so such a domain keeps still where any of its vertices does. */
+  void (*begin_move)(void *ctx, const int *row, const double *P, const double *D, const double *lim);
 } au_advect_domain;
 
 /* How a step's velocity is chosen. */

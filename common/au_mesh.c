@@ -524,6 +524,10 @@ au_status au_mesh_validate(const au_mesh *m, const au_mesh_expect *expect, au_to
     if (x.command && x.genus == 1)
       s = au_msg_set(msg, AU_E_GENUS, "mesh has genus %d (expected genus 1): the %s map needs a closed genus-1 surface%s",
                      t->genus, x.command, t->genus == 0 ? " (map a genus-0 mesh onto the sphere)" : "; higher genus is not supported");
+    else if (x.command && x.genus == 0 && x.loops < 0 && t->nloops > 0) /* the circle domain */
+      s = au_msg_set(msg, AU_E_GENUS, "mesh has genus %d and %d boundary loop%s (expected genus 0): the %s map needs a "
+                     "genus-0 surface; map it with `authalic atlas`, which takes any genus", t->genus, t->nloops,
+                     t->nloops == 1 ? "" : "s", x.command);
     else if (x.command && x.genus == 0 && t->genus == 1 && t->nloops == 0)
       s = au_msg_set(msg, AU_E_GENUS, "mesh has genus 1 (expected genus 0): map a closed genus-1 mesh onto the torus");
     else

@@ -161,6 +161,16 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
     ok = put(root, lat_key[q], a) && put(a, NULL, num_array(lat[q][0], 2)) && put(a, NULL, num_array(lat[q][1], 2));
   }
   if (info->start) ok = ok && put(root, "start", str(info->start));
+  if (ok && info->ncircles > 0) {
+    cJSON *a = cJSON_CreateArray();
+    ok = put(root, "circles", a);
+    for (int l = 0; ok && l < info->ncircles; l++) {
+      cJSON *c = cJSON_CreateObject();
+      ok = put(a, NULL, c) && put(c, "vertex", cJSON_CreateNumber(info->circle_vertex[l])) &&
+           put(c, "center", num_array(info->circles + 3 * l, 2)) && put(c, "radius", num(info->circles[3 * l + 2])) &&
+           put(c, "outer", cJSON_CreateBool(l == info->circle_outer));
+    }
+  }
   /* Once attached, the sub-objects belong to root; clear the pointers so the failure path below
    * frees each exactly once. */
   if (ok) ok = put(root, "time", time), time = NULL;

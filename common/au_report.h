@@ -62,6 +62,11 @@ typedef struct au_report_info {
                                   [a2x, a2y]]; NULL: none */
   const double (*conformal_lattice)[2]; /* torus: the conformal modulus's lattice, "conformal_lattice"; NULL: none */
   const char *start;           /* how the start was made ("cotan", "meanvalue"), written as "start"; NULL: none */
+  int ncircles;                /* circles: the boundary loops' circles, written as "circles": [{"vertex": v,
+                                  "center": [x, y], "radius": r, "outer": bool}, ...]; 0: none */
+  const double *circles;       /* [3 ncircles]: cx, cy, r */
+  const int *circle_vertex;    /* [ncircles]: a vertex on each loop */
+  int circle_outer;            /* the index of the outer circle */
 } au_report_info;
 
 /* Render the report as a JSON string. On success *json is malloc'ed; the caller frees it.

@@ -344,6 +344,136 @@ static void make_annulus_bump(mesh *m) {
   }
 }
 
+/* ---- disks with many holes (for `authalic circles`) */
+
+static int cmp_u64(const void *a, const void *b);
+
+/* A hole: an ellipse with centre (cx, cy), semi-axes a, b (b = a: a circle). */
+typedef struct hole {
+  double cx, cy, a, b;
+} hole;
+
+static int in_hole(const hole *h, int nh, double x, double y) {
+  for (int k = 0; k < nh; k++)
+    if ((x - h[k].cx) * (x - h[k].cx) / (h[k].a * h[k].a) + (y - h[k].cy) * (y - h[k].cy) / (h[k].b * h[k].b) < 1) return 1;
+  return 0;
+}
+
+/* The unit disk of NR rings (as make_disk_bump) without the faces whose centroid lies in a hole, then
+ * without the faces at a vertex where two boundary edges leave (a pinch, which a hole's jagged rim can
+ * make), the vertices renumbered in order; z = height(x, y). */
+static void holed_disk(mesh *m, int nr, const hole *h, int nh, double (*height)(double, double)) {
+  mesh d = {0};
+  add_v(&d, 0, 0, 0);
+  int prev0 = 0, prevn = 1;
+  double prevo = 0;
+  for (int k = 1; k <= nr; k++) {
+    int n = 6 * k, start = d.nv;
+    double r = (double)k / nr, o = 0.5 * (k % 2);
+    for (int i = 0; i < n; i++) add_v(&d, r * cos(2 * M_PI * (i + o) / n), r * sin(2 * M_PI * (i + o) / n), 0);
+    if (k == 1)
+      for (int i = 0; i < n; i++) add_f(&d, 0, start + i, start + (i + 1) % n);
+    else
+      join_rings(&d, prev0, prevn, prevo, start, n, o);
+    prev0 = start, prevn = n, prevo = o;
+  }
+  unsigned char *keep = malloc((size_t)d.nf);
+  int *out = malloc(sizeof(int) * (size_t)d.nv), *map = malloc(sizeof(int) * (size_t)d.nv);
+  if (!keep || !out || !map) die_nomem();
+  for (int f = 0; f < d.nf; f++) {
+    const int *v = d.F + 3 * f;
+    double x = 0, y = 0;
+    for (int k = 0; k < 3; k++) x += d.X[3 * v[k]] / 3, y += d.X[3 * v[k] + 1] / 3;
+    keep[f] = !in_hole(h, nh, x, y);
+  }
+  /* Clean the holes' rims until none has a pinch (two boundary edges leaving one vertex) or an interior
+   * edge between two rim vertices (a chord of the hole: no map can keep both ends on its circle and the
+   * triangles beside it outside), dropping the faces at them. */
+  uint64_t *key = malloc(sizeof(uint64_t) * 3 * (size_t)d.nf);
+  if (!key) die_nomem();
+  for (int changed = 1; changed;) {
+    changed = 0;
+    size_t nk = 0;
+    for (int f = 0; f < d.nf; f++)
+      for (int k = 0; k < 3 && keep[f]; k++) key[nk++] = (uint64_t)d.F[3 * f + k] << 32 | (uint64_t)d.F[3 * f + (k + 1) % 3];
+    qsort(key, nk, sizeof *key, cmp_u64);
+    memset(out, 0, sizeof(int) * (size_t)d.nv);
+    for (size_t i = 0; i < nk; i++) {
+      uint64_t rev = (key[i] & 0xffffffffu) << 32 | key[i] >> 32;
+      int a = (int)(key[i] >> 32);
+      if (!bsearch(&rev, key, nk, sizeof *key, cmp_u64)) out[a]++;
+    }
+    for (int f = 0; f < d.nf; f++)
+      for (int k = 0; k < 3 && keep[f]; k++) {
+        int a = d.F[3 * f + k], b = d.F[3 * f + (k + 1) % 3];
+        uint64_t rev = (uint64_t)b << 32 | (uint64_t)a;
+        int rim = hypot(d.X[3 * a], d.X[3 * a + 1]) > 1 - 1e-9 || hypot(d.X[3 * b], d.X[3 * b + 1]) > 1 - 1e-9;
+        if (out[a] > 1 || (out[a] && out[b] && !rim && bsearch(&rev, key, nk, sizeof *key, cmp_u64))) keep[f] = 0, changed = 1;
+      }
+  }
+  free(key);
+  for (int i = 0; i < d.nv; i++) map[i] = -1;
+  for (int f = 0; f < d.nf; f++)
+    for (int k = 0; k < 3 && keep[f]; k++) map[d.F[3 * f + k]] = 0;
+  for (int i = 0; i < d.nv; i++)
+    if (map[i] == 0) map[i] = add_v(m, d.X[3 * i], d.X[3 * i + 1], height(d.X[3 * i], d.X[3 * i + 1]));
+  for (int f = 0; f < d.nf; f++)
+    if (keep[f]) add_f(m, map[d.F[3 * f]], map[d.F[3 * f + 1]], map[d.F[3 * f + 2]]);
+  free(keep), free(out), free(map);
+  mesh_free(&d);
+}
+
+/* n round holes by rejection sampling (fixed seed): radii from rmin to rmax, each at least gap from
+ * the others and from the unit circle (a few edges of the ring mesh: close, yet never touching). */
+static int place_holes(hole *h, int n, double rmin, double rmax, double gap, uint64_t seed) {
+  int k = 0;
+  for (int tries = 0; k < n && tries < 200000; tries++) {
+    double r = rmin + (rmax - rmin) * pow(rng_uniform(&seed), 2), ang = 2 * M_PI * rng_uniform(&seed);
+    double rho = sqrt(rng_uniform(&seed)) * (1 - gap - r), x = rho * cos(ang), y = rho * sin(ang);
+    int ok = 1;
+    for (int j = 0; j < k && ok; j++) ok = hypot(x - h[j].cx, y - h[j].cy) > r + h[j].a + gap;
+    if (ok) h[k++] = (hole){x, y, r, r};
+  }
+  return k;
+}
+
+/* Gentle hills: the bumps of disk_bump, lower. */
+static double hills(double x, double y) { return 0.4 * bump_height(x, y); }
+
+/* A disk with 3 holes of different sizes, one close to the rim and two close to each other. */
+static void make_holes3(mesh *m) {
+  static const hole h[3] = {{-0.35, 0.2, 0.3, 0.3}, {0.3, -0.05, 0.14, 0.14}, {0.2, 0.68, 0.2, 0.2}};
+  holed_disk(m, 32, h, 3, hills);
+}
+
+static void make_holes10(mesh *m) {
+  hole h[10];
+  if (place_holes(h, 10, 0.04, 0.2, 0.07, 0x9e3779b97f4a7c15u) < 10) die_nomem();
+  holed_disk(m, 40, h, 10, hills);
+}
+
+static void make_holes40(mesh *m) {
+  hole h[40];
+  if (place_holes(h, 40, 0.025, 0.09, 0.07, 0xd1b54a32d192ed03u) < 40) die_nomem();
+  holed_disk(m, 64, h, 40, hills);
+}
+
+/* A face-like height field: forehead, nose, cheeks and chin over the unit disk, with open eyes and mouth
+ * (three elliptic holes). */
+static double face_height(double x, double y) {
+  double nose = 0.45 * exp(-(x * x / (2 * 0.1 * 0.1) + (y - 0.05) * (y - 0.05) / (2 * 0.22 * 0.22)));
+  double brow = 0.12 * exp(-(y - 0.45) * (y - 0.45) / (2 * 0.08 * 0.08)) * exp(-x * x / (2 * 0.4 * 0.4));
+  double cheeks = 0.15 * (exp(-((x - 0.45) * (x - 0.45) + (y + 0.1) * (y + 0.1)) / 0.05) +
+                          exp(-((x + 0.45) * (x + 0.45) + (y + 0.1) * (y + 0.1)) / 0.05));
+  double chin = 0.15 * exp(-(x * x + (y + 0.75) * (y + 0.75)) / 0.03);
+  return 0.6 * (1 - x * x - y * y) + nose + brow + cheeks + chin;
+}
+
+static void make_face_holes(mesh *m) {
+  static const hole h[3] = {{-0.32, 0.28, 0.16, 0.07}, {0.32, 0.28, 0.16, 0.07}, {0, -0.42, 0.26, 0.06}};
+  holed_disk(m, 48, h, 3, face_height);
+}
+
 /* The unit sphere with a small hole: an icosphere of level 4 without the faces whose centroid lies
  * within 12 degrees of the south pole, the vertices renumbered in order (2543 vertices, 5066 faces).
  * A disk whose boundary is short for its area (the rim is 1.3 long, the area 3.96 pi), like a
@@ -523,7 +653,7 @@ static int write_obj(const mesh *m, double vol, int loops, const char *dir, cons
 static const struct {
   const char *name, *what;
   void (*make)(mesh *);
-  int loops; /* boundary loops: 0 closed, 1 disk, 2 annulus */
+  int loops; /* boundary loops: 0 closed, 1 disk, 2 annulus, more: a disk with holes */
   int genus; /* 0, or 1 for the tori */
 } meshes[] = {
     {"bumpy_star", "icosphere level 4 with six long fingers and low bumps (default for make run)", make_bumpy_star, 0, 0},
@@ -533,6 +663,10 @@ static const struct {
     {"disk_bump", "unit disk lifted by a tall Gaussian bump and a low one (one boundary loop)", make_disk_bump, 1, 0},
     {"annulus_bump", "annulus 0.35 <= r <= 1 lifted by the same bumps (two boundary loops)", make_annulus_bump, 2, 0},
     {"holed_sphere", "the unit sphere with a hole of 12 degrees: a short boundary for its area (one boundary loop)", make_holed_sphere, 1, 0},
+    {"holes3", "disk with 3 round holes of different sizes, near the rim and each other, on hills (4 boundary loops)", make_holes3, 4, 0},
+    {"holes10", "disk with 10 round holes of varied sizes on hills (11 boundary loops)", make_holes10, 11, 0},
+    {"holes40", "disk with 40 round holes of varied sizes, close together, on hills (41 boundary loops)", make_holes40, 41, 0},
+    {"face_holes", "face-like height field with open eyes and mouth (4 boundary loops)", make_face_holes, 4, 0},
     {"torus_r2", "torus of revolution R/r = 2, 48 x 24 vertices (genus 1)", make_torus_r2, 0, 1},
     {"torus_r3", "torus of revolution R/r = 3, 72 x 24 vertices (genus 1)", make_torus_r3, 0, 1},
     {"torus_r5", "torus of revolution R/r = 5, 120 x 24 vertices (genus 1)", make_torus_r5, 0, 1},

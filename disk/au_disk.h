@@ -163,6 +163,29 @@ au_status au_annulus_map(const au_mesh *m, const au_topo *t, const au_disk_opts 
 au_status au_square_map(const au_mesh *m, const au_topo *t, const au_disk_opts *opts, double *P, double *P0,
                         au_disk_report *rep, au_msg *msg);
 
+/* ---------------------------------------------------------------- circle domains (au_circles.c) */
+
+/* A circle of the circle domain: centre (cx, cy), radius r. */
+typedef struct au_circle {
+  double cx, cy, r;
+} au_circle;
+
+/* The circle-domain map of a genus-0 mesh with k >= 1 boundary loops: loop `outer` onto the unit
+ * circle, every other loop onto a circle inside it (the unit disk with k - 1 round holes), equal area.
+ * Boundary vertices slide along their circles; each hole's centre moves with its loop in the flow's
+ * first moves (the translation that best fits the loop's tangential motion). A hole's radius is set
+ * in the start from its prescribed area (au_circles_radii), as far as the start has room for it.
+ * k = 1 is au_disk_map. outer: the loop index for the unit circle, -1 for the longest loop
+ * (opts->outer_loop is ignored). circles: out [0..nloops-1], each loop's circle (may be NULL).
+ * The rest as au_disk_map; rep->outer_loop is the outer loop. Returns AU_OK, AU_W_NOT_CONVERGED,
+ * AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC, AU_E_FOLD (the start folded). */
+au_status au_circles_map(const au_mesh *m, const au_topo *t, const au_disk_opts *opts, int outer, double *P, double *P0,
+                         au_circle *circles, au_disk_report *rep, au_msg *msg);
+
+/* The prescribed radii: hole l gets the area fraction cap_l / (surface area + sum of the holes' caps),
+ * radius sqrt of it; the outer loop gets 1. radius: out [0..nloops-1]. */
+void au_circles_radii(const au_mesh *m, const au_topo *t, int outer, double *radius);
+
 #ifdef __cplusplus
 }
 #endif

@@ -72,7 +72,7 @@ static void bc_retract(void *ctx, int i, double *p) {
 }
 
 au_advect_domain au_disk_bc_domain(const au_disk_bc *bc) {
-  au_advect_domain d = {bc_constrain, bc_retract, 0, (void *)bc, 0, NULL};
+  au_advect_domain d = {bc_constrain, bc_retract, 0, (void *)bc, 0, NULL, NULL};
   /* Vertices sliding on circles about the origin (disk, annulus): the flow moves along arcs, bent fully
    * from the smallest circle outward (au_advect_domain.arc_radius), so that the thin triangles at a
    * short boundary turn with their sliding corner. A fixed boundary does not slide and keeps straight

@@ -3,4 +3,5 @@ set(AU_DISK_SOURCES
   disk/au_disk_init.c
   disk/au_disk_square.c
   disk/au_disk_map.c
+  disk/au_circles.c
 )

@@ -292,13 +292,16 @@ typedef enum au_target {
   AU_TARGET_ANNULUS = 2, /* two boundary loops onto the annulus of outer radius 1 (inner radius from
                             the conformal modulus, or au_options.inner_radius) */
   AU_TARGET_SQUARE = 3,  /* one boundary loop onto [0,1]^2, four boundary vertices at the corners */
-  AU_TARGET_TORUS = 4    /* closed genus-1 mesh onto a flat torus R^2 / Lambda, Lambda of determinant 1
+  AU_TARGET_TORUS = 4,   /* closed genus-1 mesh onto a flat torus R^2 / Lambda, Lambda of determinant 1
                             (the conformal modulus's shape, or the unit square: au_options.lattice),
                             with no cut: the result's seamless per-corner texture coordinates (vt, Ft)
                             repeat by the lattice. For now the conformal start only (see au_map) */
+  AU_TARGET_CIRCLES = 5  /* genus-0 mesh with k >= 1 boundary loops onto the unit disk with k - 1 round
+                            holes, every circle sliding (docs/circles.md); outer_loop names the loop
+                            on the unit circle (default: the longest) */
 } au_target;
 
-/* The name of a target ("sphere", "disk", "annulus", "square", "torus"); NULL for an unknown value. */
+/* The name of a target ("sphere", "disk", "annulus", "square", "torus", "circles"); NULL for an unknown value. */
 AU_API const char *au_target_name(au_target t);
 
 /* Check that a mesh can be mapped onto target t, and name the first problem: empty, non-finite
@@ -416,6 +419,9 @@ typedef struct au_options {
                              refine). With angle_steps, the angle steps hold the chord cells. 0
                              (default): expert->sphere_areas, by default 1: the chord triangles'
                              areas, param-eval's headline figures */
+  double aspect;          /* square: the rectangle's width / height, > 0: the equal-area map onto the unit
+                             square stretched to [0, w] x [0, h], max(w, h) = 1 (a linear stretch scales every
+                             area alike, so the map stays equal area); 0 (default): the unit square */
 } au_options;
 
 AU_API au_options au_options_default(void);
@@ -628,6 +634,11 @@ typedef struct au_result {
   double *parent_t;        /* parent_t [0..nrefined-1]: X[nv_in + k] = (1 - t) X[parent[2k]] +
                               t X[parent[2k+1]] (0.5: the midpoint); NULL without refinement */
   int init_measured;       /* 1 if init_metrics hold the initial map's metrics (au_options.measure_start) */
+  /* AU_TARGET_CIRCLES (other targets: 0 and NULL). */
+  int ncircles;            /* the boundary loops' circles, one per loop */
+  double *circles;         /* circles [0..3*ncircles-1]: centre x, centre y, radius of each */
+  int *circle_vertex;      /* circle_vertex [0..ncircles-1]: a vertex of each loop (its first in the loop's order) */
+  int circle_outer;        /* the index of the unit circle among them */
 } au_result;
 
 /* Map the mesh (V, F) onto target t.

@@ -58,7 +58,7 @@ static void sphere_retract(void *ctx, int i, double *p) {
 }
 
 au_advect_domain au_sphere_domain(void) {
-  au_advect_domain d = {sphere_constrain, sphere_retract, 1, NULL, 0, NULL};
+  au_advect_domain d = {sphere_constrain, sphere_retract, 1, NULL, 0, NULL, NULL};
   return d;
 }
 

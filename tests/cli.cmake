@@ -131,7 +131,10 @@ set(au_cli_bad_cmd
   annulus disk.off           "1 boundary loop.*the annulus map needs 2"
   annulus torus_hole.obj     "1 boundary loop.*the annulus map needs 2"
   square  closed.obj         "closed mesh given to the square map"
-  square  ring.obj           "2 boundary loops.*the square map needs 1")
+  square  ring.obj           "2 boundary loops.*the square map needs 1"
+  circles closed.obj         "closed.*the circles map needs at least one"
+  circles torus_hole.obj     "genus 1 and 1 boundary loop.*authalic atlas"
+  circles two_components.obj "2 connected components")
 list(LENGTH au_cli_bad_cmd n)
 math(EXPR last "${n} - 1")
 foreach(i RANGE 0 ${last} 3)

@@ -18,3 +18,18 @@ endforeach()
 foreach(c disk annulus square square_fixed init_only annulus_options refine_faces)
   au_cli_test(disk.run.${c} disk_runs.sh ${c})
 endforeach()
+
+# `authalic circles` (disk/au_circles.c) and `square --aspect`: tests/cli/circles.sh. The 40-hole disk
+# and ../shared's beetle (11 loops, 39k faces) only in the plain build: the sanitizer build runs the
+# smaller holed disks, which take the same paths.
+foreach(c disk annulus outer bad_outer bad_closed bad_genus bad_shared_vertex bad_chord aspect bad_aspect help)
+  au_cli_test(circles.${c} circles.sh ${c})
+endforeach()
+foreach(m holes3.obj holes10.obj face_holes.obj)
+  au_cli_test(circles.run.${m} circles.sh run ${m})
+endforeach()
+if(NOT AU_SANITIZE)
+  foreach(m holes40.obj beetle.off)
+    au_cli_test(circles.run.${m} circles.sh run ${m})
+  endforeach()
+endif()

@@ -617,7 +617,7 @@ static int folded_start_refused(void) {
     L.P[3 * a + d] = L.P[3 * b + d];
     L.P[3 * b + d] = tmp;
   }
-  au_advect_domain dom = {t_constrain, t_retract, 1, NULL, 0, NULL};
+  au_advect_domain dom = {t_constrain, t_retract, 1, NULL, 0, NULL, NULL};
   AU_CHECK_STATUS(au_advect_run(L.m, L.t, &dom, NULL, L.P, NULL, &msg), AU_E_FOLD, &msg);
   AU_CHECK(strstr(msg.text, "folded") != NULL);
   unload(&L);

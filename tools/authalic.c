@@ -20,6 +20,7 @@ static const command commands[] = {
     {"annulus", "annulus IN OUT [options]   a mesh with two boundary loops onto an annulus", cli_cmd_map},
     {"square", "square IN OUT [options]    a mesh with one boundary loop onto the unit square", cli_cmd_map},
     {"torus", "torus IN OUT.obj [options] a closed genus-1 mesh onto a flat torus (seamless vt)", cli_cmd_map},
+    {"circles", "circles IN OUT [options]   a genus-0 mesh with any boundary loops onto a disk with round holes", cli_cmd_map},
     {"texture", "texture IN OUT.obj [opts]  equal-area spherical texture coordinates (and baking)", cli_cmd_texture},
     {"sample", "sample IN --grid WxH OUT  the surface sampled on an equal-area grid of the sphere", cli_cmd_sample},
     {"view", "view IN MAP OUT.html       a surface and its map as one interactive page", cli_cmd_view},

@@ -161,7 +161,7 @@ static const cli_option options[] = {
 };
 #define NOPTIONS (int)(sizeof options / sizeof options[0])
 
-static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample", "torus"};
+static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample", "torus", "circles"};
 
 const char *cli_option_name(cli_opt_id id) {
   for (int k = 0; k < NOPTIONS; k++)
@@ -170,14 +170,14 @@ const char *cli_option_name(cli_opt_id id) {
 }
 
 const char *cli_cmd_name(int cmd) {
-  for (int k = 0; k < 7; k++)
+  for (int k = 0; k < (int)(sizeof cmd_names / sizeof cmd_names[0]); k++)
     if (cmd == 1 << k) return cmd_names[k];
   return "?";
 }
 
 au_target cli_cmd_target(int cmd) {
   return cmd == CLI_DISK ? AU_TARGET_DISK : cmd == CLI_ANNULUS ? AU_TARGET_ANNULUS : cmd == CLI_SQUARE ? AU_TARGET_SQUARE
-         : cmd == CLI_TORUS ? AU_TARGET_TORUS : AU_TARGET_SPHERE;
+         : cmd == CLI_TORUS ? AU_TARGET_TORUS : cmd == CLI_CIRCLES ? AU_TARGET_CIRCLES : AU_TARGET_SPHERE;
 }
 
 /* An option's default and largest value as the help shows them ("%D", "%M"). */

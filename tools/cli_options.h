@@ -13,7 +13,8 @@ enum {
   CLI_TEXTURE = 16,
   CLI_SAMPLE = 32,
   CLI_TORUS = 64,
-  CLI_PLANAR = CLI_DISK | CLI_ANNULUS | CLI_SQUARE,
+  CLI_CIRCLES = 128,
+  CLI_PLANAR = CLI_DISK | CLI_ANNULUS | CLI_SQUARE | CLI_CIRCLES,
   CLI_MAPS = CLI_SPHERE | CLI_PLANAR,
   CLI_ALL = CLI_MAPS | CLI_TEXTURE | CLI_SAMPLE | CLI_TORUS
 };
@@ -54,6 +55,11 @@ enum {
   X(OPT_CORNERS, "corners", "I,J,K,L", CLI_VALUE, CLI_SQUARE,                                                        \
     "boundary vertices (0-based) for the corners: I goes to (0,0), the others to (1,0), (1,1), (0,1) in the "       \
     "order they follow I along the boundary (default: the most corner-like vertices near the arc-length quarters)") \
+  X(OPT_OUTER, "outer", "V", CLI_VALUE, CLI_CIRCLES,                                                                 \
+    "a vertex on the loop mapped to the unit circle (default: a vertex of the longest loop)")                         \
+  X(OPT_ASPECT, "aspect", "W:H", CLI_VALUE, CLI_SQUARE,                                                              \
+    "map onto the rectangle of width to height W:H (the longer side 1; default 1:1): the square's equal-area map "  \
+    "stretched, which keeps it equal area")                                                                          \
   X(OPT_RESTORE, "restore-shapes", "F", CLI_VALUE, CLI_SPHERE,                                                       \
     "while the spherical areas are driven, aim each step's shear a fraction F (0..1, default %D; 0: off) back at "  \
     "the surface's triangle shapes: fewer long, thin triangles")                                                     \
@@ -144,6 +150,7 @@ typedef enum cli_opt_id {
   OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_REFINE_BUDGET, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
   OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_AREA_TARGET, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_HTML, OPT_QUIET, OPT_HELP,
+  OPT_OUTER, OPT_ASPECT,
   OPT_COUNT
 } cli_opt_id;
 

@@ -46,6 +46,13 @@ static const char *const usage_torus =
     "plane: each vertex once in the fundamental domain, and where a face crosses the domain's edge\n"
     "its corners get their own `vt` copies shifted by exact lattice vectors (seamless: the texture\n"
     "repeats by the lattice). The report gives \"lattice\": [[a1x, a1y], [a2x, a2y]].\n\n";
+static const char *const usage_circles =
+    "usage: authalic circles IN OUT [options]\n\n"
+    "Maps the genus-0 triangle mesh IN with k >= 1 boundary loops onto the unit disk with k - 1 round\n"
+    "holes (a circle domain) so that every vertex cell keeps its share of the surface area. Every\n"
+    "boundary vertex slides along its circle and each hole's centre moves with the flow; a hole's\n"
+    "area is that of the flat cap over its loop, scaled with the surface. k = 1 is the disk map.\n"
+    "The report lists each loop's circle: a vertex on it, centre and radius (docs/circles.md).\n\n";
 static const char *const usage_planar_out =
     "OUT (.obj .off .ply .gii, or FreeSurfer) has the input's vertices in the input's order and its\n"
     "faces, with positions (u, v, 0); an .obj also gets `vt` texture coordinates in [0,1]^2. Progress\n"
@@ -64,6 +71,20 @@ static int parse_corners(const char *s, int c[4]) {
     if (cli_parse_int(buf, 0, 2147483647L, &c[q])) return -1;
     p = e ? e + 1 : p + n;
   }
+  return 0;
+}
+
+/* "W:H", two positive finite numbers, into W / H; 0 on success. */
+static int parse_aspect(const char *s, double *aspect) {
+  const char *c = strchr(s, ':');
+  char buf[64];
+  double w, h;
+  if (!c || (size_t)(c - s) >= sizeof buf) return -1;
+  memcpy(buf, s, (size_t)(c - s));
+  buf[c - s] = '\0';
+  if (cli_parse_nonneg(buf, &w) || cli_parse_nonneg(c + 1, &h) || !(w > 0) || !(h > 0) || !isfinite(w / h) || !(w / h > 0))
+    return -1;
+  *aspect = w / h;
   return 0;
 }
 
@@ -98,6 +119,10 @@ static int map_options(const cli_args *a, au_options *o) {
     else if (cli_parse_int(v, 0, 2147483647L, &o->outer_loop))
       return cli_usage_error(h, "--outer-loop '%s': expected longer, shorter or a vertex index", v);
   }
+  if ((v = a->val[OPT_OUTER]) && cli_parse_int(v, 0, 2147483647L, &o->outer_loop))
+    return cli_usage_error(h, "--outer '%s': expected a vertex index", v);
+  if ((v = a->val[OPT_ASPECT]) && parse_aspect(v, &o->aspect))
+    return cli_usage_error(h, "--aspect '%s': expected W:H with two positive numbers", v);
   if ((v = a->val[OPT_CORNERS]) && parse_corners(v, o->corners))
     return cli_usage_error(h, "--corners '%s': expected four vertex indices I,J,K,L", v);
   if ((v = a->val[OPT_LATTICE])) {
@@ -117,7 +142,7 @@ static void parents_name(const char *surf, char *buf, size_t n) {
 static int parse_map(int argc, char **argv, int cmd, cli_args *a, au_options *o) {
   char usage[2048];
   const char *u = cmd == CLI_SPHERE ? usage_sphere : cmd == CLI_DISK ? usage_disk : cmd == CLI_ANNULUS ? usage_annulus
-                : cmd == CLI_TORUS ? usage_torus : usage_square;
+                : cmd == CLI_TORUS ? usage_torus : cmd == CLI_CIRCLES ? usage_circles : usage_square;
   snprintf(usage, sizeof usage, "%s%s", u, cmd == CLI_SPHERE || cmd == CLI_TORUS ? "" : usage_planar_out);
   int rc = cli_parse(argc, argv, cmd, 2, usage, a);
   if (rc >= 0) return rc;
@@ -258,6 +283,8 @@ static void summary(int cmd, const au_result *r, int spherical, double seconds) 
   else if (cmd == CLI_SQUARE)
     snprintf(extra, sizeof extra, " corners=%d,%d,%d,%d split=%d", r->corners[0], r->corners[1], r->corners[2],
              r->corners[3], r->nsplit);
+  else if (cmd == CLI_CIRCLES)
+    snprintf(extra, sizeof extra, " circles=%d outer_vertex=%d", r->ncircles, r->circle_vertex[r->circle_outer]);
   fprintf(stderr,
           "authalic: %s: V=%d F=%d steps=%d folds=%d mean|r-1|=%.3g vertex|log r|=%.3g boundary_dev=%.2g%s start=%s "
           "time=%.2fs\n",
@@ -429,7 +456,8 @@ done:
 
 int cli_cmd_map(int argc, char **argv) {
   int cmd = strcmp(argv[0], "disk") == 0 ? CLI_DISK : strcmp(argv[0], "annulus") == 0 ? CLI_ANNULUS
-          : strcmp(argv[0], "square") == 0 ? CLI_SQUARE : strcmp(argv[0], "torus") == 0 ? CLI_TORUS : CLI_SPHERE;
+          : strcmp(argv[0], "square") == 0 ? CLI_SQUARE : strcmp(argv[0], "torus") == 0 ? CLI_TORUS
+          : strcmp(argv[0], "circles") == 0 ? CLI_CIRCLES : CLI_SPHERE;
   cli_args a;
   au_options o;
   int rc = parse_map(argc, argv, cmd, &a, &o);

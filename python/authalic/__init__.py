@@ -90,7 +90,7 @@ _L = _lib.load()
 
 __version__ = _L.au_version().decode()
 __all__ = ["Error", "BadInputError", "AuthalicWarning", "MapResult", "read_mesh", "read_values", "write_mesh", "sphere", "disk",
-           "annulus", "square", "torus", "map_mesh", "metrics", "version", "blas_threads"]
+           "annulus", "square", "torus", "circles", "map_mesh", "metrics", "version", "blas_threads"]
 
 _INT_MIN, _INT_MAX = -2 ** 31, 2 ** 31 - 1
 
@@ -447,7 +447,7 @@ class MapResult:
 
     __slots__ = ("target", "P", "P0", "X", "F", "uv", "nv_in", "nf_in", "info", "status", "warnings",
                  "inner_radius", "modulus_radius", "outer_loop_vertex", "corners", "nsplit", "boundary_dev",
-                 "init_method", "vt", "Ft", "lattice", "parent", "parent_t")
+                 "init_method", "vt", "Ft", "lattice", "parent", "parent_t", "circles", "circle_vertex")
 
     def __repr__(self):
         return "<authalic.MapResult %s nv=%d nf=%d status=%s steps=%s folds=%s>" % (
@@ -476,6 +476,8 @@ def _collect(res, target, extra):
     out.inner_radius, out.modulus_radius, out.outer_loop_vertex = r.inner_radius, r.modulus_radius, r.outer_loop_vertex
     out.corners, out.nsplit, out.boundary_dev = list(r.corners), r.nsplit, r.boundary_dev
     out.init_method = r.init_method.decode() if r.init_method else None
+    out.circles = _copy(r.circles, (r.ncircles, 3), _np.float64) if r.ncircles > 0 else None
+    out.circle_vertex = _copy(r.circle_vertex, (r.ncircles,), _np.int32) if r.ncircles > 0 else None
     out.parent = _copy(r.parent, (r.nrefined, 2), _np.int32) if r.nrefined > 0 else None
     out.parent_t = _copy(r.parent_t, (r.nrefined,), _np.float64) if r.nrefined > 0 else None
     js = _ct.POINTER(_ct.c_char)()
@@ -542,10 +544,12 @@ def _real_opt(name, v, lo, hi, lo_open=False, hi_open=False):
     return float(v)
 
 
-_PLANAR_ONLY = {"boundary": "disk, annulus and square", "inner_radius": "annulus", "outer_loop": "annulus",
+_PLANAR_ONLY = {"boundary": "disk, annulus, square and circles", "inner_radius": "annulus", "outer_loop": "annulus",
+                "outer": "circles", "aspect": "square",
                 "corners": "square", "restore_shapes": "sphere", "balance": "sphere", "lattice": "torus",
                 "refine_mesh": "sphere", "refine_budget": "sphere", "spherical_areas": "sphere"}
-_APPLIES = {"boundary": ("disk", "annulus", "square"), "inner_radius": ("annulus",), "outer_loop": ("annulus",),
+_APPLIES = {"boundary": ("disk", "annulus", "square", "circles"), "inner_radius": ("annulus",),
+            "outer_loop": ("annulus",), "outer": ("circles",), "aspect": ("square",),
             "corners": ("square",), "restore_shapes": ("sphere",), "balance": ("sphere",), "lattice": ("torus",),
             "refine_mesh": ("sphere",), "refine_budget": ("sphere",), "spherical_areas": ("sphere",)}
 
@@ -643,6 +647,18 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
         if v not in _lib.AU_LATTICES:
             _bad("lattice %r: expected 'conformal' or 'square'" % (v,))
         o.lattice = _lib.AU_LATTICES[v]
+    v = extra.get("outer")
+    if v is not None:
+        if not (isinstance(v, _numbers.Integral) and not isinstance(v, bool) and 0 <= v <= _INT_MAX):
+            _bad("outer %r: expected a vertex index" % (v,))
+        o.outer_loop = int(v)
+    v = extra.get("aspect")
+    if v is not None:
+        w = list(v) if isinstance(v, (list, tuple)) else [v, 1]
+        if len(w) != 2 or not all(isinstance(x, _numbers.Real) and not isinstance(x, bool) and _math.isfinite(x) and x > 0
+                                  for x in w) or not (_math.isfinite(w[0] / w[1]) and w[0] / w[1] > 0):
+            _bad("aspect %r: expected a positive width / height, or (W, H)" % (v,))
+        o.aspect = float(w[0]) / float(w[1])
     v = extra.get("corners")
     if v is not None:
         c = list(v) if isinstance(v, (list, tuple, _np.ndarray)) else []
@@ -747,7 +763,7 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
     long, thin limbs meet those at 2x (limbs4, coil) or 3x (limbs8, tpose), docs/sphere.md.
     """
     if target not in _lib.TARGETS:
-        _bad("target %r: expected 'sphere', 'disk', 'annulus', 'square' or 'torus'" % (target,))
+        _bad("target %r: expected 'sphere', 'disk', 'annulus', 'square', 'torus' or 'circles'" % (target,))
     Va = _real_array(V, "V", (3,))
     Fa = _faces(F)
     o, dens = _options(target, Va.shape[0], Fa.shape[0], steps, tol, density, angles, refine_faces, init_only, kwargs)
@@ -867,9 +883,15 @@ def annulus(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=Fal
 
 
 def square(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=False, progress=False, *,
-           boundary="slide", corners=None, init_only=False):
+           boundary="slide", corners=None, aspect=None, init_only=False):
     return _planar("square", V, F, steps, tol, density, angles, refine_faces, progress, init_only,
-                   boundary=None if boundary == "slide" else boundary, corners=corners)
+                   boundary=None if boundary == "slide" else boundary, corners=corners, aspect=aspect)
+
+
+def circles(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=False, progress=False, *,
+            boundary="slide", outer=None, init_only=False):
+    return _planar("circles", V, F, steps, tol, density, angles, refine_faces, progress, init_only,
+                   boundary=None if boundary == "slide" else boundary, outer=outer)
 
 
 _BOUNDARY_DOC = """
@@ -911,6 +933,22 @@ square.__doc__ = """Map a triangle mesh with one boundary loop onto the unit squ
     corners: four boundary vertex indices for (0,0), (1,0), (1,1), (0,1) - the first at (0,0), the
         others in the order they follow it along the boundary (None: the most corner-like vertices
         near the arc-length quarters).
+    aspect: the rectangle's width / height, or (W, H): the map onto [0, w] x [0, h] with the longer
+        side 1 (the square's map stretched: a linear stretch scales every area alike). None: 1.
+""" + _PLANAR_RETURNS
+
+circles.__doc__ = """Map a genus-0 triangle mesh with k >= 1 boundary loops onto the unit disk with k - 1
+    round holes (a circle domain) with equal area.
+
+    UV, info = authalic.circles(V, F)
+
+    Every boundary vertex slides along its circle, and each hole moves with the flow; a hole's area
+    is that of the flat cap over its loop, scaled with the surface. One loop: the disk map.
+    info["circles"] lists each loop's circle: {"vertex": a vertex on it, "center": [x, y],
+    "radius": r, "outer": True for the unit circle}; map_mesh(V, F, "circles") also gives them as
+    MapResult.circles (k, 3: centre x, centre y, radius) and MapResult.circle_vertex.
+""" + _COMMON_DOC + _BOUNDARY_DOC + """
+    outer: a vertex on the loop mapped to the unit circle (None: the longest loop).
 """ + _PLANAR_RETURNS
 
 

@@ -1,6 +1,6 @@
 """python3 -m authalic - the `authalic` program's map commands, through the Python binding.
 
-    python3 -m authalic sphere|disk|annulus|square|torus IN OUT [options]
+    python3 -m authalic sphere|disk|annulus|square|torus|circles IN OUT [options]
     python3 -m authalic COMMAND --help | --version
 
 The same options, messages and exit statuses as the program (0 ok, also with warnings; 2 bad usage
@@ -22,7 +22,7 @@ import authalic
 from authalic import _lib
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
-COMMANDS = ("sphere", "disk", "annulus", "square", "torus")
+COMMANDS = ("sphere", "disk", "annulus", "square", "torus", "circles")
 
 # name -> (metavar or None for a flag, commands, help); the program's option table, in its order.
 OPTIONS = [
@@ -34,11 +34,15 @@ OPTIONS = [
     ("density", "FILE", COMMANDS, "prescribed density: one positive number per vertex (or per face) of IN, in "
                                   "order: text (whitespace-separated), a FreeSurfer curv or a GIfTI "
                                   ".shape.gii/.func.gii file; domain area is proportional to density x surface area"),
-    ("boundary", "MODE", COMMANDS[1:4], "slide (default): boundary vertices slide along the domain's boundary "
+    ("boundary", "MODE", ("disk", "annulus", "square", "circles"), "slide (default): boundary vertices slide along the domain's boundary "
                                        "(square: corners fixed); fixed: the initial map's boundary is kept"),
     ("inner-radius", "R", ("annulus",), "radius of the inner circle, 0 < R < 1 (default: the conformal modulus's)"),
     ("outer-loop", "WHICH", ("annulus",), "the loop mapped to the unit circle: longer (default), shorter, or the "
                                           "index of a vertex on it"),
+    ("outer", "V", ("circles",), "a vertex on the loop mapped to the unit circle (default: a vertex of the longest "
+                                 "loop)"),
+    ("aspect", "W:H", ("square",), "map onto the rectangle of width to height W:H (the longer side 1; default 1:1): "
+                                   "the square's equal-area map stretched, which keeps it equal area"),
     ("corners", "I,J,K,L", ("square",), "boundary vertices (0-based) for the corners: I goes to (0,0), the others "
                                         "to (1,0), (1,1), (0,1) in the order they follow I along the boundary"),
     ("restore-shapes", "F", ("sphere",), "while the spherical areas are driven, aim each step's shear a fraction F "
@@ -96,7 +100,7 @@ def usage_text(cmd):
              "Maps the triangle mesh IN onto the %s with equal area and writes the map to OUT (.obj .off .ply .gii,"
              " or FreeSurfer),"
              % {"sphere": "unit sphere", "disk": "unit disk", "annulus": "annulus of outer radius 1",
-                "square": "unit square"}[cmd],
+                "square": "unit square", "circles": "unit disk with a round hole for each boundary loop but one"}[cmd],
              "as `authalic %s` does (see help(authalic.%s) for the method)." % (cmd, cmd), "",
              "options of %s:" % cmd]
     for name, meta, cmds, text in OPTIONS:
@@ -242,6 +246,14 @@ def map_kwargs(cmd, vals):
         if vals["lattice"] not in _lib.AU_LATTICES:
             raise Usage("--lattice '%s': expected conformal or square" % vals["lattice"])
         kw["lattice"] = vals["lattice"]
+    if "outer" in vals:
+        kw["outer"] = whole("outer", vals["outer"], 0, 2 ** 31 - 1)
+    if "aspect" in vals:
+        wh = [c_number(x, False) for x in vals["aspect"].split(":")]
+        if len(wh) != 2 or not all(x is not None and x > 0 for x in wh) or not math.isfinite(wh[0] / wh[1]) \
+                or not wh[0] / wh[1] > 0:
+            raise Usage("--aspect '%s': expected W:H with two positive numbers" % vals["aspect"])
+        kw["aspect"] = (wh[0], wh[1])
     if "corners" in vals:
         parts = vals["corners"].split(",")
         try:
@@ -430,6 +442,8 @@ def summary(cmd, r, seconds, spherical=False):
         extra = " inner_radius=%.6g modulus_radius=%.6g" % (r.inner_radius, r.modulus_radius)
     elif cmd == "square":
         extra = " corners=%d,%d,%d,%d split=%d" % (tuple(r.corners) + (r.nsplit,))
+    elif cmd == "circles":
+        extra = " circles=%d" % len(r.circles)
     sys.stderr.write("%s boundary_dev=%.2g%s start=%s time=%.2fs\n" % (head, r.boundary_dev, extra,
                                                                         r.init_method or "?", seconds))
 

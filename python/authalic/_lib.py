@@ -22,7 +22,7 @@ AU_IO_FORMAT_AUTO, AU_IO_FORMAT_OBJ, AU_IO_FORMAT_OFF, AU_IO_FORMAT_PLY, AU_IO_F
 AU_IO_FORMAT_FREESURFER, AU_IO_FORMAT_GIFTI = 5, 6
 AU_OUTER_LONGER, AU_OUTER_SHORTER = -1, -2
 AU_E_ARG, AU_E_CANCELLED = -2, -7
-TARGETS = {"sphere": 0, "disk": 1, "annulus": 2, "square": 3, "torus": 4}
+TARGETS = {"sphere": 0, "disk": 1, "annulus": 2, "square": 3, "torus": 4, "circles": 5}
 AU_LATTICES = {"conformal": 0, "square": 1}
 DOMAINS = {"sphere": 0, "plane": 1}
 
@@ -55,7 +55,8 @@ class Options(ctypes.Structure):
                 ("balance", c_int), ("init_only", c_int), ("boundary", c_int), ("inner_radius", c_double),
                 ("outer_loop", c_int), ("corners", c_int * 4), ("progress", PROGRESS_FN), ("user", c_void_p),
                 ("cancel", P_int), ("expert", c_void_p), ("lattice", c_int), ("refine_mesh", c_int),
-                ("measure_start", c_int), ("refine_max_faces", c_double), ("spherical_areas", c_int)]
+                ("measure_start", c_int), ("refine_max_faces", c_double), ("spherical_areas", c_int),
+                ("aspect", c_double)]
 
 
 # The au_metrics fields in order; the doubles among them are named here once.
@@ -99,7 +100,8 @@ class Result(ctypes.Structure):
                 ("warnings", (c_char * 600) * AU_MAX_WARNINGS),
                 ("lattice", (c_double * 2) * 2), ("conformal_lattice", (c_double * 2) * 2), ("nvt", c_int),
                 ("vt", P_double), ("Ft", P_int), ("nrefined", c_int), ("parent", P_int), ("parent_t", P_double),
-                ("init_measured", c_int)]
+                ("init_measured", c_int), ("ncircles", c_int), ("circles", P_double), ("circle_vertex", P_int),
+                ("circle_outer", c_int)]
 
 
 STRUCTS = {"au_msg": Msg, "au_mesh": Mesh, "au_write_opts": WriteOpts, "au_report_extra": ReportExtra,

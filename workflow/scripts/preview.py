@@ -1,6 +1,6 @@
 """preview.py - the preview picture of one map of the workflow.
 
-    preview.py IN MAP.obj OUT.png --command sphere|disk|annulus|square|torus [--authalic PROG]
+    preview.py IN MAP.obj OUT.png --command sphere|disk|annulus|square|torus|circles [--authalic PROG]
                [--status S.json] [--report R.json] [--title TEXT]
 
 Sphere maps: `authalic texture IN --map MAP T.obj --preview OUT.png` draws the map from +z and -z
@@ -46,7 +46,7 @@ def main():
     ap.add_argument("--status", default="")
     ap.add_argument("--title", default="")
     ap.add_argument("--report", default="", help="the map's report (the torus's lattice)")
-    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square", "torus"])
+    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square", "torus", "circles"])
     ap.add_argument("--authalic", default="authalic")
     a = ap.parse_args()
     return product.guarded(lambda: work(a), a.out)

@@ -1,6 +1,6 @@
 """run_map.py - run one `authalic` map for the workflow and record how it ended.
 
-    run_map.py --authalic PROG --command sphere|disk|annulus|square --input IN --map MAP.obj
+    run_map.py --authalic PROG --command sphere|disk|annulus|square|torus|circles --input IN --map MAP.obj
                --report R.json --status S.json --log L.txt [--density FILE] [--distortion D] [--html V.html]
                [--options "EXTRA OPTIONS"] [--id ID]
 
