@@ -69,6 +69,7 @@ extern "C" {
   X(AU_OK, 0, "ok")                                                               \
   X(AU_W_UNREFERENCED, 1, "unreferenced vertices")                                \
   X(AU_W_NOT_CONVERGED, 2, "tolerance not reached")                               \
+  X(AU_W_REORIENTED, 3, "faces re-oriented")                                      \
   X(AU_E_NOMEM, -1, "out of memory")                                              \
   X(AU_E_ARG, -2, "invalid argument")                                             \
   X(AU_E_NOT_SPD, -3, "matrix not positive definite")                             \
@@ -145,6 +146,15 @@ AU_API au_status au_mesh_alloc(int nv, int nf, au_mesh **out);
 AU_API au_status au_mesh_copy(const au_mesh *m, au_mesh **out);
 /* Free a mesh and set *m to NULL; NULL-safe. */
 AU_API void au_mesh_free(au_mesh **m);
+/* Make the faces' orientation consistent in place: a breadth-first walk over the faces of each
+ * component flips every face that traverses an edge in the same direction as its neighbour, and of the
+ * two consistent orientations the one that keeps the most faces as they were is kept. au_map and
+ * every command do this first. nflipped (may be NULL) receives how many faces were reversed.
+ * Returns AU_OK (nothing to do), AU_W_REORIENTED (msg says how many faces and the first), AU_E_ARG,
+ * AU_E_NOMEM, AU_E_INDEX, AU_E_FACE, AU_E_NONMANIFOLD_EDGE (names the edge), AU_E_ORIENTATION (the
+ * surface is not orientable, a Moebius strip: msg names the edge where the walk met itself reversed);
+ * on an error m is unchanged. */
+AU_API au_status au_mesh_orient(au_mesh *m, int *nflipped, au_msg *msg);
 
 /* Read a triangle mesh; the format follows the extension: .obj .off .ply (ASCII or binary) .stl.
  * The file's vertex and face order is kept exactly; polygons with more than three corners are
@@ -302,10 +312,13 @@ typedef enum au_target {
 AU_API const char *au_target_name(au_target t);
 
 /* Check that a mesh can be mapped onto target t, and name the first problem: empty, non-finite
- * coordinates, index out of range, repeated corner, non-manifold edge or vertex, inconsistent
- * orientation, several components, wrong number of boundary loops, wrong genus, zero-area faces.
- * au_map makes the same check. Returns AU_OK, AU_W_UNREFERENCED (usable; msg says how many
- * vertices no face uses), AU_E_ARG, AU_E_NOMEM, or one of the input errors (<= -100). */
+ * coordinates, index out of range, repeated corner, non-manifold edge or vertex, non-orientable
+ * surface, several components, wrong number of boundary loops, wrong genus, zero-area faces.
+ * Inconsistently oriented faces of an orientable surface are not a problem: au_map re-orients them
+ * (au_mesh_orient) with a warning. au_map makes the same check. Returns AU_OK, AU_W_UNREFERENCED
+ * (usable; msg says how many vertices no face uses), AU_W_REORIENTED (usable once re-oriented; msg
+ * says how many faces, and the unreferenced vertices too if any), AU_E_ARG, AU_E_NOMEM, or one of the
+ * input errors (<= -100). */
 AU_API au_status au_mesh_check(const double *V, int nv, const int *F, int nf, au_target t, au_msg *msg);
 
 #define AU_MAX_STEPS 512      /* the most advection steps a map may take (au_options.max_steps) */
@@ -638,7 +651,8 @@ typedef struct au_result {
  * AU_E_FOLD and no result.
  * Returns AU_OK; AU_W_NOT_CONVERGED (the map is valid and fold-free, the tolerance was not met:
  * more steps may help); AU_W_UNREFERENCED (unreferenced vertices: they keep P = (0,0,1) or the
- * origin); AU_E_ARG (a bad option: msg names it); AU_E_CANCELLED; AU_E_NOMEM; AU_E_NOT_SPD,
+ * origin); AU_W_REORIENTED (faces that disagreed with their neighbours were reversed: the result's F
+ * holds the re-oriented faces); AU_E_ARG (a bad option: msg names it); AU_E_CANCELLED; AU_E_NOMEM; AU_E_NOT_SPD,
  * AU_E_NUMERIC, AU_E_FOLD, AU_E_INTERNAL; or an input error (<= -100) of the check, AU_E_DENSITY
  * (a density value not positive and finite). The warnings of the result say more than the status.
  * AU_TARGET_TORUS: the conformal start (tree-cotree homology basis, harmonic 1-forms, the conjugate,

@@ -425,8 +425,9 @@ class MapResult:
     P0:       float64 (nv, 3): the initial (conformal or harmonic) map.
     X:        float64 (nv, 3): surface positions (the input's, then the square's or refine_mesh's split
               midpoints).
-    F:        int32 (nf, 3): faces (the input's, then the square's split faces; with refine_mesh the
-              refined mesh's faces).
+    F:        int32 (nf, 3): faces (the input's, re-oriented where they disagreed with their neighbours
+              (status "AU_W_REORIENTED"), then the square's split faces; with refine_mesh the refined
+              mesh's faces).
     uv:       planar targets: float64 (nv, 2) texture coordinates in [0,1]^2 ((u+1)/2, (v+1)/2 for
               disk and annulus; (u, v) for the square); None on the sphere and the torus.
     vt, Ft, lattice: the torus's: vt float64 (nvt, 2) per-corner coordinates in the plane, Ft int32
@@ -434,7 +435,7 @@ class MapResult:
               a2 = lattice[1] (determinant 1); None for the other targets.
     nv_in, nf_in: the input's counts: rows [0, nv_in) of P and X, [0, nf_in) of F are the input's.
     info:     the JSON report as a dict (see sphere()).
-    status:   "AU_OK", "AU_W_NOT_CONVERGED" or "AU_W_UNREFERENCED".
+    status:   "AU_OK", "AU_W_NOT_CONVERGED", "AU_W_UNREFERENCED" or "AU_W_REORIENTED".
     warnings: the library's warnings (list of str).
     inner_radius, modulus_radius, outer_loop_vertex: the annulus's; corners (4 vertex indices for
               (0,0), (1,0), (1,1), (0,1)) and nsplit: the square's; boundary_dev: planar targets'
