@@ -1,0 +1,85 @@
+/* au_atlas.h - the start of the atlas of a surface of any genus: a flat metric with cone singularities.
+ *
+ * A surface of genus g (closed, or with boundary loops) has no flat metric conformal to its own
+ * unless the curvature goes somewhere: to a few cone vertices, whose curvatures kappa_v = 2*pi -
+ * Theta_v (Theta_v the cone's angle) sum to 2*pi*chi on a closed surface (Gauss-Bonnet), or to the
+ * boundary. This part computes that metric:
+ * 1. cone placement (au_atlas_place_cones), greedy at the extremes of the conformal factor (Ben-Chen,
+ *    Gotsman & Bunin 2008): with the cones so far held at u = 0 (and the boundary, which takes the
+ *    rest of the curvature), the linearized flattening L u = -K (L the cotan Laplacian, K the angle
+ *    defects) is solved and the vertex of largest |u| becomes the next cone; the cones' curvatures are
+ *    what the linear solve leaves at them, so they sum to 2*pi*chi exactly (closed surfaces). With
+ *    quarter set they are rounded to multiples of pi/2 with the sum kept.
+ * 2. the metric (au_atlas_cetm): the convex energy of Springborn, Schroeder & Pinkall 2008 (conformal
+ *    equivalence of triangle meshes) in the log scale factors u, new length l_ij exp((u_i + u_j) / 2),
+ *    minimized by Newton: the gradient is Theta_i minus the angle sum at i, the Hessian the cotan
+ *    Laplacian of the new metric (CHOLMOD through au_solver.h). Interior vertices get Theta = 2*pi
+ *    unless they are cones; boundary vertices keep u = 0 (their lengths); a closed surface holds one
+ *    vertex at 0 (the scale). A triangle that violates the triangle inequality has the extended
+ *    angles (0, 0, pi) and no cotan weight, as the paper's extension of the energy prescribes.
+ * What is left to make an atlas of it (cut through the cones and a homology basis, lay out, pack,
+ * then the equal-area flow with per-corner rigid motions) is described in docs/atlas.md. */
+#ifndef AU_ATLAS_H
+#define AU_ATLAS_H
+
+#include "au_mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Options of the cone metric. */
+typedef struct au_atlas_opts {
+  int max_cones;  /* the most cones placed automatically (default 24) */
+  double u_range; /* place cones until max u - min u of the linearized flattening is below this (default 1.5:
+                     lengths within a factor e^1.5 of the surface's, areas e^3) */
+  int quarter;    /* 1: cone curvatures in multiples of pi/2 (seam rotations in multiples of 90 degrees);
+                     default 0 */
+  int max_newton; /* Newton steps of the metric (default 50) */
+  double tol;     /* stop when every interior vertex's angle sum is within tol of its target (default 1e-10) */
+} au_atlas_opts;
+
+/* The defaults above. */
+au_atlas_opts au_atlas_opts_default(void);
+
+/* Cones: vertex indices and angles (Theta, radians; 2*pi is no cone). */
+typedef struct au_atlas_cones {
+  int n;
+  int *v;        /* v [0..n-1] */
+  double *angle; /* angle [0..n-1] */
+} au_atlas_cones;
+
+/* Free the arrays of c (not c itself) and zero it; NULL-safe. */
+void au_atlas_cones_clear(au_atlas_cones *c);
+
+/* Place cones on the validated mesh m (topology t) as described above. On success c owns its arrays
+ * (au_atlas_cones_clear); a disk or annulus may get no cone (n = 0) when the boundary alone flattens
+ * it within u_range. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD. */
+au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atlas_opts *o, au_atlas_cones *c,
+                               au_msg *msg);
+
+/* What the metric's solve did. */
+typedef struct au_atlas_cetm_info {
+  int steps;        /* Newton steps taken */
+  double err;       /* largest |Theta_i - angle sum at i| over the interior vertices at the end */
+  int degenerate;   /* triangles violating the triangle inequality in the final metric */
+} au_atlas_cetm_info;
+
+/* The flat cone metric of m (topology t) with the cones c (interior vertices; a cone on the boundary is
+ * refused): u [0..nv-1] out, the log scale factors (0 on the boundary, at unreferenced vertices and, on a
+ * closed surface, at the first referenced vertex). On a closed surface the cones' curvatures must sum to
+ * 2*pi*chi (to 1e-9), or AU_E_ARG says by how much they miss.
+ * Returns AU_OK; AU_W_NOT_CONVERGED (max_newton steps without reaching tol: u is the last iterate);
+ * AU_E_ARG; AU_E_NOMEM; AU_E_NOT_SPD; AU_E_NUMERIC. */
+au_status au_atlas_cetm(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const au_atlas_opts *o, double *u,
+                        au_atlas_cetm_info *info, au_msg *msg);
+
+/* The angles of every corner of m in the metric of u: ang [0..3*nf-1] out, corner k of face f at
+ * ang[3f+k]; returns the number of triangles that violate the triangle inequality (their angles are
+ * 0, 0 and pi). u may be NULL (the mesh's own metric). */
+int au_atlas_corner_angles(const au_mesh *m, const double *u, double *ang);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
