@@ -17,8 +17,9 @@
  *    unless they are cones; boundary vertices keep u = 0 (their lengths); a closed surface holds one
  *    vertex at 0 (the scale). A triangle that violates the triangle inequality has the extended
  *    angles (0, 0, pi) and no cotan weight, as the paper's extension of the energy prescribes.
- * What is left to make an atlas of it (cut through the cones and a homology basis, lay out, pack,
- * then the equal-area flow with per-corner rigid motions) is described in docs/atlas.md. */
+ * 3. the cut and the charts (au_atlas_layout_make), see below.
+ * What is left to make the atlas equal area (the flow with per-corner rigid motions) is described in
+ * docs/atlas.md. */
 #ifndef AU_ATLAS_H
 #define AU_ATLAS_H
 
@@ -78,6 +79,47 @@ au_status au_atlas_cetm(const au_mesh *m, const au_topo *t, const au_atlas_cones
  * ang[3f+k]; returns the number of triangles that violate the triangle inequality (their angles are
  * 0, 0 and pi). u may be NULL (the mesh's own metric). */
 int au_atlas_corner_angles(const au_mesh *m, const double *u, double *ang);
+
+/* The cut and the laid-out charts of a cone metric. */
+typedef struct au_atlas_layout {
+  int nvt;              /* per-corner coordinates: vt [0..2*nvt-1], in [0, 1]^2 */
+  double *vt;
+  int *Ft;              /* Ft [0..3*nf-1]: the row of vt of corner k of face f */
+  unsigned char *cut;   /* cut [0..ne-1]: 1 for an interior edge cut open (a seam edge) */
+  int ncut;             /* interior edges cut */
+  int ncharts;          /* connected pieces of the cut surface */
+  int *chart;           /* chart [0..nf-1]: the chart of each face */
+  int nseams;           /* seams: chains of cut edges between branch points, cones and the boundary */
+  double *seam_rot;     /* seam_rot [0..nseams-1]: the rotation (radians, in (-pi, pi]) taking one side's
+                           edges onto the other's */
+  int *seam_edge;       /* seam_edge [0..ne-1]: the seam of a cut edge, -1 elsewhere */
+  double seam_rot_dev;  /* the largest difference between a cut edge's rotation and its seam's */
+  double seam_len_dev;  /* the largest difference between the two sides' lengths of a cut edge (atlas units) */
+  int folds;            /* faces with a non-positive signed area in vt */
+  double coverage;      /* share of the unit square the charts cover */
+  double scale;         /* atlas units per unit of length of the cone metric */
+} au_atlas_layout;
+
+/* Cut m through the cones c and, for genus >= 1 or several boundary loops, a homology basis (the
+ * complement of a dual spanning tree that avoids a shortest-path tree from the cones, or from the boundary,
+ * with the branches that end at an ordinary interior vertex pruned; a cone of angle > 2 pi that is left
+ * at the end of a branch gets a second cut, to another cut vertex or the boundary, which splits its chart
+ * in two), lay out each chart by integrating the metric of u face by face, every chart starting in one
+ * common frame (the surface developed along a dual tree), turn each chart to its smallest bounding box
+ * (with quarter: by a multiple of 90 degrees only, so that seam rotations stay the holonomy's), split a
+ * chart that covers a texel of a 1024 x 1024 raster twice (a breadth-first race from the two faces), and
+ * pack the charts on shelves into [0, 1]^2 at one scale with a gap of gap (atlas units)
+ * around each. On success *L owns its arrays (au_atlas_layout_free).
+ * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_INTERNAL (a dual tree that does not span). */
+au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
+                               int quarter, au_atlas_layout *L, au_msg *msg);
+/* Free the arrays of L and zero it; NULL-safe. */
+void au_atlas_layout_free(au_atlas_layout *L);
+
+/* Rasterize the faces (vt, Ft) at the pixel centres of an R x R raster of [0, 1]^2 (a centre on an edge
+ * belongs to one face only, by the top-left rule) and count the pixels covered more than once; *covered
+ * (may be NULL) receives the pixels covered at all. Returns the count, or -1 when out of memory. */
+long au_atlas_overlap_texels(int nf, const double *vt, const int *Ft, int R, long *covered);
 
 #ifdef __cplusplus
 }

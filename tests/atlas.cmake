@@ -2,4 +2,5 @@
 # and Gauss-Bonnet, the conformal solve's convergence and flatness on data/ meshes of genus 0 and 1 and on
 # generated plates of genus 2 and 3, open surfaces, bad cones.
 au_test_module(test_atlas test_atlas.c
-  metric_sphere metric_quarter metric_torus metric_genus metric_open metric_bad_cones)
+  metric_sphere metric_quarter metric_torus metric_genus metric_open metric_bad_cones
+  layout_sphere layout_torus layout_genus layout_open)

@@ -200,10 +200,91 @@ static int metric_bad_cones(void) {
   return 0;
 }
 
+
+/* The start of the atlas on m: cones, metric, cut, charts. Checked: vt in [0, 1]^2, no fold, no texel
+ * covered twice at 1024 x 1024, both sides of every seam edge of one length (1e-9) and one rotation per
+ * seam (1e-9), and a rotation that is a multiple of pi/2 with quarter; at least min_cover of the square. */
+static int check_layout(au_mesh *m, int genus, int loops, int quarter, double min_cover, au_atlas_layout *out) {
+  AU_CHECK(m);
+  au_topo *t = NULL;
+  au_msg msg;
+  au_mesh_expect x = au_mesh_expect_default();
+  x.genus = genus, x.loops = loops;
+  AU_CHECK_STATUS(au_mesh_validate(m, &x, &t, &msg), AU_OK, &msg);
+  au_atlas_opts o = au_atlas_opts_default();
+  o.quarter = quarter;
+  au_atlas_cones c;
+  AU_CHECK_STATUS(au_atlas_place_cones(m, t, &o, &c, &msg), AU_OK, &msg);
+  double *u = malloc((size_t)m->nv * sizeof *u);
+  AU_CHECK(u);
+  AU_CHECK_STATUS(au_atlas_cetm(m, t, &c, &o, u, NULL, &msg), AU_OK, &msg);
+  au_atlas_layout L;
+  AU_CHECK_STATUS(au_atlas_layout_make(m, t, &c, u, 2.0 / 1024, quarter, &L, &msg), AU_OK, &msg);
+  for (int i = 0; i < 2 * L.nvt; i++) AU_CHECK(L.vt[i] >= 0 && L.vt[i] <= 1);
+  AU_CHECK_INT(L.folds, ==, 0);
+  long covered = 0, twice = au_atlas_overlap_texels(m->nf, L.vt, L.Ft, 1024, &covered);
+  if (getenv("AU_ATLAS_PROBE"))
+    fprintf(stderr, "nf %d cones %d charts %d cut %d seams %d coverage %.3f twice %ld covered %ld lendev %.2e rotdev %.2e\n",
+            m->nf, c.n, L.ncharts, L.ncut, L.nseams, L.coverage, twice, covered, L.seam_len_dev, L.seam_rot_dev);
+  AU_CHECK_INT(twice, ==, 0);
+  AU_CHECK_DBL(L.coverage, >=, min_cover);
+  AU_CHECK_NEAR((double)covered / (1024.0 * 1024.0), L.coverage, 0.02);
+  AU_CHECK_DBL(L.seam_len_dev, <=, 1e-9);
+  AU_CHECK_DBL(L.seam_rot_dev, <=, 1e-8);
+  for (int s = 0; quarter && genus == 0 && s < L.nseams; s++) {
+    double q = L.seam_rot[s] / (PI / 2);
+    AU_CHECK_NEAR(q, round(q), 1e-9);
+  }
+  /* A surface without cut edges is one disk-like chart; every cut edge belongs to a seam. */
+  for (int e = 0; e < t->ne; e++) AU_CHECK((L.seam_edge[e] >= 0) == (L.cut[e] != 0));
+  if (out) *out = L;
+  else au_atlas_layout_free(&L);
+  free(u);
+  au_atlas_cones_clear(&c);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return 0;
+}
+
+static int layout_sphere(void) {
+  /* One chart each (a cut tree through the cones); the star's arms make the layout overlap itself, which
+   * splits it into charts that still meet at multiples of 90 degrees with quarter cones. */
+  if (check_layout(read_data("ellipsoid"), 0, 0, 0, 0.15, NULL)) return 1;
+  if (check_layout(read_data("ellipsoid"), 0, 0, 1, 0.15, NULL)) return 1;
+  au_atlas_layout L;
+  if (check_layout(read_data("bumpy_star"), 0, 0, 1, 0.1, &L)) return 1;
+  if (getenv("AU_ATLAS_PROBE")) fprintf(stderr, "bumpy_star quarter: %d charts\n", L.ncharts);
+  au_atlas_layout_free(&L);
+  return 0;
+}
+
+static int layout_torus(void) { return check_layout(read_data("torus_r3"), 1, 0, 0, 0.25, NULL); }
+
+static int layout_genus(void) {
+  if (check_layout(holed_plate(2, 3), 2, 0, 0, 0.2, NULL)) return 1;
+  if (check_layout(holed_plate(2, 3), 2, 0, 1, 0.2, NULL)) return 1;
+  return check_layout(holed_plate(3, 2), 3, 0, 0, 0.2, NULL);
+}
+
+static int layout_open(void) {
+  au_atlas_layout L;
+  /* A disk is one chart with no cut edge. */
+  if (check_layout(read_data("disk_bump"), 0, 1, 0, 0.3, &L)) return 1;
+  AU_CHECK_INT(L.ncharts, ==, 1);
+  au_atlas_layout_free(&L);
+  if (check_layout(read_data("annulus_bump"), 0, 2, 0, 0.3, &L)) return 1;
+  AU_CHECK_INT(L.ncharts, ==, 1);
+  AU_CHECK_INT(L.ncut, >=, 1);
+  au_atlas_layout_free(&L);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"metric_sphere", metric_sphere}, {"metric_quarter", metric_quarter}, {"metric_torus", metric_torus},
       {"metric_genus", metric_genus},   {"metric_open", metric_open},       {"metric_bad_cones", metric_bad_cones},
+      {"layout_sphere", layout_sphere}, {"layout_torus", layout_torus},     {"layout_genus", layout_genus},
+      {"layout_open", layout_open},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }
