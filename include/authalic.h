@@ -902,6 +902,65 @@ AU_API au_status au_tex_seam_view(const au_tex_mesh *t, double view[3]);
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_IO. */
 AU_API au_status au_npy_write(const char *path, int ndim, const long *shape, const double *data, au_msg *msg);
 
+/* ================================================================ atlas (any genus)
+ * The conformal cone atlas of any connected orientable manifold mesh, closed or open, of any genus:
+ * cones placed where the conformal factor is extreme (or given), a flat cone metric by a convex
+ * conformal solve, a cut through the cones and a homology basis into disk-like charts laid out in that
+ * metric, split where they would overlap, packed into [0,1]^2 at one scale. Seams match by a rigid
+ * motion. This is the start of the equal-area atlas: the charts are conformal, NOT yet equal area
+ * (equal_area is 0). docs/atlas.md. */
+
+/* Options of au_atlas; start from au_atlas_options_default(). */
+typedef struct au_atlas_options {
+  int max_cones;            /* automatic cones: at most this many (default 24) */
+  int quarter;              /* 1: cone angles in multiples of pi/2 (default 0) */
+  int ncones;               /* > 0: these cones instead of automatic ones (default 0) */
+  const int *cone_v;        /* cone_v [0..ncones-1]: interior vertices */
+  const double *cone_angle; /* cone_angle [0..ncones-1]: angles in radians; on a closed surface the
+                               curvatures 2 pi - angle must sum to 2 pi chi */
+  int raster;               /* the raster the overlap check uses, in pixels a side (default 1024) */
+} au_atlas_options;
+AU_API au_atlas_options au_atlas_options_default(void);
+
+/* An atlas. All arrays are owned by the result (au_atlas_result_free). */
+typedef struct au_atlas_result {
+  int nv, nf;
+  int *F;             /* F [0..3*nf-1]: the faces (the input's, re-oriented where they disagreed) */
+  int nvt;
+  double *vt;         /* vt [0..2*nvt-1]: per-corner texture coordinates in [0,1]^2 */
+  int *Ft;            /* Ft [0..3*nf-1]: the row of vt of corner k of face f */
+  int ncones;
+  int *cone_v;        /* cone vertices and their angles (radians) */
+  double *cone_angle;
+  int ncharts, nseams, ncut; /* charts, seams (chains of cut edges), cut edges */
+  double *seam_rot;   /* seam_rot [0..nseams-1]: each seam's rotation, radians */
+  double seam_rot_dev;  /* largest deviation of a seam edge's rotation from its seam's */
+  double seam_len_dev;  /* largest difference of a seam edge's two lengths, atlas units */
+  double coverage;      /* share of the unit square the charts cover */
+  int folds;            /* faces turned over in vt (0 on success) */
+  long overlap_texels;  /* pixel centres of the raster covered twice (0 on success) */
+  int equal_area;       /* 0: the conformal start */
+  int genus, nloops;
+  int newton_steps;     /* of the cone metric */
+  double metric_err;    /* the metric's largest angle-sum error, radians */
+  double t_check, t_cones, t_metric, t_layout; /* seconds */
+  au_status status;
+  int nwarnings;
+  char warnings[4][512];
+} au_atlas_result;
+
+/* The atlas of (V, F). Returns AU_OK, AU_W_REORIENTED, AU_W_UNREFERENCED (the status of the mesh's
+ * check; warnings say more), AU_W_NOT_CONVERGED (the metric missed its tolerance: the atlas is still
+ * fold-free and overlap-free but its seams match less exactly), AU_E_ARG (bad options or cones: msg
+ * says which), AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC, AU_E_FOLD (the layout folded or overlapped),
+ * or an input error of the check (several components, non-manifold, non-orientable...). */
+AU_API au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas_options *o,
+                          au_atlas_result **out, au_msg *msg);
+AU_API void au_atlas_result_free(au_atlas_result **r);
+/* The result as JSON (free with au_free). t_read, t_write: seconds to report, or < 0 to leave out. */
+AU_API au_status au_atlas_result_json(const au_atlas_result *r, double t_read, double t_write, char **json,
+                                      au_msg *msg);
+
 #ifdef __cplusplus
 }
 #endif

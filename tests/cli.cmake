@@ -128,6 +128,9 @@ set(au_cli_bad_cmd
   disk    nonmanifold_edge.obj "non-manifold edge \\(0, 1\\)"
   disk    two_components.obj "2 connected components"
   disk    moebius.obj        "non-orientable surface.*edge \\(4, 13\\)"
+  atlas   moebius.obj        "non-orientable surface.*edge \\(4, 13\\)"
+  atlas   two_components.obj "2 connected components"
+  atlas   nonmanifold_edge.obj "non-manifold edge \\(0, 1\\)"
   annulus closed.obj         "closed mesh given to the annulus map"
   annulus disk.off           "1 boundary loop.*the annulus map needs 2"
   annulus torus_hole.obj     "1 boundary loop.*the annulus map needs 2"
@@ -150,6 +153,9 @@ endforeach()
 
 au_cli_test(unreferenced unreferenced.sh)
 au_cli_test(reoriented reoriented.sh)
+foreach(c data quarter cones usage)
+  au_cli_test(atlas.${c} atlas_runs.sh ${c})
+endforeach()
 foreach(mesh spiky_ico bumpy_star)
   au_cli_test(quality.${mesh} quality.sh map data/${mesh}.obj)
   au_cli_test(param_eval.${mesh} param_eval.sh data/${mesh}.obj)

@@ -161,7 +161,7 @@ static const cli_option options[] = {
 };
 #define NOPTIONS (int)(sizeof options / sizeof options[0])
 
-static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample", "torus"};
+static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample", "torus", "atlas"};
 
 const char *cli_option_name(cli_opt_id id) {
   for (int k = 0; k < NOPTIONS; k++)
@@ -170,7 +170,7 @@ const char *cli_option_name(cli_opt_id id) {
 }
 
 const char *cli_cmd_name(int cmd) {
-  for (int k = 0; k < 7; k++)
+  for (int k = 0; k < (int)(sizeof cmd_names / sizeof cmd_names[0]); k++)
     if (cmd == 1 << k) return cmd_names[k];
   return "?";
 }

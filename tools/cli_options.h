@@ -13,9 +13,10 @@ enum {
   CLI_TEXTURE = 16,
   CLI_SAMPLE = 32,
   CLI_TORUS = 64,
+  CLI_ATLAS = 128,
   CLI_PLANAR = CLI_DISK | CLI_ANNULUS | CLI_SQUARE,
   CLI_MAPS = CLI_SPHERE | CLI_PLANAR,
-  CLI_ALL = CLI_MAPS | CLI_TEXTURE | CLI_SAMPLE | CLI_TORUS
+  CLI_ALL = CLI_MAPS | CLI_TEXTURE | CLI_SAMPLE | CLI_TORUS | CLI_ATLAS
 };
 
 /* How an option takes its value. */
@@ -133,6 +134,14 @@ enum {
     "IN drawn with the baked texture through OUT.obj's coordinates, from the side of the seam and from the "       \
     "opposite side (needs --bake)")                                                                                  \
   X(OPT_MARK_SEAM, "mark-seam", NULL, CLI_FLAG, CLI_TEXTURE, "tint the faces across the cea seam red in --render")  \
+  X(OPT_CONES, "cones", "FILE", CLI_FILE, CLI_ATLAS,                                                                 \
+    "the cones instead of automatic ones: one line per cone, a vertex (0-based) and its angle in degrees; on a "    \
+    "closed surface the curvatures 360 - angle must sum to 360 x Euler characteristic")                            \
+  X(OPT_QUARTER, "quarter", NULL, CLI_FLAG, CLI_ATLAS,                                                              \
+    "cone angles in multiples of 90 degrees (seam rotations around cones then multiples of 90 degrees)")            \
+  X(OPT_MAX_CONES, "max-cones", "N", CLI_VALUE, CLI_ATLAS, "at most N automatic cones, 1..1000 (default 24)")      \
+  X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_ATLAS,                                                             \
+    "write a JSON report: cones, charts, seams and their rotations, coverage, folds, overlapping texels, times")    \
   X(OPT_QUIET, "quiet", NULL, CLI_FLAG, CLI_ALL, "no progress and no summary on stderr (errors and warnings remain)") \
   X(OPT_HELP, "help", NULL, CLI_FLAG, CLI_ALL, "this text")
 
@@ -141,7 +150,8 @@ typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
   OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_REFINE_BUDGET, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
   OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_AREA_TARGET, OPT_LONLAT,
-  OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_QUIET, OPT_HELP,
+  OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_CONES, OPT_QUARTER,
+  OPT_MAX_CONES, OPT_QUIET, OPT_HELP,
   OPT_COUNT
 } cli_opt_id;
 

@@ -1,0 +1,112 @@
+# atlas_runs.sh - `authalic atlas` end to end. The output keeps the input's vertices and faces and gives
+# every corner a vt in [0,1]^2; checked here in plain Python from the files alone: no vt triangle turned
+# over, both sides of every cut edge of one length (1e-6 of the atlas), the report's cones keep
+# Gauss-Bonnet on a closed surface (sum of 360 - angle = 360 x chi), with --quarter every cone angle and
+# seam rotation a multiple of 90 degrees, no texel covered twice and the report's "equal_area" false.
+# Bad usage, bad cones and bad input exit 2 with one error line and no output.
+# sh atlas_runs.sh PROG SOURCE_DIR SHARED_DIR CASE
+. "$(dirname "$0")/lib.sh"
+OUT=$T/o/atlas.obj
+REP=$T/o/report.json
+
+# check IN CHI [quarter]: the output and report of the last run on IN; CHI the Euler characteristic of a
+# closed surface, or "open".
+check() {
+  $PY - "$1" "$OUT" "$REP" "$2" "${3:-}" <<'PYEOF' || fail "the atlas is wrong"
+import json, math, sys
+src, out, rep, chi, quarter = sys.argv[1:6]
+def read(path):
+    V, F, VT, FT = [], [], [], []
+    for line in open(path):
+        t = line.split()
+        if not t: continue
+        if t[0] == 'v': V.append(tuple(map(float, t[1:4])))
+        elif t[0] == 'vt': VT.append(tuple(map(float, t[1:3])))
+        elif t[0] == 'f':
+            F.append(tuple(int(x.split('/')[0]) - 1 for x in t[1:4]))
+            FT.append(tuple(int(x.split('/')[1]) - 1 for x in t[1:4]) if '/' in t[1] else None)
+    return V, F, VT, FT
+def check(ok, what):
+    if not ok: sys.exit("atlas: " + what)
+X, FX, _, _ = read(src)
+P, F, VT, FT = read(out)
+check(P == X and F == FX, "vertices or faces differ from the input's")
+check(all(ft is not None for ft in FT), "faces without vt")
+check(all(0 <= u <= 1 and 0 <= v <= 1 for u, v in VT), "a vt outside [0,1]^2")
+area = 0
+for ft in FT:
+    p, q, s = (VT[k] for k in ft)
+    A = 0.5 * ((q[0] - p[0]) * (s[1] - p[1]) - (q[1] - p[1]) * (s[0] - p[0]))
+    check(A > 0, "a vt triangle is turned over or flat")
+    area += A
+# Every mesh edge seen from its two faces: the same length in vt (a seam's sides are congruent).
+side = {}
+worst = 0
+for fv, ft in zip(F, FT):
+    for k in range(3):
+        a, b = fv[k], fv[(k + 1) % 3]
+        ta, tb = ft[k], ft[(k + 1) % 3]
+        L = math.dist(VT[ta], VT[tb])
+        key = (min(a, b), max(a, b))
+        if key in side: worst = max(worst, abs(side[key] - L))
+        else: side[key] = L
+check(worst <= 1e-6, "a seam edge's two sides differ in length by %g" % worst)
+r = json.load(open(rep))
+check(r["command"] == "atlas" and r["equal_area"] is False, "report: command or equal_area")
+check(r["folds"] == 0 and r["overlap_texels"] == 0, "report: folds or overlapping texels")
+check(abs(r["coverage"] - area) <= 1e-6, "report: coverage %r, the vt triangles cover %r" % (r["coverage"], area))
+kappa = sum(360 - c["angle_deg"] for c in r["cones"])
+if chi != "open": check(abs(kappa - 360 * int(chi)) <= 1e-6, "cones: total curvature %r, chi %s" % (kappa, chi))
+if quarter:
+    check(all(abs(c["angle_deg"] / 90 - round(c["angle_deg"] / 90)) <= 1e-9 for c in r["cones"]), "a cone angle not a multiple of 90")
+    check(all(abs(s["rotation_deg"] / 90 - round(s["rotation_deg"] / 90)) <= 1e-6 for s in r["seams"]), "a seam rotation not a multiple of 90")
+PYEOF
+}
+
+case $1 in
+data)
+  # Genus 0 closed, genus 1, one and two boundary loops.
+  for c in ellipsoid:2 torus_r3:0 disk_bump:open annulus_bump:open; do
+    name=${c%%:*} chi=${c#*:}
+    IN=$(stage "$SRC/data/$name.obj")
+    run atlas "$IN" "$OUT" --report "$REP"
+    expect_status 0
+    expect_err "^authalic: atlas: .*folds=0 overlap_texels=0 equal_area=no"
+    check "$IN" "$chi"
+  done
+  ;;
+quarter)
+  IN=$(stage "$SRC/data/ellipsoid.obj")
+  run atlas "$IN" "$OUT" --report "$REP" --quarter --quiet
+  expect_status 0
+  [ -s "$T/log/stderr" ] && fail "--quiet printed something"
+  check "$IN" 2 quarter
+  ;;
+cones)
+  # Eight cones of 270 degrees at the ellipsoid's ring vertices: 8 x 90 = 720 = 360 x 2.
+  IN=$(stage "$SRC/data/ellipsoid.obj")
+  printf '# vertex angle\n100 270\n113 270\n300 270\n313 270\n600 270\n613 270\n900 270\n913 270\n' >"$T/in/cones.txt"
+  run atlas "$IN" "$OUT" --report "$REP" --cones "$T/in/cones.txt"
+  expect_status 0
+  check "$IN" 2 quarter
+  $PY -c 'import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if sorted(c["vertex"] for c in r["cones"]) == [100,113,300,313,600,613,900,913] else "cones not kept")' "$REP" \
+    || fail "the report's cones are not the file's"
+  # A sum that misses Gauss-Bonnet, a bad line: exit 2, nothing written.
+  rm -f "$OUT" "$REP"
+  printf '100 270\n' >"$T/in/bad_sum.txt"
+  run atlas "$IN" "$OUT" --cones "$T/in/bad_sum.txt"
+  expect_rejected "Gauss-Bonnet"
+  printf '100 -5\n' >"$T/in/bad_line.txt"
+  run atlas "$IN" "$OUT" --cones "$T/in/bad_line.txt"
+  expect_rejected "bad_line.txt:1: expected a vertex 0..1041 and a positive angle"
+  ;;
+usage)
+  IN=$(stage "$SRC/data/ellipsoid.obj")
+  run atlas "$IN" "$T/o/atlas.off"
+  expect_rejected "use .obj"
+  run atlas "$IN" "$OUT" --max-cones 0
+  expect_rejected "--max-cones '0'"
+  ;;
+*) fail "unknown case $1" ;;
+esac
+exit 0
