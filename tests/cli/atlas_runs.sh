@@ -1,7 +1,7 @@
 # atlas_runs.sh - `authalic atlas` end to end. The output keeps the input's vertices and faces and gives
 # every corner a vt in [0,1]^2; checked here in plain Python from the files alone: no vt triangle turned
 # over, both sides of every cut edge of one length (1e-6 of the atlas), the report's cones keep
-# Gauss-Bonnet on a closed surface (sum of 360 - angle = 360 x chi), with --quarter every cone angle and
+# Gauss-Bonnet on a closed surface (sum of 2 pi - angle = 2 pi chi, to 1e-9), with --quarter every cone angle and
 # seam rotation a multiple of 90 degrees, no texel covered twice and the report's "equal_area" false.
 # Bad usage, bad cones and bad input exit 2 with one error line and no output.
 # sh atlas_runs.sh PROG SOURCE_DIR SHARED_DIR CASE
@@ -55,8 +55,8 @@ r = json.load(open(rep))
 check(r["command"] == "atlas" and r["equal_area"] is False, "report: command or equal_area")
 check(r["folds"] == 0 and r["overlap_texels"] == 0, "report: folds or overlapping texels")
 check(abs(r["coverage"] - area) <= 1e-6, "report: coverage %r, the vt triangles cover %r" % (r["coverage"], area))
-kappa = sum(360 - c["angle_deg"] for c in r["cones"])
-if chi != "open": check(abs(kappa - 360 * int(chi)) <= 1e-6, "cones: total curvature %r, chi %s" % (kappa, chi))
+kappa = sum(2 * math.pi - c["angle"] for c in r["cones"])
+if chi != "open": check(abs(kappa - 2 * math.pi * int(chi)) <= 1e-9, "cones: total curvature %r, chi %s" % (kappa, chi))
 if quarter:
     check(all(abs(c["angle_deg"] / 90 - round(c["angle_deg"] / 90)) <= 1e-9 for c in r["cones"]), "a cone angle not a multiple of 90")
     check(all(abs(s["rotation_deg"] / 90 - round(s["rotation_deg"] / 90)) <= 1e-6 for s in r["seams"]), "a seam rotation not a multiple of 90")
@@ -72,6 +72,18 @@ data)
     run atlas "$IN" "$OUT" --report "$REP"
     expect_status 0
     expect_err "^authalic: atlas: .*folds=0 overlap_texels=0 equal_area=no"
+    check "$IN" "$chi"
+  done
+  ;;
+genus)
+  # The generated surfaces of genus 2, 3 and 5, genus 2 with one and two boundary loops and with a long
+  # thin handle (data/mkdata.c).
+  for c in genus2:-2 genus3:-4 genus5:-8 genus2_1loop:open genus2_2loops:open genus2_thin:-2; do
+    name=${c%%:*} chi=${c#*:}
+    [ -f "$SRC/data/$name.obj" ] || skip "$SRC/data/$name.obj is missing (run au_mkdata to generate data/)"
+    IN=$(stage "$SRC/data/$name.obj")
+    run atlas "$IN" "$OUT" --report "$REP"
+    expect_status 0
     check "$IN" "$chi"
   done
   ;;
