@@ -26,7 +26,8 @@ size_t au_struct_size(const char *name) {
                {"au_convergence", sizeof(au_convergence)}, {"au_mesh", sizeof(au_mesh)},
                {"au_msg", sizeof(au_msg)},                 {"au_write_opts", sizeof(au_write_opts)},
                {"au_report_extra", sizeof(au_report_extra)}, {"au_tex_layout", sizeof(au_tex_layout)},
-               {"au_tex_mesh", sizeof(au_tex_mesh)}};
+               {"au_tex_mesh", sizeof(au_tex_mesh)}, {"au_atlas_options", sizeof(au_atlas_options)},
+               {"au_atlas_result", sizeof(au_atlas_result)}};
   for (size_t k = 0; name && k < sizeof sizes / sizeof sizes[0]; k++)
     if (strcmp(name, sizes[k].name) == 0) return sizes[k].size;
   return 0;
