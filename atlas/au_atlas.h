@@ -116,6 +116,13 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
 /* Free the arrays of L and zero it; NULL-safe. */
 void au_atlas_layout_free(au_atlas_layout *L);
 
+/* Turn each of the nch charts (chart [0..nf-1] of each face; faces Ft into vt [0..2*nvt-1], every row of vt
+ * used by faces of one chart only) to its smallest bounding box (quarter: by quarter turns only), lay it
+ * flat and pack all on shelves into [0, 1]^2 at the largest common scale with gap around each, in place;
+ * *scale (may be NULL) receives the scale. Returns AU_OK, AU_E_NOMEM. */
+au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
+                        double *scale, au_msg *msg);
+
 /* Rasterize the faces (vt, Ft) at the pixel centres of an R x R raster of [0, 1]^2 (a centre on an edge
  * belongs to one face only, by the top-left rule) and count the pixels covered more than once; *covered
  * (may be NULL) receives the pixels covered at all. Returns the count, or -1 when out of memory. */

@@ -137,6 +137,74 @@ static int by_key_desc(const void *a, const void *b) {
   return x < y ? 1 : x > y ? -1 : *(const int *)a - *(const int *)b;
 }
 
+au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
+                        double *scale, au_msg *msg) {
+  /* 7. Each chart turned to its smallest bounding box (1 degree steps), lying flat, moved to the origin. */
+  double *bw = calloc((size_t)nch, sizeof *bw), *bh = calloc((size_t)nch, sizeof *bh);
+  double *bx = calloc((size_t)nch, sizeof *bx), *by = calloc((size_t)nch, sizeof *by);
+  double *lox = malloc((size_t)nch * sizeof *lox), *loy = malloc((size_t)nch * sizeof *loy);
+  double *hix = malloc((size_t)nch * sizeof *hix), *hiy = malloc((size_t)nch * sizeof *hiy);
+  int *vchart = malloc((size_t)nvt * sizeof *vchart), *ord = malloc((size_t)nch * sizeof *ord);
+  double *best = malloc((size_t)nch * sizeof *best), *bestang = calloc((size_t)nch, sizeof *bestang);
+  if (!bw || !bh || !bx || !by || !lox || !loy || !hix || !hiy || !vchart || !ord || !best || !bestang) {
+    free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
+        free(bestang);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory packing the atlas");
+  }
+  for (int f = 0; f < nf; f++)
+    for (int k = 0; k < 3; k++) vchart[Ft[3 * f + k]] = chart[f];
+  for (int ch = 0; ch < nch; ch++) best[ch] = INFINITY;
+  for (int deg_ = 0; deg_ < (quarter ? 1 : 90); deg_++) { /* quarter: the common frame is kept */
+    double a = deg_ * AU_PI / 180, ca = cos(a), sa = sin(a);
+    for (int ch = 0; ch < nch; ch++) lox[ch] = loy[ch] = INFINITY, hix[ch] = hiy[ch] = -INFINITY;
+    for (int q = 0; q < nvt; q++) {
+      int ch = vchart[q];
+      double x = ca * vt[2 * q] - sa * vt[2 * q + 1], y = sa * vt[2 * q] + ca * vt[2 * q + 1];
+      lox[ch] = fmin(lox[ch], x), hix[ch] = fmax(hix[ch], x), loy[ch] = fmin(loy[ch], y), hiy[ch] = fmax(hiy[ch], y);
+    }
+    for (int ch = 0; ch < nch; ch++) {
+      double ar = (hix[ch] - lox[ch]) * (hiy[ch] - loy[ch]);
+      if (ar < best[ch]) best[ch] = ar, bestang[ch] = a, bw[ch] = hix[ch] - lox[ch], bh[ch] = hiy[ch] - loy[ch];
+    }
+  }
+  for (int ch = 0; ch < nch; ch++)
+    if (bh[ch] > bw[ch]) bestang[ch] += AU_PI / 2; /* lying flat packs better on shelves */
+  for (int ch = 0; ch < nch; ch++) lox[ch] = loy[ch] = INFINITY, hix[ch] = hiy[ch] = -INFINITY;
+  for (int q = 0; q < nvt; q++) {
+    int ch = vchart[q];
+    double ca = cos(bestang[ch]), sa = sin(bestang[ch]);
+    double x = ca * vt[2 * q] - sa * vt[2 * q + 1], y = sa * vt[2 * q] + ca * vt[2 * q + 1];
+    vt[2 * q] = x, vt[2 * q + 1] = y;
+    lox[ch] = fmin(lox[ch], x), hix[ch] = fmax(hix[ch], x), loy[ch] = fmin(loy[ch], y), hiy[ch] = fmax(hiy[ch], y);
+  }
+  double maxside = 0;
+  for (int ch = 0; ch < nch; ch++) {
+    bw[ch] = hix[ch] - lox[ch], bh[ch] = hiy[ch] - loy[ch], ord[ch] = ch;
+    maxside = fmax(maxside, fmax(bw[ch], bh[ch]));
+  }
+  sort_key = bh;
+  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
+  /* 8. The largest scale at which the shelves fit, by bisection. */
+  double lo = 0, hi = (1 - 2 * gap) / maxside;
+  for (int it = 0; it < 60; it++) {
+    double mid = 0.5 * (lo + hi);
+    if (shelf_pack(nch, ord, bw, bh, mid, gap, NULL, NULL)) lo = mid;
+    else hi = mid;
+  }
+  shelf_pack(nch, ord, bw, bh, lo, gap, bx, by);
+  if (scale) *scale = lo;
+  for (int q = 0; q < nvt; q++) {
+    int ch = vchart[q];
+    vt[2 * q] = bx[ch] + lo * (vt[2 * q] - lox[ch]);
+    vt[2 * q + 1] = by[ch] + lo * (vt[2 * q + 1] - loy[ch]);
+    vt[2 * q] = fmin(1, fmax(0, vt[2 * q])), vt[2 * q + 1] = fmin(1, fmax(0, vt[2 * q + 1]));
+  }
+  free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
+      free(bestang);
+
+  return AU_OK;
+}
+
 /* Steps 5 to 8 for the cut as it stands: texture coordinates shared across uncut edges, the charts laid
  * out in the metric (flen: the metric's length of the edge opposite each corner), turned and packed. */
 static au_status lay_out(const au_mesh *m, const au_topo *t, const unsigned char *cut, const double *flen,
@@ -212,72 +280,9 @@ static au_status lay_out(const au_mesh *m, const au_topo *t, const unsigned char
   }
   L->ncharts = nch;
 
-  /* 7. Each chart turned to its smallest bounding box (1 degree steps), lying flat, moved to the origin. */
-  double *bw = calloc((size_t)nch, sizeof *bw), *bh = calloc((size_t)nch, sizeof *bh);
-  double *bx = calloc((size_t)nch, sizeof *bx), *by = calloc((size_t)nch, sizeof *by);
-  double *lox = malloc((size_t)nch * sizeof *lox), *loy = malloc((size_t)nch * sizeof *loy);
-  double *hix = malloc((size_t)nch * sizeof *hix), *hiy = malloc((size_t)nch * sizeof *hiy);
-  int *vchart = malloc((size_t)nvt * sizeof *vchart), *ord = malloc((size_t)nch * sizeof *ord);
-  double *best = malloc((size_t)nch * sizeof *best), *bestang = calloc((size_t)nch, sizeof *bestang);
-  if (!bw || !bh || !bx || !by || !lox || !loy || !hix || !hiy || !vchart || !ord || !best || !bestang) {
-    free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
-        free(bestang);
-    free(placed);
-    return au_msg_set(msg, AU_E_NOMEM, "out of memory packing the atlas");
-  }
-  for (int f = 0; f < nf; f++)
-    for (int k = 0; k < 3; k++) vchart[Ft[3 * f + k]] = L->chart[f];
-  for (int ch = 0; ch < nch; ch++) best[ch] = INFINITY;
-  for (int deg_ = 0; deg_ < (quarter ? 1 : 90); deg_++) { /* quarter: the common frame is kept */
-    double a = deg_ * AU_PI / 180, ca = cos(a), sa = sin(a);
-    for (int ch = 0; ch < nch; ch++) lox[ch] = loy[ch] = INFINITY, hix[ch] = hiy[ch] = -INFINITY;
-    for (int q = 0; q < nvt; q++) {
-      int ch = vchart[q];
-      double x = ca * vt[2 * q] - sa * vt[2 * q + 1], y = sa * vt[2 * q] + ca * vt[2 * q + 1];
-      lox[ch] = fmin(lox[ch], x), hix[ch] = fmax(hix[ch], x), loy[ch] = fmin(loy[ch], y), hiy[ch] = fmax(hiy[ch], y);
-    }
-    for (int ch = 0; ch < nch; ch++) {
-      double ar = (hix[ch] - lox[ch]) * (hiy[ch] - loy[ch]);
-      if (ar < best[ch]) best[ch] = ar, bestang[ch] = a, bw[ch] = hix[ch] - lox[ch], bh[ch] = hiy[ch] - loy[ch];
-    }
-  }
-  for (int ch = 0; ch < nch; ch++)
-    if (bh[ch] > bw[ch]) bestang[ch] += AU_PI / 2; /* lying flat packs better on shelves */
-  for (int ch = 0; ch < nch; ch++) lox[ch] = loy[ch] = INFINITY, hix[ch] = hiy[ch] = -INFINITY;
-  for (int q = 0; q < nvt; q++) {
-    int ch = vchart[q];
-    double ca = cos(bestang[ch]), sa = sin(bestang[ch]);
-    double x = ca * vt[2 * q] - sa * vt[2 * q + 1], y = sa * vt[2 * q] + ca * vt[2 * q + 1];
-    vt[2 * q] = x, vt[2 * q + 1] = y;
-    lox[ch] = fmin(lox[ch], x), hix[ch] = fmax(hix[ch], x), loy[ch] = fmin(loy[ch], y), hiy[ch] = fmax(hiy[ch], y);
-  }
-  double maxside = 0;
-  for (int ch = 0; ch < nch; ch++) {
-    bw[ch] = hix[ch] - lox[ch], bh[ch] = hiy[ch] - loy[ch], ord[ch] = ch;
-    maxside = fmax(maxside, fmax(bw[ch], bh[ch]));
-  }
-  sort_key = bh;
-  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
-  /* 8. The largest scale at which the shelves fit, by bisection. */
-  double lo = 0, hi = (1 - 2 * gap) / maxside;
-  for (int it = 0; it < 60; it++) {
-    double mid = 0.5 * (lo + hi);
-    if (shelf_pack(nch, ord, bw, bh, mid, gap, NULL, NULL)) lo = mid;
-    else hi = mid;
-  }
-  shelf_pack(nch, ord, bw, bh, lo, gap, bx, by);
-  L->scale = lo;
-  for (int q = 0; q < nvt; q++) {
-    int ch = vchart[q];
-    vt[2 * q] = bx[ch] + lo * (vt[2 * q] - lox[ch]);
-    vt[2 * q + 1] = by[ch] + lo * (vt[2 * q + 1] - loy[ch]);
-    vt[2 * q] = fmin(1, fmax(0, vt[2 * q])), vt[2 * q + 1] = fmin(1, fmax(0, vt[2 * q + 1]));
-  }
-  free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
-      free(bestang);
-
+  au_status st = au_atlas_pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, &L->scale, msg);
   free(placed);
-  return AU_OK;
+  return st;
 }
 
 /* Rasterize the atlas at 1024 x 1024 with the face that first covers each pixel centre; for every chart
