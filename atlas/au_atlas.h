@@ -116,12 +116,39 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
 /* Free the arrays of L and zero it; NULL-safe. */
 void au_atlas_layout_free(au_atlas_layout *L);
 
+/* Measure L again after its vt changed: folds, coverage, cut edges, and the seams (chains of cut edges
+ * between branch points, the cones c and the boundary) with their rotations and the deviations of their
+ * edges' rotations and lengths. Returns AU_OK, AU_E_NOMEM. */
+au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
+                           au_msg *msg);
+
 /* Turn each of the nch charts (chart [0..nf-1] of each face; faces Ft into vt [0..2*nvt-1], every row of vt
  * used by faces of one chart only) to its smallest bounding box (quarter: by quarter turns only), lay it
  * flat and pack all on shelves into [0, 1]^2 at the largest common scale with gap around each, in place;
  * *scale (may be NULL) receives the scale. Returns AU_OK, AU_E_NOMEM. */
 au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
                         double *scale, au_msg *msg);
+
+/* Options of the equal-area flow. */
+typedef struct au_atlas_flow_opts {
+  int max_steps;   /* (200) */
+  double face_tol; /* stop when the per-face mean |r - 1| is below this (0.005) */
+  double shear;    /* the first step's weight of the displacement's Dirichlet energy (1) */
+} au_atlas_flow_opts;
+au_atlas_flow_opts au_atlas_flow_opts_default(void);
+typedef struct au_atlas_flow_info {
+  int steps;
+  double err0, err; /* per-face mean |r - 1| before and after */
+} au_atlas_flow_info;
+
+/* The equal-area flow of the layout L of m (cones c pinned where their angle is not 2 pi), in place on
+ * L->vt: every vertex has a home position p and every corner of it lies at R p + t, R and t the corner's
+ * fixed rigid motion (the seams' rotations met round the vertex), so both sides of every seam move
+ * together. Damped Gauss-Newton steps on the faces' area shares with a Dirichlet term on the corners'
+ * displacements, each step shortened until no face turns over and the error falls. The charts are not
+ * packed again. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_FOLD. */
+au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
+                        const au_atlas_flow_opts *o, au_atlas_flow_info *info, au_msg *msg);
 
 /* Rasterize the faces (vt, Ft) at the pixel centres of an R x R raster of [0, 1]^2 (a centre on an edge
  * belongs to one face only, by the top-left rule) and count the pixels covered more than once; *covered

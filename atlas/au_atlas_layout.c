@@ -361,6 +361,122 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
   return AU_OK;
 }
 
+au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
+                           au_msg *msg) {
+  const int nv = m->nv, nf = m->nf, ne = t->ne, *F = m->F, nc = c ? c->n : 0, *Ft = L->Ft;
+  const unsigned char *cut = L->cut;
+  const double *vt = L->vt;
+  int *deg = calloc((size_t)nv, sizeof *deg), *vstart = calloc((size_t)nv + 1, sizeof *vstart);
+  int *vadj = malloc(2 * (size_t)ne * sizeof *vadj), *queue = malloc((size_t)ne * sizeof *queue);
+  unsigned char *iscone = calloc((size_t)nv, 1);
+  if (!deg || !vstart || !vadj || !queue || !iscone) {
+    free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
+  }
+  for (int i = 0; i < nc; i++) iscone[c->v[i]] = 1;
+  L->ncut = 0;
+  for (int e = 0; e < ne; e++) {
+    vstart[t->E[2 * e] + 1]++, vstart[t->E[2 * e + 1] + 1]++;
+    if (cut[e]) deg[t->E[2 * e]]++, deg[t->E[2 * e + 1]]++, L->ncut++;
+  }
+  for (int v = 0; v < nv; v++) vstart[v + 1] += vstart[v];
+  {
+    int *fill = calloc((size_t)nv, sizeof *fill);
+    if (!fill) {
+      free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+      return au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
+    }
+    for (int e = 0; e < ne; e++)
+      for (int s = 0; s < 2; s++) {
+        int v = t->E[2 * e + s];
+        vadj[vstart[v] + fill[v]++] = e;
+      }
+    free(fill);
+  }
+  int head, tail;
+  L->folds = 0, L->seam_len_dev = L->seam_rot_dev = 0;
+  free(L->seam_rot);
+  L->seam_rot = NULL;
+  /* 9. Folds and coverage. */
+  double cover = 0;
+  for (int f = 0; f < nf; f++) {
+    const double *a = vt + 2 * Ft[3 * f], *b = vt + 2 * Ft[3 * f + 1], *q = vt + 2 * Ft[3 * f + 2];
+    double ar = 0.5 * ((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]));
+    L->folds += !(ar > 0);
+    cover += ar;
+  }
+  L->coverage = cover;
+
+  /* 10. Seams: chains of cut edges through interior vertices on exactly two cut edges that are not cones.
+   * Each chain is walked with its edges directed one after the other, so that the face on the left of every
+   * edge lies on the same side; the rotation takes the right side's copy of an edge onto the left side's. */
+  for (int e = 0; e < ne; e++) L->seam_edge[e] = -1;
+  int nseams = 0;
+  double *rot = malloc((size_t)ne * sizeof *rot);
+  int *dir = malloc((size_t)ne * sizeof *dir);
+  if (!rot || !dir) {
+    free(rot), free(dir);
+    free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
+  }
+  for (int e0 = 0; e0 < ne; e0++) {
+    if (!cut[e0] || L->seam_edge[e0] >= 0) continue;
+    head = tail = 0;
+    queue[tail++] = e0, L->seam_edge[e0] = nseams, dir[e0] = 0; /* dir 0: E[2e] -> E[2e+1] */
+    while (head < tail) {
+      int e = queue[head++];
+      for (int s = 0; s < 2; s++) {
+        int v = t->E[2 * e + s];
+        if (t->vb[v] || iscone[v] || deg[v] != 2) continue;
+        for (int j = vstart[v]; j < vstart[v + 1]; j++) {
+          int e2 = vadj[j];
+          if (e2 == e || !cut[e2] || L->seam_edge[e2] >= 0) continue;
+          /* e ends at v (its head when s is its end in its direction) iff e2 starts there, and vice versa. */
+          int v_is_head_of_e = (s == 1) == (dir[e] == 0);
+          int v_is_first_of_e2 = t->E[2 * e2] == v;
+          dir[e2] = v_is_head_of_e == v_is_first_of_e2 ? 0 : 1;
+          L->seam_edge[e2] = nseams, queue[tail++] = e2;
+        }
+      }
+    }
+    nseams++;
+  }
+  L->nseams = nseams;
+  L->seam_rot = calloc((size_t)(nseams > 0 ? nseams : 1), sizeof *L->seam_rot);
+  int *seen = calloc((size_t)(nseams > 0 ? nseams : 1), sizeof *seen);
+  if (!L->seam_rot || !seen) {
+    free(rot), free(dir), free(seen);
+    free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
+  }
+  for (int e = 0; e < ne; e++) {
+    if (!cut[e]) continue;
+    int a = t->E[2 * e + dir[e]], b = t->E[2 * e + 1 - dir[e]];
+    double d[2][2];
+    int left = -1;
+    for (int s = 0; s < 2; s++) {
+      int f = t->EF[2 * e + s];
+      int ka = corner_at(F, f, a), kb = corner_at(F, f, b);
+      if ((ka + 1) % 3 == kb) left = s; /* f runs a -> b: it lies to the left of a -> b */
+      d[s][0] = vt[2 * Ft[3 * f + kb]] - vt[2 * Ft[3 * f + ka]];
+      d[s][1] = vt[2 * Ft[3 * f + kb] + 1] - vt[2 * Ft[3 * f + ka] + 1];
+    }
+    const double *dl = d[left], *dr = d[1 - left];
+    rot[e] = atan2(dr[0] * dl[1] - dr[1] * dl[0], dr[0] * dl[0] + dr[1] * dl[1]);
+    L->seam_len_dev = fmax(L->seam_len_dev, fabs(hypot(dl[0], dl[1]) - hypot(dr[0], dr[1])));
+    int sm = L->seam_edge[e];
+    if (!seen[sm]) seen[sm] = 1, L->seam_rot[sm] = rot[e];
+  }
+  for (int e = 0; e < ne; e++) {
+    if (!cut[e]) continue;
+    double dd = fabs(remainder(rot[e] - L->seam_rot[L->seam_edge[e]], 2 * AU_PI));
+    L->seam_rot_dev = fmax(L->seam_rot_dev, dd);
+  }
+  free(rot), free(dir), free(seen);
+  free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+  return AU_OK;
+}
+
 au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
                                int quarter, au_atlas_layout *L, au_msg *msg) {
   if (!m || !t || !u || !L || t->nv != m->nv || t->nf != m->nf || !(gap >= 0) || gap >= 0.25)
@@ -543,90 +659,8 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
     if ((st = split_overlaps(m, t, cut, queue, L, &split, msg)) != AU_OK) goto done;
     if (!split || round == 40) break;
   }
-  const double *vt = L->vt;
-  const int *Ft = L->Ft;
-  /* The cut edges' degrees again: splits added cut edges. */
-  memset(deg, 0, (size_t)nv * sizeof *deg);
-  L->ncut = 0;
-  for (int e = 0; e < ne; e++)
-    if (cut[e]) deg[t->E[2 * e]]++, deg[t->E[2 * e + 1]]++, L->ncut++;
-
-  /* 9. Folds and coverage. */
-  double cover = 0;
-  for (int f = 0; f < nf; f++) {
-    const double *a = vt + 2 * Ft[3 * f], *b = vt + 2 * Ft[3 * f + 1], *q = vt + 2 * Ft[3 * f + 2];
-    double ar = 0.5 * ((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]));
-    L->folds += !(ar > 0);
-    cover += ar;
-  }
-  L->coverage = cover;
-
-  /* 10. Seams: chains of cut edges through interior vertices on exactly two cut edges that are not cones.
-   * Each chain is walked with its edges directed one after the other, so that the face on the left of every
-   * edge lies on the same side; the rotation takes the right side's copy of an edge onto the left side's. */
-  for (int e = 0; e < ne; e++) L->seam_edge[e] = -1;
-  int nseams = 0;
-  double *rot = malloc((size_t)ne * sizeof *rot);
-  int *dir = malloc((size_t)ne * sizeof *dir);
-  if (!rot || !dir) {
-    free(rot), free(dir);
-    st = au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
-    goto done;
-  }
-  for (int e0 = 0; e0 < ne; e0++) {
-    if (!cut[e0] || L->seam_edge[e0] >= 0) continue;
-    head = tail = 0;
-    queue[tail++] = e0, L->seam_edge[e0] = nseams, dir[e0] = 0; /* dir 0: E[2e] -> E[2e+1] */
-    while (head < tail) {
-      int e = queue[head++];
-      for (int s = 0; s < 2; s++) {
-        int v = t->E[2 * e + s];
-        if (t->vb[v] || iscone[v] || deg[v] != 2) continue;
-        for (int j = vstart[v]; j < vstart[v + 1]; j++) {
-          int e2 = vadj[j];
-          if (e2 == e || !cut[e2] || L->seam_edge[e2] >= 0) continue;
-          /* e ends at v (its head when s is its end in its direction) iff e2 starts there, and vice versa. */
-          int v_is_head_of_e = (s == 1) == (dir[e] == 0);
-          int v_is_first_of_e2 = t->E[2 * e2] == v;
-          dir[e2] = v_is_head_of_e == v_is_first_of_e2 ? 0 : 1;
-          L->seam_edge[e2] = nseams, queue[tail++] = e2;
-        }
-      }
-    }
-    nseams++;
-  }
-  L->nseams = nseams;
-  L->seam_rot = calloc((size_t)(nseams > 0 ? nseams : 1), sizeof *L->seam_rot);
-  int *seen = calloc((size_t)(nseams > 0 ? nseams : 1), sizeof *seen);
-  if (!L->seam_rot || !seen) {
-    free(rot), free(dir), free(seen);
-    st = au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
-    goto done;
-  }
-  for (int e = 0; e < ne; e++) {
-    if (!cut[e]) continue;
-    int a = t->E[2 * e + dir[e]], b = t->E[2 * e + 1 - dir[e]];
-    double d[2][2];
-    int left = -1;
-    for (int s = 0; s < 2; s++) {
-      int f = t->EF[2 * e + s];
-      int ka = corner_at(F, f, a), kb = corner_at(F, f, b);
-      if ((ka + 1) % 3 == kb) left = s; /* f runs a -> b: it lies to the left of a -> b */
-      d[s][0] = vt[2 * Ft[3 * f + kb]] - vt[2 * Ft[3 * f + ka]];
-      d[s][1] = vt[2 * Ft[3 * f + kb] + 1] - vt[2 * Ft[3 * f + ka] + 1];
-    }
-    const double *dl = d[left], *dr = d[1 - left];
-    rot[e] = atan2(dr[0] * dl[1] - dr[1] * dl[0], dr[0] * dl[0] + dr[1] * dl[1]);
-    L->seam_len_dev = fmax(L->seam_len_dev, fabs(hypot(dl[0], dl[1]) - hypot(dr[0], dr[1])));
-    int sm = L->seam_edge[e];
-    if (!seen[sm]) seen[sm] = 1, L->seam_rot[sm] = rot[e];
-  }
-  for (int e = 0; e < ne; e++) {
-    if (!cut[e]) continue;
-    double dd = fabs(remainder(rot[e] - L->seam_rot[L->seam_edge[e]], 2 * AU_PI));
-    L->seam_rot_dev = fmax(L->seam_rot_dev, dd);
-  }
-  free(rot), free(dir), free(seen);
+  /* 9., 10. Folds, coverage and the seams (splits added cut edges). */
+  st = au_atlas_measure(m, t, c, L, msg);
 
 done:
   free(elen), free(dist), free(vstart), free(vadj), free(pedge), free(queue), free(deg), free(uf), free(cls),
