@@ -21,6 +21,7 @@ au_atlas_options au_atlas_options_default(void) {
   memset(&o, 0, sizeof o);
   o.max_cones = au_atlas_opts_default().max_cones;
   o.raster = 1024;
+  o.max_steps = au_atlas_flow_opts_default().max_steps;
   return o;
 }
 
@@ -45,6 +46,7 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
   au_atlas_options o = opts ? *opts : au_atlas_options_default();
   if (o.max_cones < 1 || o.max_cones > 1000) return au_msg_set(msg, AU_E_ARG, "max_cones %d: expected 1..1000", o.max_cones);
   if (o.raster < 64 || o.raster > 16384) return au_msg_set(msg, AU_E_ARG, "raster %d: expected 64..16384", o.raster);
+  if (o.max_steps < 1 || o.max_steps > 10000) return au_msg_set(msg, AU_E_ARG, "max_steps %d: expected 1..10000", o.max_steps);
   if (o.ncones < 0 || (o.ncones > 0 && (!o.cone_v || !o.cone_angle)))
     return au_msg_set(msg, AU_E_ARG, "cones: %d given without their arrays", o.ncones);
   au_atlas_result *r = calloc(1, sizeof *r);
@@ -122,8 +124,28 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
     }
   }
   if ((st = au_atlas_layout_make(m, t, &c, u, 2.0 / o.raster, quarter, &L, msg)) != AU_OK) goto fail;
-  r->overlap_texels = au_atlas_overlap_texels(nf, L.vt, L.Ft, o.raster, NULL);
   r->t_layout = now_s() - t0;
+  if (!o.conformal_only) {
+    t0 = now_s();
+    au_atlas_flow_opts fo = au_atlas_flow_opts_default();
+    fo.max_steps = o.max_steps;
+    au_atlas_flow_info fi;
+    if ((st = au_atlas_flow(m, t, &c, &L, &fo, &fi, msg)) != AU_OK) goto fail;
+    if ((st = au_atlas_separate(m, t, &L, quarter, 2.0 / o.raster, NULL, msg)) != AU_OK) goto fail;
+    if ((st = au_atlas_measure(m, t, &c, &L, msg)) != AU_OK) goto fail;
+    r->flow_steps = fi.steps, r->face_err_start = fi.err0, r->face_err = fi.err;
+    r->equal_area = fi.err <= 0.02;
+    if (!r->equal_area) {
+      char w[160];
+      snprintf(w, sizeof w, "the equal-area flow stopped at a per-face mean |r - 1| of %.3g after %d steps (from %.3g)",
+               fi.err, fi.steps, fi.err0);
+      warn(r, w);
+    }
+    r->t_flow = now_s() - t0;
+  } else {
+    r->face_err_start = r->face_err = au_atlas_face_error(m, &L);
+  }
+  r->overlap_texels = au_atlas_overlap_texels(nf, L.vt, L.Ft, o.raster, NULL);
   if (r->overlap_texels < 0) {
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory");
     goto fail;
@@ -138,7 +160,6 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
   r->ncones = c.n, r->cone_v = c.v, r->cone_angle = c.angle, c.v = NULL, c.angle = NULL;
   r->ncharts = L.ncharts, r->nseams = L.nseams, r->ncut = L.ncut, r->seam_rot = L.seam_rot, L.seam_rot = NULL;
   r->seam_rot_dev = L.seam_rot_dev, r->seam_len_dev = L.seam_len_dev, r->coverage = L.coverage, r->folds = L.folds;
-  r->equal_area = 0;
   st = sm > 0 ? sm : check > 0 ? check : so > 0 ? so : AU_OK;
   r->status = st;
   *out = r;
@@ -214,10 +235,12 @@ au_status au_atlas_result_json(const au_atlas_result *r, double t_read, double t
   sb(&b, "  \"coverage\": %.6f,\n  \"folds\": %d,\n  \"overlap_texels\": %ld,\n", r->coverage, r->folds,
      r->overlap_texels);
   sb(&b, "  \"metric\": {\"newton_steps\": %d, \"angle_error\": %.3g},\n", r->newton_steps, r->metric_err);
+  sb(&b, "  \"flow\": {\"steps\": %d, \"face_error_start\": %.6g, \"face_error\": %.6g},\n", r->flow_steps,
+     r->face_err_start, r->face_err);
   sb(&b, "  \"time\": {");
   if (t_read >= 0) sb(&b, "\"read\": %.4f, ", t_read);
-  sb(&b, "\"validate\": %.4f, \"cones\": %.4f, \"metric\": %.4f, \"layout\": %.4f", r->t_check, r->t_cones, r->t_metric,
-     r->t_layout);
+  sb(&b, "\"validate\": %.4f, \"cones\": %.4f, \"metric\": %.4f, \"layout\": %.4f, \"flow\": %.4f", r->t_check,
+     r->t_cones, r->t_metric, r->t_layout, r->t_flow);
   if (t_write >= 0) sb(&b, ", \"write\": %.4f", t_write);
   sb(&b, "},\n  \"warnings\": [");
   for (int i = 0; i < r->nwarnings; i++) {

@@ -116,6 +116,13 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
 /* Free the arrays of L and zero it; NULL-safe. */
 void au_atlas_layout_free(au_atlas_layout *L);
 
+/* Pack L (au_atlas_pack) and, while a chart covers a texel of the 1024 x 1024 raster twice, split it between
+ * the two faces found there (new cut edges; the separated corners keep their coordinates in new rows of
+ * vt) and pack again, at most 40 rounds. *nsplit (may be NULL): the splits made. Returns AU_OK,
+ * AU_E_NOMEM. */
+au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout *L, int quarter, double gap, int *nsplit,
+                            au_msg *msg);
+
 /* Measure L again after its vt changed: folds, coverage, cut edges, and the seams (chains of cut edges
  * between branch points, the cones c and the boundary) with their rotations and the deviations of their
  * edges' rotations and lengths. Returns AU_OK, AU_E_NOMEM. */
@@ -149,6 +156,10 @@ typedef struct au_atlas_flow_info {
  * packed again. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_FOLD. */
 au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                         const au_atlas_flow_opts *o, au_atlas_flow_info *info, au_msg *msg);
+
+/* The per-face mean |r - 1| of L (r: a face's share of the atlas over its share of the surface); -1 when
+ * out of memory. */
+double au_atlas_face_error(const au_mesh *m, const au_atlas_layout *L);
 
 /* Rasterize the faces (vt, Ft) at the pixel centres of an R x R raster of [0, 1]^2 (a centre on an edge
  * belongs to one face only, by the top-left rule) and count the pixels covered more than once; *covered

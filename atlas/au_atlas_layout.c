@@ -361,6 +361,75 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
   return AU_OK;
 }
 
+au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout *L, int quarter, double gap, int *nsplit,
+                            au_msg *msg) {
+  const int nf = m->nf, ne = t->ne, *F = m->F;
+  int nq = nf > ne ? nf : ne;
+  int *queue = malloc((size_t)nq * sizeof *queue), *uf = malloc(3 * (size_t)nf * sizeof *uf);
+  int *cls = malloc(3 * (size_t)nf * sizeof *cls);
+  au_status st = AU_OK;
+  if (nsplit) *nsplit = 0;
+  if (!queue || !uf || !cls) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
+    goto done;
+  }
+  for (int round = 0;; round++) {
+    if ((st = au_atlas_pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, &L->scale, msg)) != AU_OK) goto done;
+    int split = 0;
+    if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK || !split) break;
+    if (nsplit) *nsplit += split;
+    /* The corners separated by the new cut edges get their own rows of vt, where they were. */
+    for (int i = 0; i < 3 * nf; i++) uf[i] = i;
+    for (int e = 0; e < ne; e++) {
+      if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
+      int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+      for (int s = 0; s < 2; s++) {
+        int v = t->E[2 * e + s];
+        uf_union(uf, 3 * f0 + corner_at(F, f0, v), 3 * f1 + corner_at(F, f1, v));
+      }
+    }
+    int nvt = 0;
+    for (int i = 0; i < 3 * nf; i++) cls[i] = -1;
+    for (int i = 0; i < 3 * nf; i++) {
+      int r = uf_find(uf, i);
+      if (cls[r] < 0) cls[r] = nvt++;
+    }
+    double *vt = malloc(2 * (size_t)nvt * sizeof *vt);
+    if (!vt) {
+      st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
+      goto done;
+    }
+    for (int i = 0; i < 3 * nf; i++) {
+      int q = cls[uf_find(uf, i)];
+      vt[2 * q] = L->vt[2 * L->Ft[i]], vt[2 * q + 1] = L->vt[2 * L->Ft[i] + 1];
+    }
+    for (int i = 0; i < 3 * nf; i++) L->Ft[i] = cls[uf_find(uf, i)];
+    free(L->vt);
+    L->vt = vt, L->nvt = nvt;
+    int nch = 0;
+    for (int f = 0; f < nf; f++) L->chart[f] = -1;
+    for (int f0 = 0; f0 < nf; f0++) {
+      if (L->chart[f0] >= 0) continue;
+      int head = 0, tail = 0;
+      queue[tail++] = f0, L->chart[f0] = nch;
+      while (head < tail) {
+        int f = queue[head++];
+        for (int k = 0; k < 3; k++) {
+          int e = t->FE[3 * f + k];
+          if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
+          int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+          if (L->chart[g] < 0) L->chart[g] = nch, queue[tail++] = g;
+        }
+      }
+      nch++;
+    }
+    L->ncharts = nch;
+  }
+done:
+  free(queue), free(uf), free(cls);
+  return st;
+}
+
 au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                            au_msg *msg) {
   const int nv = m->nv, nf = m->nf, ne = t->ne, *F = m->F, nc = c ? c->n : 0, *Ft = L->Ft;

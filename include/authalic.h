@@ -903,12 +903,12 @@ AU_API au_status au_tex_seam_view(const au_tex_mesh *t, double view[3]);
 AU_API au_status au_npy_write(const char *path, int ndim, const long *shape, const double *data, au_msg *msg);
 
 /* ================================================================ atlas (any genus)
- * The conformal cone atlas of any connected orientable manifold mesh, closed or open, of any genus:
- * cones placed where the conformal factor is extreme (or given), a flat cone metric by a convex
- * conformal solve, a cut through the cones and a homology basis into disk-like charts laid out in that
- * metric, split where they would overlap, packed into [0,1]^2 at one scale. Seams match by a rigid
- * motion. This is the start of the equal-area atlas: the charts are conformal, NOT yet equal area
- * (equal_area is 0). docs/atlas.md. */
+ * An atlas of any connected orientable manifold mesh, closed or open, of any genus: cones placed where
+ * the conformal factor is extreme (or given), a flat cone metric by a convex conformal solve, a cut
+ * through the cones and a homology basis into disk-like charts laid out in that metric (the conformal
+ * start), then the equal-area flow with a rigid motion per corner (both sides of every seam move
+ * together), charts split where they would overlap, packed into [0,1]^2 at one scale. Seams match by a
+ * rigid motion. equal_area says whether the flow reached a per-face mean |r - 1| of 0.02. docs/atlas.md. */
 
 /* Options of au_atlas; start from au_atlas_options_default(). */
 typedef struct au_atlas_options {
@@ -919,6 +919,8 @@ typedef struct au_atlas_options {
   const double *cone_angle; /* cone_angle [0..ncones-1]: angles in radians; on a closed surface the
                                curvatures 2 pi - angle must sum to 2 pi chi */
   int raster;               /* the raster the overlap check uses, in pixels a side (default 1024) */
+  int conformal_only;       /* 1: stop at the conformal start, no equal-area flow (default 0) */
+  int max_steps;            /* most steps of the equal-area flow, 1..10000 (default 200) */
 } au_atlas_options;
 AU_API au_atlas_options au_atlas_options_default(void);
 
@@ -939,11 +941,13 @@ typedef struct au_atlas_result {
   double coverage;      /* share of the unit square the charts cover */
   int folds;            /* faces turned over in vt (0 on success) */
   long overlap_texels;  /* pixel centres of the raster covered twice (0 on success) */
-  int equal_area;       /* 0: the conformal start */
+  int equal_area;       /* 1: the flow brought the per-face mean |r - 1| to 0.02 or below */
+  int flow_steps;       /* steps of the equal-area flow (0: not run) */
+  double face_err_start, face_err; /* per-face mean |r - 1| of the conformal start and of the result */
   int genus, nloops;
   int newton_steps;     /* of the cone metric */
   double metric_err;    /* the metric's largest angle-sum error, radians */
-  double t_check, t_cones, t_metric, t_layout; /* seconds */
+  double t_check, t_cones, t_metric, t_layout, t_flow; /* seconds */
   au_status status;
   int nwarnings;
   char warnings[4][512];

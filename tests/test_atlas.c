@@ -279,12 +279,59 @@ static int layout_open(void) {
   return 0;
 }
 
+
+/* The equal-area flow on the start of check_layout: the per-face mean |r - 1| at most max_err (from well
+ * above it), no fold, no texel twice after the charts are separated and packed again, both sides of every
+ * seam still congruent (lengths to 1e-9, one rotation per seam to 1e-8), vt in [0, 1]^2. */
+static int check_flow(au_mesh *m, int genus, int loops, double max_err) {
+  au_atlas_layout L;
+  AU_CHECK(m);
+  au_mesh *mc = NULL;
+  AU_CHECK_STATUS(au_mesh_copy(m, &mc), AU_OK, NULL);
+  if (check_layout(m, genus, loops, 0, 0.1, &L)) return 1; /* frees m */
+  au_topo *t = NULL;
+  au_msg msg;
+  au_mesh_expect x = au_mesh_expect_default();
+  x.genus = genus, x.loops = loops;
+  AU_CHECK_STATUS(au_mesh_validate(mc, &x, &t, &msg), AU_OK, &msg);
+  au_atlas_cones c;
+  AU_CHECK_STATUS(au_atlas_place_cones(mc, t, NULL, &c, &msg), AU_OK, &msg);
+  au_atlas_flow_info fi;
+  AU_CHECK_STATUS(au_atlas_flow(mc, t, &c, &L, NULL, &fi, &msg), AU_OK, &msg);
+  AU_CHECK_DBL(fi.err0, >, 5 * max_err);
+  AU_CHECK_DBL(fi.err, <=, max_err);
+  AU_CHECK_NEAR(au_atlas_face_error(mc, &L), fi.err, 1e-9);
+  AU_CHECK_STATUS(au_atlas_separate(mc, t, &L, 0, 2.0 / 1024, NULL, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_atlas_measure(mc, t, &c, &L, &msg), AU_OK, &msg);
+  AU_CHECK_NEAR(au_atlas_face_error(mc, &L), fi.err, 1e-9); /* packing moves charts rigidly, at one scale */
+  AU_CHECK_INT(L.folds, ==, 0);
+  AU_CHECK_INT(au_atlas_overlap_texels(mc->nf, L.vt, L.Ft, 1024, NULL), ==, 0);
+  for (int i = 0; i < 2 * L.nvt; i++) AU_CHECK(L.vt[i] >= 0 && L.vt[i] <= 1);
+  AU_CHECK_DBL(L.seam_len_dev, <=, 1e-9);
+  AU_CHECK_DBL(L.seam_rot_dev, <=, 1e-8);
+  au_atlas_layout_free(&L);
+  au_atlas_cones_clear(&c);
+  au_topo_free(&t);
+  au_mesh_free(&mc);
+  return 0;
+}
+
+static int flow_closed(void) {
+  if (check_flow(read_data("ellipsoid"), 0, 0, 0.006)) return 1;
+  return check_flow(read_data("genus2"), 2, 0, 0.006);
+}
+
+static int flow_open(void) {
+  if (check_flow(read_data("disk_bump"), 0, 1, 0.006)) return 1;
+  return check_flow(read_data("genus2_2loops"), 2, 2, 0.006);
+}
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"metric_sphere", metric_sphere}, {"metric_quarter", metric_quarter}, {"metric_torus", metric_torus},
       {"metric_genus", metric_genus},   {"metric_open", metric_open},       {"metric_bad_cones", metric_bad_cones},
       {"layout_sphere", layout_sphere}, {"layout_torus", layout_torus},     {"layout_genus", layout_genus},
-      {"layout_open", layout_open},
+      {"layout_open", layout_open},     {"flow_closed", flow_closed},       {"flow_open", flow_open},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }

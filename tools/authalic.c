@@ -22,7 +22,7 @@ static const command commands[] = {
     {"torus", "torus IN OUT.obj [options] a closed genus-1 mesh onto a flat torus (seamless vt)", cli_cmd_map},
     {"texture", "texture IN OUT.obj [opts]  equal-area spherical texture coordinates (and baking)", cli_cmd_texture},
     {"sample", "sample IN --grid WxH OUT  the surface sampled on an equal-area grid of the sphere", cli_cmd_sample},
-    {"atlas", "atlas IN OUT.obj [options] a seamless atlas of any genus (per-corner vt; conformal, not yet equal area)",
+    {"atlas", "atlas IN OUT.obj [options] an equal-area seamless atlas of any genus (per-corner vt)",
      cli_cmd_atlas},
 };
 #define NCOMMANDS (int)(sizeof commands / sizeof commands[0])

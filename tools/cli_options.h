@@ -40,6 +40,7 @@ enum {
   X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "write a JSON report: metrics of the result and of the initial map, per-step errors, stage times, warnings")    \
   X(OPT_STEPS, "steps", "K", CLI_VALUE, CLI_MAPS | CLI_TORUS, "most advection steps, 1..%M (default %D)")           \
+  X(OPT_STEPS, "steps", "K", CLI_VALUE, CLI_ATLAS, "most steps of the equal-area flow, 1..10000 (default 200)")    \
   X(OPT_TOL, "tol", "T", CLI_VALUE, CLI_MAPS | CLI_TORUS, "stop when the vertex mean |log area ratio| is below T, T >= 0 (default %D)") \
   X(OPT_DENSITY, "density", "FILE", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "prescribed density: one positive number per vertex (or per face) of IN, in order: text (whitespace-"          \
@@ -82,6 +83,8 @@ enum {
     "for themselves (closer texture areas; param-eval's chord figures are higher)")                                 \
   X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_MAPS | CLI_TORUS,                                                \
     "stop after the initial (conformal or harmonic) map, for comparison")                                            \
+  X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_ATLAS,                                                           \
+    "stop at the conformal cone atlas (no equal-area flow), for comparison")                                         \
   X(OPT_LATTICE, "lattice", "SHAPE", CLI_VALUE, CLI_TORUS,                                                           \
     "conformal (default): the conformal modulus's lattice, scaled to area 1; square: the unit square (the linear "   \
     "map from the conformal lattice, no longer conformal)")                                                          \

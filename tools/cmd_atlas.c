@@ -12,8 +12,8 @@ static const char usage[] =
     "usage: authalic atlas IN OUT.obj [options]\n"
     "A seamless atlas of a connected orientable manifold mesh of any genus, closed or open: per-corner texture\n"
     "coordinates (vt) in [0,1]^2, charts cut through cones and a homology basis, laid out in a flat cone metric\n"
-    "conformal to the surface, packed at one scale; both sides of every seam match by a rotation and a\n"
-    "translation. Not yet equal area: the report says \"equal_area\": false (docs/atlas.md).\n";
+    "conformal to the surface, then made equal area by a flow that moves both sides of every seam together\n"
+    "(one rotation and translation per seam), packed at one scale (docs/atlas.md).\n";
 
 /* Read the cones file: lines "VERTEX ANGLE_DEG" ('#' comments and blank lines skipped). Returns -1 with
  * the arrays set, or prints the error and returns the exit code. */
@@ -74,6 +74,8 @@ int cli_cmd_atlas(int argc, char **argv) {
   au_atlas_options o = au_atlas_options_default();
   if (cli_opt_int(&c, OPT_MAX_CONES, 1, 1000, &o.max_cones)) return EXIT_USAGE;
   o.quarter = c.val[OPT_QUARTER] != NULL;
+  o.conformal_only = c.val[OPT_INIT_ONLY] != NULL;
+  if (cli_opt_int(&c, OPT_STEPS, 1, 10000, &o.max_steps)) return EXIT_USAGE;
   if (cones && (o.quarter || c.val[OPT_MAX_CONES]))
     return cli_usage_error(help, "--cones gives the cones: --quarter and --max-cones apply to automatic ones");
   const int quiet = c.val[OPT_QUIET] != NULL;
@@ -120,9 +122,9 @@ int cli_cmd_atlas(int argc, char **argv) {
   if (!quiet)
     fprintf(stderr,
             "authalic: atlas: V=%d F=%d genus=%d loops=%d cones=%d charts=%d seams=%d coverage=%.3f folds=%d "
-            "overlap_texels=%ld equal_area=no time=%.2fs\n",
+            "overlap_texels=%ld face_error=%.4f (start %.4f) equal_area=%s time=%.2fs\n",
             r->nv, r->nf, r->genus, r->nloops, r->ncones, r->ncharts, r->nseams, r->coverage, r->folds,
-            r->overlap_texels, cli_now() - t_start);
+            r->overlap_texels, r->face_err, r->face_err_start, r->equal_area ? "yes" : "no", cli_now() - t_start);
 done:
   au_free(json);
   au_atlas_result_free(&r);

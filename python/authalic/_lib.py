@@ -104,7 +104,7 @@ class Result(ctypes.Structure):
 
 class AtlasOptions(ctypes.Structure):
     _fields_ = [("max_cones", c_int), ("quarter", c_int), ("ncones", c_int), ("cone_v", P_int),
-                ("cone_angle", P_double), ("raster", c_int)]
+                ("cone_angle", P_double), ("raster", c_int), ("conformal_only", c_int), ("max_steps", c_int)]
 
 
 class AtlasResult(ctypes.Structure):
@@ -112,9 +112,10 @@ class AtlasResult(ctypes.Structure):
                 ("ncones", c_int), ("cone_v", P_int), ("cone_angle", P_double), ("ncharts", c_int),
                 ("nseams", c_int), ("ncut", c_int), ("seam_rot", P_double), ("seam_rot_dev", c_double),
                 ("seam_len_dev", c_double), ("coverage", c_double), ("folds", c_int), ("overlap_texels", ctypes.c_long),
-                ("equal_area", c_int), ("genus", c_int), ("nloops", c_int), ("newton_steps", c_int),
+                ("equal_area", c_int), ("flow_steps", c_int), ("face_err_start", c_double), ("face_err", c_double),
+                ("genus", c_int), ("nloops", c_int), ("newton_steps", c_int),
                 ("metric_err", c_double), ("t_check", c_double), ("t_cones", c_double), ("t_metric", c_double),
-                ("t_layout", c_double), ("status", c_int), ("nwarnings", c_int), ("warnings", (c_char * 512) * 4)]
+                ("t_layout", c_double), ("t_flow", c_double), ("status", c_int), ("nwarnings", c_int), ("warnings", (c_char * 512) * 4)]
 
 
 STRUCTS = {"au_msg": Msg, "au_mesh": Mesh, "au_write_opts": WriteOpts, "au_report_extra": ReportExtra,
