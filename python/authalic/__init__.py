@@ -949,9 +949,11 @@ def atlas(V, F, cones=None, quarter=False, max_cones=24):
 
     Cones where the conformal factor is extreme (or the given ones), a flat cone metric by a convex
     conformal solve, a cut through the cones and a homology basis into charts laid out in that metric,
-    split where they would overlap, packed into [0,1]^2 at one scale: both sides of every seam match by a
-    rotation and a translation, no texel of a 1024 x 1024 raster is covered twice. The charts are
-    conformal, NOT yet equal area: info["equal_area"] is False (docs/atlas.md).
+    then an equal-area flow that moves both sides of every seam together, charts split where they would
+    overlap, packed into [0,1]^2 at one scale: both sides of every seam match by a rotation and a
+    translation, no texel of a 1024 x 1024 raster is covered twice. info["equal_area"] is True when the
+    flow brought the per-face mean |r - 1| to 0.02 or below (info["flow"]); where it stalls above that a
+    warning says so (docs/atlas.md).
 
     cones: None (automatic), or a sequence of (vertex, angle in degrees) for interior vertices; on a
         closed surface the curvatures 360 - angle must sum to 360 x Euler characteristic.
