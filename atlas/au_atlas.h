@@ -151,8 +151,9 @@ typedef struct au_atlas_flow_info {
 /* The equal-area flow of the layout L of m (cones c pinned where their angle is not 2 pi), in place on
  * L->vt: every vertex has a home position p and every corner of it lies at R p + t, R and t the corner's
  * fixed rigid motion (the seams' rotations met round the vertex), so both sides of every seam move
- * together. Damped Gauss-Newton steps on the faces' area shares with a Dirichlet term on the corners'
- * displacements, each step shortened until no face turns over and the error falls. The charts are not
+ * together. Damped Gauss-Newton steps on the logs of the faces' area shares (a squeezed face is pulled as
+ * hard as a stretched one is pushed) with a Dirichlet term on the corners' displacements, each step
+ * shortened until no face turns over and the squared logs fall. The charts are not
  * packed again. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_FOLD. */
 au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                         const au_atlas_flow_opts *o, au_atlas_flow_info *info, au_msg *msg);

@@ -42,8 +42,8 @@ static double face_error(int nf, const double *q, const double *S, double Stot, 
   }
   double e = 0, e2 = 0;
   for (int f = 0; f < nf; f++) {
-    double r = A[f] / tot * Stot / S[f] - 1;
-    e += fabs(r), e2 += r * r;
+    double r = A[f] / tot * Stot / S[f] - 1, lr = log1p(r);
+    e += fabs(r), e2 += lr * lr;
   }
   *Atot = tot;
   if (sq) *sq = e2 / nf;
@@ -193,8 +193,9 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
   }
   if ((st = au_spd_create(n, colstart, rows, NULL, &spd, msg)) != AU_OK) goto done;
 
-  /* Gauss-Newton minimizes the squares of the residuals: a step is judged by their mean (sq), while the
-   * per-face mean |r - 1| (err) is what is reported and what the tolerance is on. */
+  /* Gauss-Newton minimizes the squares of the residuals (the logs of the area ratios): a step is judged
+   * by their mean (sq), while the per-face mean |r - 1| (err) is what is reported and what the tolerance
+   * is on. */
   double Atot, sq = 0, err = face_error(nf, q, S, Stot, A, &Atot, &sq);
   if (info) info->err0 = err;
   if (err < 0) {
@@ -207,19 +208,21 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
     double *val = au_spd_values(spd);
     memset(val, 0, (size_t)colstart[n] * sizeof *val);
     memset(b, 0, (size_t)n * sizeof *b);
-    /* Gauss-Newton on the relative face areas, plus lambda times the corners' Dirichlet energy of the
-     * displacement (scaled by the mean target), all in the vertices' home frames. */
+    /* Gauss-Newton on the logs of the face areas over their targets, plus lambda times the corners'
+     * Dirichlet energy of the displacement (scaled by the mean target), all in the vertices' home frames.
+     * The log: on the area ratio itself a squeezed face's gradient is its small edges over a large target,
+     * and the flow stalled with such faces left squeezed (bob 0.13, fertility 0.28 per face). */
     double meanT = Atot / nf;
     for (int f = 0; f < nf; f++) {
-      double T = S[f] / Stot * Atot, r = A[f] / T - 1;
+      double T = S[f] / Stot * Atot, r = log(A[f] / T);
       const double *qa = q + 6 * (size_t)f;
       double g[3][2];
       for (int k = 0; k < 3; k++) {
         const double *q1 = qa + 2 * ((k + 1) % 3), *q2_ = qa + 2 * ((k + 2) % 3);
         double gx = 0.5 * (q1[1] - q2_[1]), gy = 0.5 * (q2_[0] - q1[0]);
         const double *R = rot + 4 * (size_t)(3 * f + k);
-        g[k][0] = (R[0] * gx + R[2] * gy) / T; /* R^T g, relative */
-        g[k][1] = (R[1] * gx + R[3] * gy) / T;
+        g[k][0] = (R[0] * gx + R[2] * gy) / A[f]; /* R^T g, of the log of the area */
+        g[k][1] = (R[1] * gx + R[3] * gy) / A[f];
       }
       for (int i = 0; i < 3; i++) {
         int vi = F[3 * f + i];

@@ -153,7 +153,7 @@ endforeach()
 
 au_cli_test(unreferenced unreferenced.sh)
 au_cli_test(reoriented reoriented.sh)
-foreach(c data genus quarter cones usage)
+foreach(c data genus shared quarter cones usage)
   au_cli_test(atlas.${c} atlas_runs.sh ${c})
 endforeach()
 foreach(mesh spiky_ico bumpy_star)
