@@ -1,4 +1,5 @@
-/* au_atlas.h - the start of the atlas of a surface of any genus: a flat metric with cone singularities.
+/* au_atlas.h - the atlas of a surface of any genus: a flat metric with cone singularities, cut into charts,
+ * made equal area by a flow that moves both sides of every seam together.
  *
  * A surface of genus g (closed, or with boundary loops) has no flat metric conformal to its own
  * unless the curvature goes somewhere: to a few cone vertices, whose curvatures kappa_v = 2*pi -
@@ -17,9 +18,9 @@
  *    unless they are cones; boundary vertices keep u = 0 (their lengths); a closed surface holds one
  *    vertex at 0 (the scale). A triangle that violates the triangle inequality has the extended
  *    angles (0, 0, pi) and no cotan weight, as the paper's extension of the energy prescribes.
- * 3. the cut and the charts (au_atlas_layout_make), see below.
- * What is left to make the atlas equal area (the flow with per-corner rigid motions) is described in
- * docs/atlas.md. */
+ * 3. the cut and the charts (au_atlas_layout_make), see below;
+ * 4. the equal-area flow with per-corner rigid motions (au_atlas_flow), then the charts separated where
+ *    they overlap and packed again (au_atlas_separate). docs/atlas.md. */
 #ifndef AU_ATLAS_H
 #define AU_ATLAS_H
 
