@@ -1,5 +1,6 @@
 /* au_api.c - the small parts of the public API (include/authalic.h): version, memory, mesh files,
  * target names and the mesh check, the options' defaults and presets. The map itself is au_map.c. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,7 +26,8 @@ size_t au_struct_size(const char *name) {
                {"au_convergence", sizeof(au_convergence)}, {"au_mesh", sizeof(au_mesh)},
                {"au_msg", sizeof(au_msg)},                 {"au_write_opts", sizeof(au_write_opts)},
                {"au_report_extra", sizeof(au_report_extra)}, {"au_tex_layout", sizeof(au_tex_layout)},
-               {"au_tex_mesh", sizeof(au_tex_mesh)},       {"au_view_input", sizeof(au_view_input)}};
+               {"au_tex_mesh", sizeof(au_tex_mesh)},       {"au_view_input", sizeof(au_view_input)},
+               {"au_atlas_options", sizeof(au_atlas_options)}, {"au_atlas_result", sizeof(au_atlas_result)}};
   for (size_t k = 0; name && k < sizeof sizes / sizeof sizes[0]; k++)
     if (strcmp(name, sizes[k].name) == 0) return sizes[k].size;
   return 0;
@@ -85,9 +87,35 @@ au_mesh_expect au__target_expect(au_target t) {
 au_status au_mesh_check(const double *V, int nv, const int *F, int nf, au_target t, au_msg *msg) {
   if (!au_target_name(t)) return au_msg_set(msg, AU_E_ARG, "unknown target %d", (int)t);
   if (nv < 0 || nf < 0 || (nv > 0 && !V) || (nf > 0 && !F)) return au_msg_set(msg, AU_E_ARG, "bad mesh arrays");
-  au_mesh m = {nv, nf, (double *)V, (int *)F};
+  /* au_map re-orients its copy of the faces; the check does the same on a copy of its own, so that it
+   * says what the map would do (a warning) rather than refuse. */
+  int *Fo = malloc((size_t)(nf > 0 ? nf : 1) * 3 * sizeof *Fo);
+  if (!Fo) return au_msg_set(msg, AU_E_NOMEM, "out of memory checking the mesh");
+  if (nf > 0) memcpy(Fo, F, (size_t)nf * 3 * sizeof *Fo);
+  au_mesh m = {nv, nf, (double *)V, Fo};
+  au_msg om = {{0}};
+  au_status so = au_mesh_orient(&m, NULL, &om);
   au_mesh_expect ex = au__target_expect(t);
-  return au_mesh_validate(&m, &ex, NULL, msg);
+  au_status s = au_mesh_validate(&m, &ex, NULL, msg);
+  free(Fo);
+  /* Validation names the problems in its own order; the faces still disagree only where the walk found
+   * the surface non-orientable, which the walk names. */
+  if (s < 0 && (s != AU_E_ORIENTATION || so >= 0)) return s;
+  if (so < 0) {
+    if (msg) *msg = om;
+    return so;
+  }
+  if (so > 0) {
+    if (s > 0 && msg) {
+      char rest[sizeof msg->text];
+      snprintf(rest, sizeof rest, "%s", msg->text);
+      au_msg_set(msg, so, "%s; %s", om.text, rest);
+    } else if (msg) {
+      *msg = om;
+    }
+    return so;
+  }
+  return s;
 }
 
 void au_target_defaults(au_target t, int *max_steps, double *tol) {

@@ -598,10 +598,20 @@ static au_status prepare(map_run *x, const double *V, int nv, const int *F, int 
   memcpy(x->m->F, F, 3 * (size_t)nf * sizeof *F);
   au_mesh_expect ex = au__target_expect(x->target);
   double t0 = now_s();
+  /* The faces are made to agree first; validation still names any problem that comes before the
+   * orientation (an index, a non-manifold edge), and the walk names a non-orientable surface. */
+  au_msg om = {{0}};
+  au_status so = au_mesh_orient(x->m, NULL, &om);
   *check = au_mesh_validate(x->m, &ex, &x->t, msg);
   x->r->t_check = now_s() - t0;
+  if (*check == AU_E_ORIENTATION && so < 0) {
+    if (msg) *msg = om;
+    return *check = so;
+  }
   if (*check < 0) return *check;
+  if (so > 0) warn(x->r, "%s", om.text);
   if (*check > 0) warn(x->r, "%s", msg && msg->text[0] ? msg->text : au_status_str(*check));
+  if (so > 0 && *check == AU_OK) *check = so;
   x->mm = x->m, x->tt = x->t;
   x->r->nv_in = nv, x->r->nf_in = nf;
   if (x->target == AU_TARGET_CIRCLES) {

@@ -396,6 +396,112 @@ fail:
   return s;
 }
 
+/* The direction in which face EF[2e+s] traverses edge e: 1 from E[2e] to E[2e+1], 0 the other way. */
+static int au__edge_dir(const int *F, const au_topo *t, int e, int s) {
+  int64_t h = 3 * (int64_t)t->EF[2 * e + s] + t->EC[2 * e + s];
+  return au__he_from(F, h) == t->E[2 * e];
+}
+
+au_status au_mesh_orient(au_mesh *m, int *nflipped, au_msg *msg) {
+  if (msg) msg->text[0] = '\0';
+  if (nflipped) *nflipped = 0;
+  if (!m || m->nv < 0 || m->nf < 0 || (m->nf > 0 && !m->F)) return au_msg_set(msg, AU_E_ARG, "invalid mesh");
+  int nf = m->nf;
+  if (nf > INT32_MAX / 6) return au_msg_set(msg, AU_E_ARG, "mesh has too many faces (%d)", nf);
+  int *F = m->F;
+  for (int64_t c = 0; c < 3 * (int64_t)nf; c++)
+    if (F[c] < 0 || F[c] >= m->nv)
+      return au_msg_set(msg, AU_E_INDEX, "face %d refers to vertex %d but the mesh has %d vertices", (int)(c / 3), F[c],
+                        m->nv);
+  for (int f = 0; f < nf; f++) {
+    const int *c = F + 3 * (int64_t)f;
+    if (c[0] == c[1] || c[0] == c[2]) return au_msg_set(msg, AU_E_FACE, "face %d repeats vertex %d", f, c[0]);
+    if (c[1] == c[2]) return au_msg_set(msg, AU_E_FACE, "face %d repeats vertex %d", f, c[1]);
+  }
+  if (nf == 0) return AU_OK;
+
+  au_topo t;
+  memset(&t, 0, sizeof t);
+  t.nv = m->nv, t.nf = nf;
+  au_status s = AU_OK;
+  signed char *sign = NULL;
+  int *queue = NULL;
+  if (!(t.FE = au__alloc((size_t)3 * (size_t)nf, sizeof *t.FE))) {
+    s = au_msg_set(msg, AU_E_NOMEM, "out of memory orienting the faces");
+    goto done;
+  }
+  int bad_edge, bad_count, flip_edge;
+  if ((s = au__build_edges(m, &t, &bad_edge, &bad_count, &flip_edge, msg)) != AU_OK) goto done;
+  if (bad_edge >= 0) {
+    s = au_msg_set(msg, AU_E_NONMANIFOLD_EDGE, "non-manifold edge (%d, %d): shared by %d faces", t.E[2 * bad_edge],
+                   t.E[2 * bad_edge + 1], bad_count);
+    goto done;
+  }
+  if (flip_edge < 0) goto done; /* already consistent */
+  sign = calloc((size_t)nf, 1);
+  queue = au__alloc((size_t)nf, sizeof *queue);
+  if (!sign || !queue) {
+    s = au_msg_set(msg, AU_E_NOMEM, "out of memory orienting the faces");
+    goto done;
+  }
+  /* sign[f] = +1 keeps face f, -1 reverses it. Across an edge the two faces must end up traversing it
+   * in opposite directions, which fixes a neighbour's sign from its face's; meeting a face again with
+   * the other sign means no choice of signs works: the surface is not orientable. */
+  int head = 0, tail = 0;
+  for (int f0 = 0; f0 < nf; f0++) {
+    if (sign[f0]) continue;
+    int start = tail, neg = 0;
+    sign[f0] = 1;
+    queue[tail++] = f0;
+    while (head < tail) {
+      int f = queue[head++];
+      for (int k = 0; k < 3; k++) {
+        int e = t.FE[3 * (int64_t)f + k];
+        if (t.EF[2 * e + 1] < 0) continue;
+        int side = t.EF[2 * e] == f ? 0 : 1;
+        int g = t.EF[2 * e + 1 - side];
+        int same = au__edge_dir(F, &t, e, 0) == au__edge_dir(F, &t, e, 1);
+        signed char want = (signed char)(same ? -sign[f] : sign[f]);
+        if (!sign[g]) {
+          sign[g] = want;
+          neg += want < 0;
+          queue[tail++] = g;
+        } else if (sign[g] != want) {
+          s = au_msg_set(msg, AU_E_ORIENTATION,
+                         "non-orientable surface (a Moebius strip or a Klein bottle): no orientation of the faces "
+                         "agrees across edge (%d, %d) (faces %d and %d)",
+                         t.E[2 * e], t.E[2 * e + 1], f, g);
+          goto done;
+        }
+      }
+    }
+    /* Of the two orientations, the one that reverses fewer faces: a few flipped faces in a large mesh
+     * are the faces that are wrong. */
+    if (2 * neg > tail - start)
+      for (int i = start; i < tail; i++) sign[queue[i]] = (signed char)-sign[queue[i]];
+  }
+  int n = 0, first = -1;
+  for (int f = 0; f < nf; f++) {
+    if (sign[f] > 0) continue;
+    int tmp = F[3 * (int64_t)f + 1];
+    F[3 * (int64_t)f + 1] = F[3 * (int64_t)f + 2];
+    F[3 * (int64_t)f + 2] = tmp;
+    if (first < 0) first = f;
+    n++;
+  }
+  if (nflipped) *nflipped = n;
+  s = au_msg_set(msg, AU_W_REORIENTED, "re-oriented %d of %d faces to agree with their neighbours (first: face %d)", n,
+                 nf, first);
+done:
+  free(sign);
+  free(queue);
+  free(t.FE);
+  free(t.E);
+  free(t.EF);
+  free(t.EC);
+  return s;
+}
+
 au_mesh_expect au_mesh_expect_default(void) {
   au_mesh_expect e = {0, 0, NULL};
   return e;

@@ -534,6 +534,68 @@ static void make_torus_r2(mesh *m) { make_torus(m, 2, 24); }
 static void make_torus_r3(mesh *m) { make_torus(m, 3, 24); }
 static void make_torus_r5(mesh *m) { make_torus(m, 5, 24); }
 
+
+/* Surfaces of higher genus: the boundary of a plate of unit cubes (nx x ny x 1) with holes through it, each
+ * cube face cut into PLATE_S x PLATE_S quads of two triangles (outward-oriented). A pretzel of genus g is a
+ * row of 2g+1 by 3 cubes with a hole at every odd x in the middle row; the thin-handle plate has a long
+ * hole beside a one-cube-wide bar of 10 cubes. open_cells lists cubes whose bottom face is left out (one
+ * boundary loop each). */
+#define PLATE_S 4
+typedef struct plate {
+  int nx, ny, thin, nopen;
+  int open_cells[2][2];
+} plate;
+
+static int plate_solid(const plate *p, int x, int y, int z) {
+  if (x < 0 || x >= p->nx || y < 0 || y >= p->ny || z != 0) return 0;
+  if (p->thin) return !((x == 1 && y == 1) || (x == 3 && y >= 1 && y <= p->ny - 2));
+  return !(y == 1 && x % 2 == 1);
+}
+
+static void make_plate(mesh *m, const plate *p) {
+  const int S = PLATE_S, gx = p->nx * S + 1, gy = p->ny * S + 1, gz = S + 1;
+  int *id = malloc(sizeof(int) * (size_t)gx * gy * gz);
+  if (!id) die_nomem();
+  for (int i = 0; i < gx * gy * gz; i++) id[i] = -1;
+  for (int x = 0; x < p->nx; x++)
+    for (int y = 0; y < p->ny; y++) {
+      if (!plate_solid(p, x, y, 0)) continue;
+      int cell[3] = {x, y, 0};
+      for (int a = 0; a < 3; a++)
+        for (int sg = -1; sg <= 1; sg += 2) {
+          int nb[3] = {x, y, 0};
+          nb[a] += sg;
+          if (plate_solid(p, nb[0], nb[1], nb[2])) continue;
+          int skip = 0;
+          for (int k = 0; k < p->nopen; k++) skip |= a == 2 && sg < 0 && p->open_cells[k][0] == x && p->open_cells[k][1] == y;
+          if (skip) continue;
+          int b = (a + 1) % 3, c = (a + 2) % 3;
+          for (int i = 0; i < S; i++)
+            for (int j = 0; j < S; j++) {
+              static const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+              int q[4];
+              for (int k = 0; k < 4; k++) {
+                int g[3];
+                g[a] = (cell[a] + (sg > 0)) * S, g[b] = cell[b] * S + i + du[k], g[c] = cell[c] * S + j + dv[k];
+                int key = (g[0] * gy + g[1]) * gz + g[2];
+                if (id[key] < 0) id[key] = add_v(m, (double)g[0] / S, (double)g[1] / S, (double)g[2] / S);
+                q[k] = id[key];
+              }
+              if (sg > 0) add_f(m, q[0], q[1], q[2]), add_f(m, q[0], q[2], q[3]);
+              else add_f(m, q[0], q[2], q[1]), add_f(m, q[0], q[3], q[2]);
+            }
+        }
+    }
+  free(id);
+}
+
+static void make_genus2(mesh *m) { make_plate(m, &(plate){5, 3, 0, 0, {{0}}}); }
+static void make_genus3(mesh *m) { make_plate(m, &(plate){7, 3, 0, 0, {{0}}}); }
+static void make_genus5(mesh *m) { make_plate(m, &(plate){11, 3, 0, 0, {{0}}}); }
+static void make_genus2_1loop(mesh *m) { make_plate(m, &(plate){5, 3, 0, 1, {{0, 0}}}); }
+static void make_genus2_2loops(mesh *m) { make_plate(m, &(plate){5, 3, 0, 2, {{0, 0}, {4, 2}}}); }
+static void make_genus2_thin(mesh *m) { make_plate(m, &(plate){5, 10, 1, 0, {{0}}}); }
+
 /* Self-check that every mesh is what the README promises: each directed edge used once and its
  * reverse present (closed, manifold along edges, consistently oriented), Euler characteristic 2 on
  * one component (genus 0), and positive signed volume (outward normals). Returns 0 if all hold.
@@ -654,7 +716,7 @@ static const struct {
   const char *name, *what;
   void (*make)(mesh *);
   int loops; /* boundary loops: 0 closed, 1 disk, 2 annulus, more: a disk with holes */
-  int genus; /* 0, or 1 for the tori */
+  int genus; /* 0, 1 for the tori, 2..5 for the plates */
 } meshes[] = {
     {"bumpy_star", "icosphere level 4 with six long fingers and low bumps (default for make run)", make_bumpy_star, 0, 0},
     {"dumbbell", "two unit spheres joined by a thin neck (surface of revolution)", make_dumbbell, 0, 0},
@@ -670,6 +732,13 @@ static const struct {
     {"torus_r2", "torus of revolution R/r = 2, 48 x 24 vertices (genus 1)", make_torus_r2, 0, 1},
     {"torus_r3", "torus of revolution R/r = 3, 72 x 24 vertices (genus 1)", make_torus_r3, 0, 1},
     {"torus_r5", "torus of revolution R/r = 5, 120 x 24 vertices (genus 1)", make_torus_r5, 0, 1},
+    {"genus2", "double torus: the surface of a 5 x 3 plate of cubes with two holes", make_genus2, 0, 2},
+    {"genus3", "pretzel of genus 3: a 7 x 3 plate of cubes with three holes", make_genus3, 0, 3},
+    {"genus5", "pretzel of genus 5: an 11 x 3 plate of cubes with five holes", make_genus5, 0, 5},
+    {"genus2_1loop", "the double torus with one cube's bottom face left out (one boundary loop)", make_genus2_1loop, 1, 2},
+    {"genus2_2loops", "the double torus with two cubes' bottom faces left out (two boundary loops)", make_genus2_2loops, 2, 2},
+    {"genus2_thin", "genus 2 with a long thin handle: a 5 x 10 plate, a one-cube hole and a long one beside a bar 1 x 10",
+     make_genus2_thin, 0, 2},
 };
 
 int main(int argc, char **argv) {

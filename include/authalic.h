@@ -69,6 +69,7 @@ extern "C" {
   X(AU_OK, 0, "ok")                                                               \
   X(AU_W_UNREFERENCED, 1, "unreferenced vertices")                                \
   X(AU_W_NOT_CONVERGED, 2, "tolerance not reached")                               \
+  X(AU_W_REORIENTED, 3, "faces re-oriented")                                      \
   X(AU_E_NOMEM, -1, "out of memory")                                              \
   X(AU_E_ARG, -2, "invalid argument")                                             \
   X(AU_E_NOT_SPD, -3, "matrix not positive definite")                             \
@@ -145,6 +146,15 @@ AU_API au_status au_mesh_alloc(int nv, int nf, au_mesh **out);
 AU_API au_status au_mesh_copy(const au_mesh *m, au_mesh **out);
 /* Free a mesh and set *m to NULL; NULL-safe. */
 AU_API void au_mesh_free(au_mesh **m);
+/* Make the faces' orientation consistent in place: a breadth-first walk over the faces of each
+ * component flips every face that traverses an edge in the same direction as its neighbour, and of the
+ * two consistent orientations the one that keeps the most faces as they were is kept. au_map and
+ * every command do this first. nflipped (may be NULL) receives how many faces were reversed.
+ * Returns AU_OK (nothing to do), AU_W_REORIENTED (msg says how many faces and the first), AU_E_ARG,
+ * AU_E_NOMEM, AU_E_INDEX, AU_E_FACE, AU_E_NONMANIFOLD_EDGE (names the edge), AU_E_ORIENTATION (the
+ * surface is not orientable, a Moebius strip: msg names the edge where the walk met itself reversed);
+ * on an error m is unchanged. */
+AU_API au_status au_mesh_orient(au_mesh *m, int *nflipped, au_msg *msg);
 
 /* Read a triangle mesh; the format follows the extension: .obj .off .ply (ASCII or binary) .stl.
  * The file's vertex and face order is kept exactly; polygons with more than three corners are
@@ -305,10 +315,13 @@ typedef enum au_target {
 AU_API const char *au_target_name(au_target t);
 
 /* Check that a mesh can be mapped onto target t, and name the first problem: empty, non-finite
- * coordinates, index out of range, repeated corner, non-manifold edge or vertex, inconsistent
- * orientation, several components, wrong number of boundary loops, wrong genus, zero-area faces.
- * au_map makes the same check. Returns AU_OK, AU_W_UNREFERENCED (usable; msg says how many
- * vertices no face uses), AU_E_ARG, AU_E_NOMEM, or one of the input errors (<= -100). */
+ * coordinates, index out of range, repeated corner, non-manifold edge or vertex, non-orientable
+ * surface, several components, wrong number of boundary loops, wrong genus, zero-area faces.
+ * Inconsistently oriented faces of an orientable surface are not a problem: au_map re-orients them
+ * (au_mesh_orient) with a warning. au_map makes the same check. Returns AU_OK, AU_W_UNREFERENCED
+ * (usable; msg says how many vertices no face uses), AU_W_REORIENTED (usable once re-oriented; msg
+ * says how many faces, and the unreferenced vertices too if any), AU_E_ARG, AU_E_NOMEM, or one of the
+ * input errors (<= -100). */
 AU_API au_status au_mesh_check(const double *V, int nv, const int *F, int nf, au_target t, au_msg *msg);
 
 #define AU_MAX_STEPS 512      /* the most advection steps a map may take (au_options.max_steps) */
@@ -649,7 +662,8 @@ typedef struct au_result {
  * AU_E_FOLD and no result.
  * Returns AU_OK; AU_W_NOT_CONVERGED (the map is valid and fold-free, the tolerance was not met:
  * more steps may help); AU_W_UNREFERENCED (unreferenced vertices: they keep P = (0,0,1) or the
- * origin); AU_E_ARG (a bad option: msg names it); AU_E_CANCELLED; AU_E_NOMEM; AU_E_NOT_SPD,
+ * origin); AU_W_REORIENTED (faces that disagreed with their neighbours were reversed: the result's F
+ * holds the re-oriented faces); AU_E_ARG (a bad option: msg names it); AU_E_CANCELLED; AU_E_NOMEM; AU_E_NOT_SPD,
  * AU_E_NUMERIC, AU_E_FOLD, AU_E_INTERNAL; or an input error (<= -100) of the check, AU_E_DENSITY
  * (a density value not positive and finite). The warnings of the result say more than the status.
  * AU_TARGET_TORUS: the conformal start (tree-cotree homology basis, harmonic 1-forms, the conjugate,
@@ -934,6 +948,69 @@ AU_API au_view_input au_view_input_default(void);
 AU_API au_status au_view_html(const au_view_input *in, char **html, size_t *len, au_msg *msg);
 /* au_view_html written to path atomically (au_write_text). Returns its statuses and AU_E_IO. */
 AU_API au_status au_view_write(const char *path, const au_view_input *in, au_msg *msg);
+
+/* ================================================================ atlas (any genus)
+ * An atlas of any connected orientable manifold mesh, closed or open, of any genus: cones placed where
+ * the conformal factor is extreme (or given), a flat cone metric by a convex conformal solve, a cut
+ * through the cones and a homology basis into disk-like charts laid out in that metric (the conformal
+ * start), then the equal-area flow with a rigid motion per corner (both sides of every seam move
+ * together), charts split where they would overlap, packed into [0,1]^2 at one scale. Seams match by a
+ * rigid motion. equal_area says whether the flow reached a per-face mean |r - 1| of 0.02. docs/atlas.md. */
+
+/* Options of au_atlas; start from au_atlas_options_default(). */
+typedef struct au_atlas_options {
+  int max_cones;            /* automatic cones: at most this many (default 24) */
+  int quarter;              /* 1: cone angles in multiples of pi/2 (default 0) */
+  int ncones;               /* > 0: these cones instead of automatic ones (default 0) */
+  const int *cone_v;        /* cone_v [0..ncones-1]: interior vertices */
+  const double *cone_angle; /* cone_angle [0..ncones-1]: angles in radians; on a closed surface the
+                               curvatures 2 pi - angle must sum to 2 pi chi */
+  int raster;               /* the raster the overlap check uses, in pixels a side (default 1024) */
+  int conformal_only;       /* 1: stop at the conformal start, no equal-area flow (default 0) */
+  int max_steps;            /* most steps of the equal-area flow, 1..10000 (default 200) */
+} au_atlas_options;
+AU_API au_atlas_options au_atlas_options_default(void);
+
+/* An atlas. All arrays are owned by the result (au_atlas_result_free). */
+typedef struct au_atlas_result {
+  int nv, nf;
+  int *F;             /* F [0..3*nf-1]: the faces (the input's, re-oriented where they disagreed) */
+  int nvt;
+  double *vt;         /* vt [0..2*nvt-1]: per-corner texture coordinates in [0,1]^2 */
+  int *Ft;            /* Ft [0..3*nf-1]: the row of vt of corner k of face f */
+  int ncones;
+  int *cone_v;        /* cone vertices and their angles (radians) */
+  double *cone_angle;
+  int ncharts, nseams, ncut; /* charts, seams (chains of cut edges), cut edges */
+  double *seam_rot;   /* seam_rot [0..nseams-1]: each seam's rotation, radians */
+  double seam_rot_dev;  /* largest deviation of a seam edge's rotation from its seam's */
+  double seam_len_dev;  /* largest difference of a seam edge's two lengths, atlas units */
+  double coverage;      /* share of the unit square the charts cover */
+  int folds;            /* faces turned over in vt (0 on success) */
+  long overlap_texels;  /* pixel centres of the raster covered twice (0 on success) */
+  int equal_area;       /* 1: the flow brought the per-face mean |r - 1| to 0.02 or below */
+  int flow_steps;       /* steps of the equal-area flow (0: not run) */
+  double face_err_start, face_err; /* per-face mean |r - 1| of the conformal start and of the result */
+  int genus, nloops;
+  int newton_steps;     /* of the cone metric */
+  double metric_err;    /* the metric's largest angle-sum error, radians */
+  double t_check, t_cones, t_metric, t_layout, t_flow; /* seconds */
+  au_status status;
+  int nwarnings;
+  char warnings[4][512];
+} au_atlas_result;
+
+/* The atlas of (V, F). Returns AU_OK, AU_W_REORIENTED, AU_W_UNREFERENCED (the status of the mesh's
+ * check; warnings say more), AU_W_NOT_CONVERGED (the metric missed its tolerance: the atlas is still
+ * fold-free and overlap-free but its seams match less exactly), AU_E_ARG (bad options or cones: msg
+ * says which), AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC, AU_E_FOLD (the layout folded or overlapped),
+ * or an input error of the check (several components, non-manifold, non-orientable...). */
+AU_API au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas_options *o,
+                          au_atlas_result **out, au_msg *msg);
+AU_API void au_atlas_result_free(au_atlas_result **r);
+/* The result as JSON (free with au_free). t_read, t_write: seconds to report, or < 0 to leave out. */
+AU_API au_status au_atlas_result_json(const au_atlas_result *r, double t_read, double t_write, char **json,
+                                      au_msg *msg);
 
 #ifdef __cplusplus
 }

@@ -42,7 +42,7 @@ set(au_cli_bad
   huge_coord.obj         "total area inf.*overflow"
   nonmanifold_edge.obj   "non-manifold edge \\(0, 1\\).*3 faces"
   nonmanifold_vertex.obj "vertex 0 is non-manifold"
-  flipped_face.obj       "inconsistent orientation"
+  moebius.obj            "non-orientable surface.*edge \\(4, 13\\)"
   two_components.obj     "2 connected components"
   single_triangle.obj    "1 boundary loop.*closed surface"
   duplicate_vertex.obj   "1 boundary loop.*closed surface"
@@ -127,6 +127,10 @@ set(au_cli_bad_cmd
   disk    torus.obj          "closed mesh of genus 1 given to the disk map"
   disk    nonmanifold_edge.obj "non-manifold edge \\(0, 1\\)"
   disk    two_components.obj "2 connected components"
+  disk    moebius.obj        "non-orientable surface.*edge \\(4, 13\\)"
+  atlas   moebius.obj        "non-orientable surface.*edge \\(4, 13\\)"
+  atlas   two_components.obj "2 connected components"
+  atlas   nonmanifold_edge.obj "non-manifold edge \\(0, 1\\)"
   annulus closed.obj         "closed mesh given to the annulus map"
   annulus disk.off           "1 boundary loop.*the annulus map needs 2"
   annulus torus_hole.obj     "1 boundary loop.*the annulus map needs 2"
@@ -151,6 +155,10 @@ foreach(c replace_existing not_converged options)
 endforeach()
 
 au_cli_test(unreferenced unreferenced.sh)
+au_cli_test(reoriented reoriented.sh)
+foreach(c data genus shared quarter cones usage)
+  au_cli_test(atlas.${c} atlas_runs.sh ${c})
+endforeach()
 foreach(mesh spiky_ico bumpy_star)
   au_cli_test(quality.${mesh} quality.sh map data/${mesh}.obj)
   au_cli_test(param_eval.${mesh} param_eval.sh data/${mesh}.obj)

@@ -5,6 +5,7 @@ au_test_module(test_mesh test_mesh.c
   topo_annulus topo_torus topo_two_tetra topo_two_disks loops_disk_order loops_annulus_len
   topo_unreferenced topo_nonmanifold_edge topo_bowtie topo_pinched_spheres topo_flipped_face
   topo_args topo_scale_200k
+  orient_consistent orient_two_flipped orient_majority orient_moebius orient_errors
   validate_ok_sphere validate_ok_disk validate_ok_annulus validate_ok_torus validate_any
   validate_empty validate_nonfinite validate_index validate_repeat validate_nonmanifold_edge
   validate_nonmanifold_vertex validate_orientation validate_components validate_disk_for_sphere

@@ -874,6 +874,170 @@ static int validate_no_topo_out(void) {
   return 0;
 }
 
+
+/* ---------- orientation repair (au_mesh_orient) ---------- */
+
+/* A Moebius strip of n quads (2n vertices, 2n faces): the last quad joins the top of the first
+ * segment to the bottom of the last, so no orientation of the faces agrees everywhere. */
+static au_mesh *moebius(int n) {
+  au_mesh *m = mk(2 * n, NULL, 2 * n, NULL);
+  if (!m) return NULL;
+  for (int i = 0; i < n; i++)
+    for (int s = 0; s < 2; s++) {
+      double th = 2 * PI * i / n, w = s ? -0.3 : 0.3, r = 1 + w * cos(th / 2);
+      double *p = m->X + 3 * (i + s * n);
+      p[0] = r * cos(th), p[1] = r * sin(th), p[2] = w * sin(th / 2);
+    }
+  for (int i = 0; i < n; i++) {
+    int t = i, b = n + i, tn = i + 1, bn = n + i + 1;
+    if (i == n - 1) tn = n, bn = 0; /* the half twist: top meets bottom */
+    int q[6] = {t, b, bn, t, bn, tn};
+    memcpy(m->F + 6 * i, q, sizeof q);
+  }
+  return m;
+}
+
+static void flip_face(au_mesh *m, int f) {
+  int tmp = m->F[3 * f + 1];
+  m->F[3 * f + 1] = m->F[3 * f + 2];
+  m->F[3 * f + 2] = tmp;
+}
+
+static int orient_consistent(void) {
+  /* An oriented mesh is left alone, byte for byte. */
+  au_mesh *m = grid(TORUS, 6, 5), *c = NULL;
+  AU_CHECK(m);
+  AU_CHECK_STATUS(au_mesh_copy(m, &c), AU_OK, NULL);
+  au_msg msg;
+  int n = -1;
+  AU_CHECK_STATUS(au_mesh_orient(m, &n, &msg), AU_OK, &msg);
+  AU_CHECK_INT(n, ==, 0);
+  AU_CHECK_INT(msg.text[0], ==, 0);
+  AU_CHECK(memcmp(m->F, c->F, 3 * (size_t)m->nf * sizeof *m->F) == 0);
+  au_mesh_free(&m);
+  au_mesh_free(&c);
+  return 0;
+}
+
+static int orient_two_flipped(void) {
+  /* Two reversed faces of a closed torus and of a disk come back as they were, with a warning that
+   * names the count and the first; validation then passes. */
+  for (int kind = 0; kind < 2; kind++) {
+    au_mesh *m = kind ? grid(FLAT, 5, 4) : grid(TORUS, 8, 6), *c = NULL;
+    AU_CHECK(m);
+    AU_CHECK_STATUS(au_mesh_copy(m, &c), AU_OK, NULL);
+    flip_face(m, 3);
+    flip_face(m, m->nf - 2);
+    au_msg msg;
+    int n = 0;
+    AU_CHECK_STATUS(au_mesh_orient(m, &n, &msg), AU_W_REORIENTED, &msg);
+    AU_CHECK_INT(n, ==, 2);
+    CHECK_MSG(msg, "re-oriented 2 of ");
+    CHECK_MSG(msg, "first: face 3)");
+    AU_CHECK(memcmp(m->F, c->F, 3 * (size_t)m->nf * sizeof *m->F) == 0);
+    au_mesh_expect x = au_mesh_expect_default();
+    x.loops = kind ? 1 : 0, x.genus = kind ? 0 : 1;
+    AU_CHECK_STATUS(au_mesh_validate(m, &x, NULL, &msg), AU_OK, &msg);
+    au_mesh_free(&m);
+    au_mesh_free(&c);
+  }
+  return 0;
+}
+
+static int orient_majority(void) {
+  /* All faces but one reversed: the walk starts at the kept face, and the orientation that reverses
+   * fewer faces wins, so only that one face is turned. Each component is decided on its own. */
+  au_mesh *a = grid(FLAT, 4, 4), *b = grid(FLAT, 3, 3);
+  AU_CHECK(a && b);
+  au_mesh *m = mk(a->nv + b->nv, NULL, a->nf + b->nf, NULL);
+  AU_CHECK(m);
+  memcpy(m->X, a->X, 3 * (size_t)a->nv * sizeof *m->X);
+  memcpy(m->X + 3 * a->nv, b->X, 3 * (size_t)b->nv * sizeof *m->X);
+  memcpy(m->F, a->F, 3 * (size_t)a->nf * sizeof *m->F);
+  for (int i = 0; i < 3 * b->nf; i++) m->F[3 * a->nf + i] = b->F[i] + a->nv;
+  for (int f = 1; f < a->nf; f++) flip_face(m, f); /* component a: all but face 0 reversed */
+  flip_face(m, a->nf + 4);                          /* component b: one face reversed */
+  au_msg msg;
+  int n = 0;
+  AU_CHECK_STATUS(au_mesh_orient(m, &n, &msg), AU_W_REORIENTED, &msg);
+  AU_CHECK_INT(n, ==, 2);
+  CHECK_MSG(msg, "first: face 0)");
+  for (int f = 0; f < a->nf; f++) flip_face(a, f); /* every face of a reversed, face 0 now too */
+  AU_CHECK(memcmp(m->F, a->F, 3 * (size_t)a->nf * sizeof *m->F) == 0);
+  for (int i = 0; i < 3 * b->nf; i++) AU_CHECK_INT(m->F[3 * a->nf + i], ==, b->F[i] + a->nv);
+  au_mesh_free(&a);
+  au_mesh_free(&b);
+  au_mesh_free(&m);
+  return 0;
+}
+
+static int orient_moebius(void) {
+  /* A Moebius strip cannot be oriented: the walk names the edge where it met itself reversed, and
+   * the faces are left as they were. The public check says the same; a strip with one face reversed
+   * too is still refused. */
+  au_mesh *m = moebius(8), *c = NULL;
+  AU_CHECK(m);
+  AU_CHECK_STATUS(au_mesh_copy(m, &c), AU_OK, NULL);
+  au_topo *t = NULL;
+  au_msg msg;
+  AU_CHECK_STATUS(au_mesh_topology(m, &t, &msg), AU_E_ORIENTATION, &msg); /* it is a manifold */
+  for (int flipped = 0; flipped < 2; flipped++) {
+    if (flipped) flip_face(m, 5), flip_face(c, 5);
+    int n = -1;
+    AU_CHECK_STATUS(au_mesh_orient(m, &n, &msg), AU_E_ORIENTATION, &msg);
+    AU_CHECK_INT(n, ==, 0);
+    CHECK_MSG(msg, "non-orientable");
+    CHECK_MSG(msg, "edge (");
+    AU_CHECK(memcmp(m->F, c->F, 3 * (size_t)m->nf * sizeof *m->F) == 0);
+    AU_CHECK_STATUS(au_mesh_check(m->X, m->nv, m->F, m->nf, AU_TARGET_DISK, &msg), AU_E_ORIENTATION, &msg);
+    CHECK_MSG(msg, "non-orientable");
+  }
+  /* The walk from face 0 goes round both ways and meets itself reversed halfway, on the diagonal of
+   * the fifth quad (faces 8 and 9): the first edge where no orientation agrees. */
+  AU_CHECK_STATUS(au_mesh_orient(m, NULL, &msg), AU_E_ORIENTATION, &msg);
+  CHECK_MSG(msg, "edge (4, 13) (faces 9 and 8)");
+  au_mesh_free(&m);
+  au_mesh_free(&c);
+  return 0;
+}
+
+static int orient_errors(void) {
+  /* Problems that come before orientation are named as validation names them, and leave F alone. */
+  au_msg msg;
+  AU_CHECK_STATUS(au_mesh_orient(NULL, NULL, &msg), AU_E_ARG, &msg);
+  au_mesh *m = tetra();
+  AU_CHECK(m);
+  m->F[5] = 9;
+  AU_CHECK_STATUS(au_mesh_orient(m, NULL, &msg), AU_E_INDEX, &msg);
+  CHECK_MSG(msg, "face 1 refers to vertex 9");
+  m->F[5] = m->F[4];
+  AU_CHECK_STATUS(au_mesh_orient(m, NULL, &msg), AU_E_FACE, &msg);
+  au_mesh_free(&m);
+  /* Three faces on edge (0, 1), one of them reversed against the others. */
+  static const double X[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
+  static const int F[] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  m = mk(5, X, 3, F);
+  AU_CHECK(m);
+  AU_CHECK_STATUS(au_mesh_orient(m, NULL, &msg), AU_E_NONMANIFOLD_EDGE, &msg);
+  CHECK_MSG(msg, "(0, 1)");
+  AU_CHECK_INT(m->F[6], ==, 0);
+  au_mesh_free(&m);
+  /* The public check: a flipped face is a warning now, with the unreferenced vertices after it. */
+  m = tetra();
+  AU_CHECK(m);
+  au_mesh *u = mk(5, NULL, 4, m->F);
+  AU_CHECK(u);
+  memcpy(u->X, m->X, 12 * sizeof(double));
+  flip_face(u, 2);
+  AU_CHECK_STATUS(au_mesh_check(u->X, u->nv, u->F, u->nf, AU_TARGET_SPHERE, &msg), AU_W_REORIENTED, &msg);
+  CHECK_MSG(msg, "re-oriented 1 of 4 faces");
+  CHECK_MSG(msg, "referenced by no face (4)");
+  AU_CHECK(u->F[7] == m->F[8] && u->F[8] == m->F[7]); /* the caller's faces are not touched */
+  au_mesh_free(&u);
+  au_mesh_free(&m);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"alloc_free", alloc_free},
@@ -897,6 +1061,11 @@ int main(int argc, char **argv) {
       {"topo_pinched_spheres", topo_pinched_spheres},
       {"topo_flipped_face", topo_flipped_face},
       {"topo_args", topo_args},
+      {"orient_consistent", orient_consistent},
+      {"orient_two_flipped", orient_two_flipped},
+      {"orient_majority", orient_majority},
+      {"orient_moebius", orient_moebius},
+      {"orient_errors", orient_errors},
       {"topo_scale_200k", topo_scale_200k},
       {"validate_ok_sphere", validate_ok_sphere},
       {"validate_ok_disk", validate_ok_disk},

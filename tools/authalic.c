@@ -24,6 +24,8 @@ static const command commands[] = {
     {"texture", "texture IN OUT.obj [opts]  equal-area spherical texture coordinates (and baking)", cli_cmd_texture},
     {"sample", "sample IN --grid WxH OUT  the surface sampled on an equal-area grid of the sphere", cli_cmd_sample},
     {"view", "view IN MAP OUT.html       a surface and its map as one interactive page", cli_cmd_view},
+    {"atlas", "atlas IN OUT.obj [options] an equal-area seamless atlas of any genus (per-corner vt)",
+     cli_cmd_atlas},
 };
 #define NCOMMANDS (int)(sizeof commands / sizeof commands[0])
 

@@ -161,7 +161,8 @@ static const cli_option options[] = {
 };
 #define NOPTIONS (int)(sizeof options / sizeof options[0])
 
-static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample", "torus", "circles"};
+static const char *const cmd_names[] = {"sphere", "disk", "annulus", "square", "texture", "sample", "torus", "circles",
+                                        "atlas"};
 
 const char *cli_option_name(cli_opt_id id) {
   for (int k = 0; k < NOPTIONS; k++)
@@ -394,6 +395,10 @@ int cli_load(const char *in, au_target t, au_mesh **m, au_io_meta **meta, cli_wa
   *t_read = cli_now() - t0;
   if ((int)t < 0) return -1;
   t0 = cli_now();
+  /* The mesh the command goes on with is re-oriented here, so that the map made from it later has
+   * nothing left to warn about; a non-orientable surface is named by the check below. */
+  st = au_mesh_orient(*m, NULL, &msg);
+  if (st > 0 && w) cli_warn(w, in, "%s", msg.text);
   st = au_mesh_check((*m)->X, (*m)->nv, (*m)->F, (*m)->nf, t, &msg);
   if (st < 0) {
     au_mesh_free(m);

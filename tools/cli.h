@@ -22,6 +22,7 @@ enum { EXIT_OK = 0, EXIT_INTERNAL = 1, EXIT_USAGE = 2 };
 int cli_cmd_map(int argc, char **argv);     /* sphere, disk, annulus, square and torus: argv[0] says which */
 int cli_cmd_texture(int argc, char **argv); /* texture */
 int cli_cmd_sample(int argc, char **argv);  /* sample */
+int cli_cmd_atlas(int argc, char **argv);   /* atlas */
 int cli_cmd_view(int argc, char **argv);    /* view (cmd_view.c) */
 
 /* Write the page of au_view_html to path (a temporary of the output name) and say so unless quiet.

@@ -14,9 +14,10 @@ enum {
   CLI_SAMPLE = 32,
   CLI_TORUS = 64,
   CLI_CIRCLES = 128,
+  CLI_ATLAS = 256,
   CLI_PLANAR = CLI_DISK | CLI_ANNULUS | CLI_SQUARE | CLI_CIRCLES,
   CLI_MAPS = CLI_SPHERE | CLI_PLANAR,
-  CLI_ALL = CLI_MAPS | CLI_TEXTURE | CLI_SAMPLE | CLI_TORUS
+  CLI_ALL = CLI_MAPS | CLI_TEXTURE | CLI_SAMPLE | CLI_TORUS | CLI_ATLAS
 };
 
 /* How an option takes its value. */
@@ -40,6 +41,7 @@ enum {
   X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "write a JSON report: metrics of the result and of the initial map, per-step errors, stage times, warnings")    \
   X(OPT_STEPS, "steps", "K", CLI_VALUE, CLI_MAPS | CLI_TORUS, "most advection steps, 1..%M (default %D)")           \
+  X(OPT_STEPS, "steps", "K", CLI_VALUE, CLI_ATLAS, "most steps of the equal-area flow, 1..10000 (default 200)")    \
   X(OPT_TOL, "tol", "T", CLI_VALUE, CLI_MAPS | CLI_TORUS, "stop when the vertex mean |log area ratio| is below T, T >= 0 (default %D)") \
   X(OPT_DENSITY, "density", "FILE", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "prescribed density: one positive number per vertex (or per face) of IN, in order: text (whitespace-"          \
@@ -87,6 +89,8 @@ enum {
     "for themselves (closer texture areas; param-eval's chord figures are higher)")                                 \
   X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_MAPS | CLI_TORUS,                                                \
     "stop after the initial (conformal or harmonic) map, for comparison")                                            \
+  X(OPT_INIT_ONLY, "init-only", NULL, CLI_FLAG, CLI_ATLAS,                                                           \
+    "stop at the conformal cone atlas (no equal-area flow), for comparison")                                         \
   X(OPT_LATTICE, "lattice", "SHAPE", CLI_VALUE, CLI_TORUS,                                                           \
     "conformal (default): the conformal modulus's lattice, scaled to area 1; square: the unit square (the linear "   \
     "map from the conformal lattice, no longer conformal)")                                                          \
@@ -141,6 +145,14 @@ enum {
   X(OPT_MARK_SEAM, "mark-seam", NULL, CLI_FLAG, CLI_TEXTURE, "tint the faces across the cea seam red in --render")  \
   X(OPT_HTML, "html", "OUT.html", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
     "the map as one self-contained interactive page (authalic view; docs/view.md)")                                  \
+  X(OPT_CONES, "cones", "FILE", CLI_FILE, CLI_ATLAS,                                                                 \
+    "the cones instead of automatic ones: one line per cone, a vertex (0-based) and its angle in degrees; on a "    \
+    "closed surface the curvatures 360 - angle must sum to 360 x Euler characteristic")                            \
+  X(OPT_QUARTER, "quarter", NULL, CLI_FLAG, CLI_ATLAS,                                                              \
+    "cone angles in multiples of 90 degrees (seam rotations around cones then multiples of 90 degrees)")            \
+  X(OPT_MAX_CONES, "max-cones", "N", CLI_VALUE, CLI_ATLAS, "at most N automatic cones, 1..1000 (default 24)")      \
+  X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_ATLAS,                                                             \
+    "write a JSON report: cones, charts, seams and their rotations, coverage, folds, overlapping texels, times")    \
   X(OPT_QUIET, "quiet", NULL, CLI_FLAG, CLI_ALL, "no progress and no summary on stderr (errors and warnings remain)") \
   X(OPT_HELP, "help", NULL, CLI_FLAG, CLI_ALL, "this text")
 
@@ -150,7 +162,7 @@ typedef enum cli_opt_id {
   OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_REFINE_BUDGET, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
   OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_AREA_TARGET, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_HTML, OPT_QUIET, OPT_HELP,
-  OPT_OUTER, OPT_ASPECT,
+  OPT_OUTER, OPT_ASPECT, OPT_CONES, OPT_QUARTER, OPT_MAX_CONES,
   OPT_COUNT
 } cli_opt_id;
 

@@ -90,7 +90,7 @@ _L = _lib.load()
 
 __version__ = _L.au_version().decode()
 __all__ = ["Error", "BadInputError", "AuthalicWarning", "MapResult", "read_mesh", "read_values", "write_mesh", "sphere", "disk",
-           "annulus", "square", "torus", "circles", "map_mesh", "metrics", "version", "blas_threads"]
+           "annulus", "square", "torus", "circles", "atlas", "map_mesh", "metrics", "version", "blas_threads"]
 
 _INT_MIN, _INT_MAX = -2 ** 31, 2 ** 31 - 1
 
@@ -425,8 +425,9 @@ class MapResult:
     P0:       float64 (nv, 3): the initial (conformal or harmonic) map.
     X:        float64 (nv, 3): surface positions (the input's, then the square's or refine_mesh's split
               midpoints).
-    F:        int32 (nf, 3): faces (the input's, then the square's split faces; with refine_mesh the
-              refined mesh's faces).
+    F:        int32 (nf, 3): faces (the input's, re-oriented where they disagreed with their neighbours
+              (status "AU_W_REORIENTED"), then the square's split faces; with refine_mesh the refined
+              mesh's faces).
     uv:       planar targets: float64 (nv, 2) texture coordinates in [0,1]^2 ((u+1)/2, (v+1)/2 for
               disk and annulus; (u, v) for the square); None on the sphere and the torus.
     vt, Ft, lattice: the torus's: vt float64 (nvt, 2) per-corner coordinates in the plane, Ft int32
@@ -434,7 +435,7 @@ class MapResult:
               a2 = lattice[1] (determinant 1); None for the other targets.
     nv_in, nf_in: the input's counts: rows [0, nv_in) of P and X, [0, nf_in) of F are the input's.
     info:     the JSON report as a dict (see sphere()).
-    status:   "AU_OK", "AU_W_NOT_CONVERGED" or "AU_W_UNREFERENCED".
+    status:   "AU_OK", "AU_W_NOT_CONVERGED", "AU_W_UNREFERENCED" or "AU_W_REORIENTED".
     warnings: the library's warnings (list of str).
     inner_radius, modulus_radius, outer_loop_vertex: the annulus's; corners (4 vertex indices for
               (0,0), (1,0), (1,1), (0,1)) and nsplit: the square's; boundary_dev: planar targets'
@@ -976,6 +977,70 @@ torus.__doc__ = """Map a closed genus-1 triangle mesh onto a flat torus with equ
     Returns (VT, FT, info): VT float64 (nvt, 2) per-corner texture coordinates in the plane (nvt >=
     nv: row i < nv belongs to vertex i, the rows after it are copies shifted by lattice vectors),
     FT int32 (nf, 3) each corner's row of VT.""" + _RETURNS_DOC
+
+
+def atlas(V, F, cones=None, quarter=False, max_cones=24):
+    """A seamless atlas of a connected orientable triangle mesh of any genus, closed or open.
+
+    VT, FT, info = authalic.atlas(V, F)
+    authalic.write_mesh("fertility_atlas.obj", V, F, vt=VT, Ft=FT)
+
+    Cones where the conformal factor is extreme (or the given ones), a flat cone metric by a convex
+    conformal solve, a cut through the cones and a homology basis into charts laid out in that metric,
+    then an equal-area flow that moves both sides of every seam together, charts split where they would
+    overlap, packed into [0,1]^2 at one scale: both sides of every seam match by a rotation and a
+    translation, no texel of a 1024 x 1024 raster is covered twice. info["equal_area"] is True when the
+    flow brought the per-face mean |r - 1| to 0.02 or below (info["flow"]); where it stalls above that a
+    warning says so (docs/atlas.md).
+
+    cones: None (automatic), or a sequence of (vertex, angle in degrees) for interior vertices; on a
+        closed surface the curvatures 360 - angle must sum to 360 x Euler characteristic.
+    quarter: automatic cone angles in multiples of 90 degrees.
+    max_cones: at most this many automatic cones (1..1000).
+
+    Returns (VT, FT, info): VT float64 (nvt, 2) per-corner texture coordinates in [0,1]^2, FT int32
+    (nf, 3) each corner's row of VT, info the report as a dict (cones, charts, seams and their
+    rotations, coverage, folds, overlapping texels, times, warnings). Faces that disagreed with their
+    neighbours are re-oriented (a warning); FT follows the re-oriented faces' corner order.
+    Raises BadInputError (several components, non-manifold or non-orientable mesh, bad cones or
+    options) or Error."""
+    Va, Fa = _real_array(V, "V", (3,)), _faces(F)
+    o = _L.au_atlas_options_default()
+    o.max_cones = _int_opt("max_cones", max_cones, 1, 1000)
+    o.quarter = _flag_opt("quarter", quarter)
+    keep = []
+    if cones is not None:
+        c = _np.asarray(cones, dtype=_np.float64)
+        if c.ndim != 2 or c.shape[1] != 2 or c.shape[0] == 0:
+            _bad("cones: expected a sequence of (vertex, angle in degrees) pairs")
+        if not _np.all(c[:, 0] == _np.floor(c[:, 0])) or c[:, 0].min() < 0 or c[:, 0].max() >= Va.shape[0]:
+            _bad("cones: vertex indices must be whole numbers in 0..%d" % (Va.shape[0] - 1))
+        cv = _np.ascontiguousarray(c[:, 0], dtype=_np.intc)
+        ca = _np.ascontiguousarray(c[:, 1] * _np.pi / 180)
+        keep = [cv, ca]
+        o.ncones, o.cone_v, o.cone_angle = cv.shape[0], _pi(cv), _pd(ca)
+    r = _ct.POINTER(_lib.AtlasResult)()
+    msg = _lib.Msg()
+    st = _L.au_atlas(_pd(Va), Va.shape[0], _pi(Fa), Fa.shape[0], _ct.byref(o), _ct.byref(r), _ct.byref(msg))
+    del keep
+    if st < 0:
+        _raise(st, msg)
+    try:
+        rr = r.contents
+        VT = _copy(rr.vt, (rr.nvt, 2), _np.float64)
+        FT = _copy(rr.Ft, (rr.nf, 3), _np.int32)
+        js = _ct.POINTER(_ct.c_char)()
+        if _L.au_atlas_result_json(r, -1.0, -1.0, _ct.byref(js), _ct.byref(msg)) < 0:
+            _raise(_lib.AU_E_ARG, msg)
+        try:
+            info = _json.loads(_ct.string_at(js).decode())
+        finally:
+            _L.au_free(js)
+        for w in info["warnings"]:
+            _warnings.warn(w, AuthalicWarning, stacklevel=2)
+        return VT, FT, info
+    finally:
+        _L.au_atlas_result_free(_ct.byref(r))
 
 
 from ._view import View, view  # noqa: E402,F401  (the page of a map: docs/view.md)

@@ -104,8 +104,25 @@ class Result(ctypes.Structure):
                 ("circle_outer", c_int)]
 
 
+class AtlasOptions(ctypes.Structure):
+    _fields_ = [("max_cones", c_int), ("quarter", c_int), ("ncones", c_int), ("cone_v", P_int),
+                ("cone_angle", P_double), ("raster", c_int), ("conformal_only", c_int), ("max_steps", c_int)]
+
+
+class AtlasResult(ctypes.Structure):
+    _fields_ = [("nv", c_int), ("nf", c_int), ("F", P_int), ("nvt", c_int), ("vt", P_double), ("Ft", P_int),
+                ("ncones", c_int), ("cone_v", P_int), ("cone_angle", P_double), ("ncharts", c_int),
+                ("nseams", c_int), ("ncut", c_int), ("seam_rot", P_double), ("seam_rot_dev", c_double),
+                ("seam_len_dev", c_double), ("coverage", c_double), ("folds", c_int), ("overlap_texels", ctypes.c_long),
+                ("equal_area", c_int), ("flow_steps", c_int), ("face_err_start", c_double), ("face_err", c_double),
+                ("genus", c_int), ("nloops", c_int), ("newton_steps", c_int),
+                ("metric_err", c_double), ("t_check", c_double), ("t_cones", c_double), ("t_metric", c_double),
+                ("t_layout", c_double), ("t_flow", c_double), ("status", c_int), ("nwarnings", c_int), ("warnings", (c_char * 512) * 4)]
+
+
 STRUCTS = {"au_msg": Msg, "au_mesh": Mesh, "au_write_opts": WriteOpts, "au_report_extra": ReportExtra,
-           "au_options": Options, "au_metrics": Metrics, "au_convergence": Convergence, "au_result": Result}
+           "au_options": Options, "au_metrics": Metrics, "au_convergence": Convergence, "au_result": Result,
+           "au_atlas_options": AtlasOptions, "au_atlas_result": AtlasResult}
 
 
 def _candidates():
@@ -187,6 +204,12 @@ def load():
     proto("au_mesh_write", c_int, c_char_p, c_int, P_double, c_int, P_int, ctypes.POINTER(WriteOpts), P_msg)
     proto("au_mesh_can_write", c_int, c_char_p)
     proto("au_write_text", c_int, c_char_p, c_char_p, c_size_t, P_msg)
+    PP_atlas = ctypes.POINTER(ctypes.POINTER(AtlasResult))
+    proto("au_atlas_options_default", AtlasOptions)
+    proto("au_atlas", c_int, P_double, c_int, P_int, c_int, ctypes.POINTER(AtlasOptions), PP_atlas, P_msg)
+    proto("au_atlas_result_free", None, PP_atlas)
+    proto("au_atlas_result_json", c_int, ctypes.POINTER(AtlasResult), c_double, c_double,
+          ctypes.POINTER(ctypes.POINTER(c_char)), P_msg)
     proto("au_metrics_compute", c_int, c_int, c_int, P_double, P_double, P_int, c_int, ctypes.POINTER(Metrics),
           P_double, P_double)
     return lib

@@ -1,0 +1,739 @@
+/* au_atlas_layout.c - the cut through the cones and a homology basis, the charts laid out in the cone
+ * metric, their packing into the unit square, and the seams' rigid motions (au_atlas.h). */
+#include "au_atlas.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define AU_PI 3.14159265358979323846
+
+void au_atlas_layout_free(au_atlas_layout *L) {
+  if (!L) return;
+  free(L->vt), free(L->Ft), free(L->cut), free(L->chart), free(L->seam_rot), free(L->seam_edge);
+  memset(L, 0, sizeof *L);
+}
+
+static int uf_find(int *p, int x) {
+  while (p[x] != x) x = p[x] = p[p[x]];
+  return x;
+}
+static void uf_union(int *p, int a, int b) {
+  a = uf_find(p, a), b = uf_find(p, b);
+  if (a != b) p[a > b ? a : b] = a < b ? a : b;
+}
+
+/* Corner of face f at vertex v. */
+static int corner_at(const int *F, int f, int v) {
+  return F[3 * f] == v ? 0 : F[3 * f + 1] == v ? 1 : 2;
+}
+
+/* Binary min-heap of (key, vertex) for Dijkstra. */
+typedef struct heap {
+  int n;
+  double *key;
+  int *v;
+} heap;
+static void heap_push(heap *h, double k, int v) {
+  int i = h->n++;
+  while (i > 0) {
+    int p = (i - 1) / 2;
+    if (h->key[p] <= k) break;
+    h->key[i] = h->key[p], h->v[i] = h->v[p], i = p;
+  }
+  h->key[i] = k, h->v[i] = v;
+}
+static void heap_pop(heap *h, double *k, int *v) {
+  *k = h->key[0], *v = h->v[0];
+  double lk = h->key[--h->n];
+  int lv = h->v[h->n], i = 0;
+  for (;;) {
+    int c = 2 * i + 1;
+    if (c >= h->n) break;
+    if (c + 1 < h->n && h->key[c + 1] < h->key[c]) c++;
+    if (h->key[c] >= lk) break;
+    h->key[i] = h->key[c], h->v[i] = h->v[c], i = c;
+  }
+  h->key[i] = lk, h->v[i] = lv;
+}
+
+/* Angle at corner 0 of a triangle with sides b, c at it and a opposite (the metric is Euclidean per face). */
+static double corner_angle(double a, double b, double c) {
+  double x = (b * b + c * c - a * a) / (2 * b * c);
+  return acos(x < -1 ? -1 : x > 1 ? 1 : x);
+}
+
+/* The direction of the edge from corner j to corner j+1 of a triangle with side lengths l (l[k] opposite
+ * corner k) whose edge 0 -> 1 points along phi: turning left by pi minus each corner's angle on the way. */
+static double edge_dir(const double *l, double phi, int j) {
+  for (int i = 1; i <= j; i++) phi += AU_PI - corner_angle(l[i], l[(i + 1) % 3], l[(i + 2) % 3]);
+  return phi;
+}
+
+/* Top-left rule for a pixel centre exactly on an edge: the edge (dx, dy) of a counter-clockwise face owns
+ * its points when it is a top edge (horizontal, running left) or a left edge (running down). */
+static int owns_edge(double dx, double dy) { return (dy == 0 && dx < 0) || dy < 0; }
+
+long au_atlas_overlap_texels(int nf, const double *vt, const int *Ft, int R, long *covered) {
+  unsigned char *cnt = calloc((size_t)R * R, 1);
+  if (!cnt) return -1;
+  for (int f = 0; f < nf; f++) {
+    double x[3], y[3];
+    for (int k = 0; k < 3; k++) x[k] = vt[2 * (size_t)Ft[3 * f + k]] * R, y[k] = vt[2 * (size_t)Ft[3 * f + k] + 1] * R;
+    double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    if (area == 0) continue;
+    if (area < 0) { /* a folded face is counted in the orientation it has */
+      double t = x[1];
+      x[1] = x[2], x[2] = t;
+      t = y[1], y[1] = y[2], y[2] = t;
+    }
+    double lx = fmin(x[0], fmin(x[1], x[2])), hx = fmax(x[0], fmax(x[1], x[2]));
+    double ly = fmin(y[0], fmin(y[1], y[2])), hy = fmax(y[0], fmax(y[1], y[2]));
+    int i0 = (int)floor(lx - 0.5), i1 = (int)ceil(hx - 0.5), j0 = (int)floor(ly - 0.5), j1 = (int)ceil(hy - 0.5);
+    if (i0 < 0) i0 = 0;
+    if (j0 < 0) j0 = 0;
+    if (i1 > R - 1) i1 = R - 1;
+    if (j1 > R - 1) j1 = R - 1;
+    for (int j = j0; j <= j1; j++)
+      for (int i = i0; i <= i1; i++) {
+        double px = i + 0.5, py = j + 0.5;
+        int in = 1;
+        for (int k = 0; k < 3 && in; k++) {
+          double ax = x[k], ay = y[k], bx = x[(k + 1) % 3], by = y[(k + 1) % 3];
+          double w = (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+          in = w > 0 || (w == 0 && owns_edge(bx - ax, by - ay));
+        }
+        if (in && cnt[(size_t)j * R + i] < 255) cnt[(size_t)j * R + i]++;
+      }
+  }
+  long twice = 0, any = 0;
+  for (size_t p = 0; p < (size_t)R * R; p++) twice += cnt[p] > 1, any += cnt[p] > 0;
+  free(cnt);
+  if (covered) *covered = any;
+  return twice;
+}
+
+/* Shelf packing of n boxes (w, h) at scale s with gap g into the unit square: positions into (x, y) when
+ * they are given. Boxes go in the order ord. Returns 1 if they fit. */
+static int shelf_pack(int n, const int *ord, const double *w, const double *h, double s, double g, double *x,
+                      double *y) {
+  double cx = g, cy = g, shelf = 0;
+  for (int i = 0; i < n; i++) {
+    int c = ord[i];
+    double W = w[c] * s, H = h[c] * s;
+    if (W + 2 * g > 1) return 0;
+    if (cx + W + g > 1) cy += shelf + g, cx = g, shelf = 0;
+    if (x) x[c] = cx, y[c] = cy;
+    cx += W + g;
+    shelf = H > shelf ? H : shelf;
+  }
+  return cy + shelf + g <= 1;
+}
+
+static const double *sort_key;
+static int by_key_desc(const void *a, const void *b) {
+  double x = sort_key[*(const int *)a], y = sort_key[*(const int *)b];
+  return x < y ? 1 : x > y ? -1 : *(const int *)a - *(const int *)b;
+}
+
+au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
+                        double *scale, au_msg *msg) {
+  /* 7. Each chart turned to its smallest bounding box (1 degree steps), lying flat, moved to the origin. */
+  double *bw = calloc((size_t)nch, sizeof *bw), *bh = calloc((size_t)nch, sizeof *bh);
+  double *bx = calloc((size_t)nch, sizeof *bx), *by = calloc((size_t)nch, sizeof *by);
+  double *lox = malloc((size_t)nch * sizeof *lox), *loy = malloc((size_t)nch * sizeof *loy);
+  double *hix = malloc((size_t)nch * sizeof *hix), *hiy = malloc((size_t)nch * sizeof *hiy);
+  int *vchart = malloc((size_t)nvt * sizeof *vchart), *ord = malloc((size_t)nch * sizeof *ord);
+  double *best = malloc((size_t)nch * sizeof *best), *bestang = calloc((size_t)nch, sizeof *bestang);
+  if (!bw || !bh || !bx || !by || !lox || !loy || !hix || !hiy || !vchart || !ord || !best || !bestang) {
+    free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
+        free(bestang);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory packing the atlas");
+  }
+  for (int f = 0; f < nf; f++)
+    for (int k = 0; k < 3; k++) vchart[Ft[3 * f + k]] = chart[f];
+  for (int ch = 0; ch < nch; ch++) best[ch] = INFINITY;
+  for (int deg_ = 0; deg_ < (quarter ? 1 : 90); deg_++) { /* quarter: the common frame is kept */
+    double a = deg_ * AU_PI / 180, ca = cos(a), sa = sin(a);
+    for (int ch = 0; ch < nch; ch++) lox[ch] = loy[ch] = INFINITY, hix[ch] = hiy[ch] = -INFINITY;
+    for (int q = 0; q < nvt; q++) {
+      int ch = vchart[q];
+      double x = ca * vt[2 * q] - sa * vt[2 * q + 1], y = sa * vt[2 * q] + ca * vt[2 * q + 1];
+      lox[ch] = fmin(lox[ch], x), hix[ch] = fmax(hix[ch], x), loy[ch] = fmin(loy[ch], y), hiy[ch] = fmax(hiy[ch], y);
+    }
+    for (int ch = 0; ch < nch; ch++) {
+      double ar = (hix[ch] - lox[ch]) * (hiy[ch] - loy[ch]);
+      if (ar < best[ch]) best[ch] = ar, bestang[ch] = a, bw[ch] = hix[ch] - lox[ch], bh[ch] = hiy[ch] - loy[ch];
+    }
+  }
+  for (int ch = 0; ch < nch; ch++)
+    if (bh[ch] > bw[ch]) bestang[ch] += AU_PI / 2; /* lying flat packs better on shelves */
+  for (int ch = 0; ch < nch; ch++) lox[ch] = loy[ch] = INFINITY, hix[ch] = hiy[ch] = -INFINITY;
+  for (int q = 0; q < nvt; q++) {
+    int ch = vchart[q];
+    double ca = cos(bestang[ch]), sa = sin(bestang[ch]);
+    double x = ca * vt[2 * q] - sa * vt[2 * q + 1], y = sa * vt[2 * q] + ca * vt[2 * q + 1];
+    vt[2 * q] = x, vt[2 * q + 1] = y;
+    lox[ch] = fmin(lox[ch], x), hix[ch] = fmax(hix[ch], x), loy[ch] = fmin(loy[ch], y), hiy[ch] = fmax(hiy[ch], y);
+  }
+  double maxside = 0;
+  for (int ch = 0; ch < nch; ch++) {
+    bw[ch] = hix[ch] - lox[ch], bh[ch] = hiy[ch] - loy[ch], ord[ch] = ch;
+    maxside = fmax(maxside, fmax(bw[ch], bh[ch]));
+  }
+  sort_key = bh;
+  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
+  /* 8. The largest scale at which the shelves fit, by bisection. */
+  double lo = 0, hi = (1 - 2 * gap) / maxside;
+  for (int it = 0; it < 60; it++) {
+    double mid = 0.5 * (lo + hi);
+    if (shelf_pack(nch, ord, bw, bh, mid, gap, NULL, NULL)) lo = mid;
+    else hi = mid;
+  }
+  shelf_pack(nch, ord, bw, bh, lo, gap, bx, by);
+  if (scale) *scale = lo;
+  for (int q = 0; q < nvt; q++) {
+    int ch = vchart[q];
+    vt[2 * q] = bx[ch] + lo * (vt[2 * q] - lox[ch]);
+    vt[2 * q + 1] = by[ch] + lo * (vt[2 * q + 1] - loy[ch]);
+    vt[2 * q] = fmin(1, fmax(0, vt[2 * q])), vt[2 * q + 1] = fmin(1, fmax(0, vt[2 * q + 1]));
+  }
+  free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
+      free(bestang);
+
+  return AU_OK;
+}
+
+/* Steps 5 to 8 for the cut as it stands: texture coordinates shared across uncut edges, the charts laid
+ * out in the metric (flen: the metric's length of the edge opposite each corner), turned and packed. */
+static au_status lay_out(const au_mesh *m, const au_topo *t, const unsigned char *cut, const double *flen,
+                         const double *frame, int quarter, double gap, int *uf, int *cls, int *queue,
+                         au_atlas_layout *L, au_msg *msg) {
+  const int nf = m->nf, ne = t->ne, *F = m->F;
+  free(L->vt);
+  L->vt = NULL;
+  /* 5. Corners glued across uncut interior edges share a texture coordinate. */
+  for (int i = 0; i < 3 * nf; i++) uf[i] = i;
+  for (int e = 0; e < ne; e++) {
+    if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
+    int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+    for (int s = 0; s < 2; s++) {
+      int v = t->E[2 * e + s];
+      uf_union(uf, 3 * f0 + corner_at(F, f0, v), 3 * f1 + corner_at(F, f1, v));
+    }
+  }
+  int nvt = 0;
+  for (int i = 0; i < 3 * nf; i++) cls[i] = -1;
+  for (int i = 0; i < 3 * nf; i++) {
+    int r = uf_find(uf, i);
+    if (cls[r] < 0) cls[r] = nvt++;
+    L->Ft[i] = cls[r];
+  }
+  L->nvt = nvt;
+  L->vt = calloc(2 * (size_t)nvt, sizeof *L->vt);
+  unsigned char *placed = calloc((size_t)nvt, 1);
+  if (!L->vt || !placed) {
+    free(placed);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory laying out the atlas");
+  }
+  double *vt = L->vt;
+  const int *Ft = L->Ft;
+
+  /* 6. Charts: faces joined across uncut edges, laid out face by face in the metric. */
+  for (int f = 0; f < nf; f++) L->chart[f] = -1;
+  int nch = 0;
+  for (int f0 = 0; f0 < nf; f0++) {
+    if (L->chart[f0] >= 0) continue;
+    const double *l = flen + 3 * f0;
+    double a0 = corner_angle(l[0], l[1], l[2]);
+    double *p0 = vt + 2 * Ft[3 * f0], *p1 = vt + 2 * Ft[3 * f0 + 1], *p2 = vt + 2 * Ft[3 * f0 + 2];
+    double phi = frame[f0];
+    p0[0] = 0, p0[1] = 0, p1[0] = l[2] * cos(phi), p1[1] = l[2] * sin(phi);
+    p2[0] = l[1] * cos(phi + a0), p2[1] = l[1] * sin(phi + a0);
+    placed[Ft[3 * f0]] = placed[Ft[3 * f0 + 1]] = placed[Ft[3 * f0 + 2]] = 1;
+    int head = 0, tail = 0;
+    queue[tail++] = f0, L->chart[f0] = nch;
+    while (head < tail) {
+      int f = queue[head++];
+      for (int k = 0; k < 3; k++) {
+        int e = t->FE[3 * f + k];
+        if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
+        int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+        if (L->chart[g] >= 0) continue;
+        L->chart[g] = nch, queue[tail++] = g;
+        /* The corner of g off the shared edge, from the shared edge's two (placed) corners. */
+        int kg = t->EF[2 * e] == g ? t->EC[2 * e] : t->EC[2 * e + 1];
+        int q = Ft[3 * g + kg];
+        if (placed[q]) continue;
+        int ka = (kg + 1) % 3, kb = (kg + 2) % 3;
+        const double *lg = flen + 3 * g, *pa = vt + 2 * Ft[3 * g + ka], *pb = vt + 2 * Ft[3 * g + kb];
+        double alpha = corner_angle(lg[ka], lg[kb], lg[kg]);
+        double dx = pb[0] - pa[0], dy = pb[1] - pa[1], dl = sqrt(dx * dx + dy * dy);
+        double ux = dx / dl, uy = dy / dl, cs = cos(alpha), sn = sin(alpha);
+        vt[2 * q] = pa[0] + lg[kb] * (cs * ux - sn * uy);
+        vt[2 * q + 1] = pa[1] + lg[kb] * (sn * ux + cs * uy);
+        placed[q] = 1;
+      }
+    }
+    nch++;
+  }
+  L->ncharts = nch;
+
+  au_status st = au_atlas_pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, &L->scale, msg);
+  free(placed);
+  return st;
+}
+
+/* Rasterize the atlas at 1024 x 1024 with the face that first covers each pixel centre; for every chart
+ * with a pixel covered twice by two of its faces, race a breadth-first search from both faces over the
+ * chart's uncut edges and cut the edges between the two territories. *nsplit: the charts split. */
+static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned char *cut, int *queue, au_atlas_layout *L,
+                                int *nsplit, au_msg *msg) {
+  const int R = 1024, nf = m->nf, nch = L->ncharts;
+  int *owner = malloc((size_t)R * R * sizeof *owner), *pa = malloc((size_t)nch * sizeof *pa);
+  int *pb = malloc((size_t)nch * sizeof *pb), *lab = malloc((size_t)nf * sizeof *lab);
+  if (!owner || !pa || !pb || !lab) {
+    free(owner), free(pa), free(pb), free(lab);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory checking the atlas for overlaps");
+  }
+  for (size_t i = 0; i < (size_t)R * R; i++) owner[i] = -1;
+  for (int ch = 0; ch < nch; ch++) pa[ch] = pb[ch] = -1;
+  const double *vt = L->vt;
+  for (int f = 0; f < nf; f++) {
+    double x[3], y[3];
+    for (int k = 0; k < 3; k++) x[k] = vt[2 * (size_t)L->Ft[3 * f + k]] * R, y[k] = vt[2 * (size_t)L->Ft[3 * f + k] + 1] * R;
+    double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    if (area == 0) continue;
+    if (area < 0) {
+      double tt = x[1];
+      x[1] = x[2], x[2] = tt;
+      tt = y[1], y[1] = y[2], y[2] = tt;
+    }
+    int i0 = (int)floor(fmin(x[0], fmin(x[1], x[2])) - 0.5), i1 = (int)ceil(fmax(x[0], fmax(x[1], x[2])) - 0.5);
+    int j0 = (int)floor(fmin(y[0], fmin(y[1], y[2])) - 0.5), j1 = (int)ceil(fmax(y[0], fmax(y[1], y[2])) - 0.5);
+    i0 = i0 < 0 ? 0 : i0, j0 = j0 < 0 ? 0 : j0, i1 = i1 > R - 1 ? R - 1 : i1, j1 = j1 > R - 1 ? R - 1 : j1;
+    for (int j = j0; j <= j1; j++)
+      for (int i = i0; i <= i1; i++) {
+        double px = i + 0.5, py = j + 0.5;
+        int in = 1;
+        for (int k = 0; k < 3 && in; k++) {
+          double ax = x[k], ay = y[k], bx = x[(k + 1) % 3], by = y[(k + 1) % 3];
+          double w = (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+          in = w > 0 || (w == 0 && owns_edge(bx - ax, by - ay));
+        }
+        if (!in) continue;
+        int *o = owner + (size_t)j * R + i;
+        if (*o < 0) {
+          *o = f;
+        } else {
+          int ch = L->chart[f];
+          if (L->chart[*o] == ch && pa[ch] < 0) pa[ch] = *o, pb[ch] = f;
+        }
+      }
+  }
+  int n = 0;
+  for (int ch = 0; ch < nch; ch++) {
+    if (pa[ch] < 0) continue;
+    for (int f = 0; f < nf; f++) lab[f] = -1;
+    int head = 0, tail = 0;
+    lab[pa[ch]] = 0, lab[pb[ch]] = 1;
+    queue[tail++] = pa[ch], queue[tail++] = pb[ch];
+    while (head < tail) {
+      int f = queue[head++];
+      for (int k = 0; k < 3; k++) {
+        int e = t->FE[3 * f + k];
+        if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
+        int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+        if (lab[g] >= 0) continue;
+        lab[g] = lab[f], queue[tail++] = g;
+      }
+    }
+    for (int e = 0; e < t->ne; e++) {
+      if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
+      int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+      if (L->chart[f0] == ch && lab[f0] >= 0 && lab[f1] >= 0 && lab[f0] != lab[f1]) cut[e] = 1;
+    }
+    n++;
+  }
+  free(owner), free(pa), free(pb), free(lab);
+  *nsplit = n;
+  return AU_OK;
+}
+
+au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout *L, int quarter, double gap, int *nsplit,
+                            au_msg *msg) {
+  const int nf = m->nf, ne = t->ne, *F = m->F;
+  int nq = nf > ne ? nf : ne;
+  int *queue = malloc((size_t)nq * sizeof *queue), *uf = malloc(3 * (size_t)nf * sizeof *uf);
+  int *cls = malloc(3 * (size_t)nf * sizeof *cls);
+  au_status st = AU_OK;
+  if (nsplit) *nsplit = 0;
+  if (!queue || !uf || !cls) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
+    goto done;
+  }
+  for (int round = 0;; round++) {
+    if ((st = au_atlas_pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, &L->scale, msg)) != AU_OK) goto done;
+    int split = 0;
+    if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK || !split) break;
+    if (nsplit) *nsplit += split;
+    /* The corners separated by the new cut edges get their own rows of vt, where they were. */
+    for (int i = 0; i < 3 * nf; i++) uf[i] = i;
+    for (int e = 0; e < ne; e++) {
+      if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
+      int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+      for (int s = 0; s < 2; s++) {
+        int v = t->E[2 * e + s];
+        uf_union(uf, 3 * f0 + corner_at(F, f0, v), 3 * f1 + corner_at(F, f1, v));
+      }
+    }
+    int nvt = 0;
+    for (int i = 0; i < 3 * nf; i++) cls[i] = -1;
+    for (int i = 0; i < 3 * nf; i++) {
+      int r = uf_find(uf, i);
+      if (cls[r] < 0) cls[r] = nvt++;
+    }
+    double *vt = malloc(2 * (size_t)nvt * sizeof *vt);
+    if (!vt) {
+      st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
+      goto done;
+    }
+    for (int i = 0; i < 3 * nf; i++) {
+      int q = cls[uf_find(uf, i)];
+      vt[2 * q] = L->vt[2 * L->Ft[i]], vt[2 * q + 1] = L->vt[2 * L->Ft[i] + 1];
+    }
+    for (int i = 0; i < 3 * nf; i++) L->Ft[i] = cls[uf_find(uf, i)];
+    free(L->vt);
+    L->vt = vt, L->nvt = nvt;
+    int nch = 0;
+    for (int f = 0; f < nf; f++) L->chart[f] = -1;
+    for (int f0 = 0; f0 < nf; f0++) {
+      if (L->chart[f0] >= 0) continue;
+      int head = 0, tail = 0;
+      queue[tail++] = f0, L->chart[f0] = nch;
+      while (head < tail) {
+        int f = queue[head++];
+        for (int k = 0; k < 3; k++) {
+          int e = t->FE[3 * f + k];
+          if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
+          int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+          if (L->chart[g] < 0) L->chart[g] = nch, queue[tail++] = g;
+        }
+      }
+      nch++;
+    }
+    L->ncharts = nch;
+  }
+done:
+  free(queue), free(uf), free(cls);
+  return st;
+}
+
+au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
+                           au_msg *msg) {
+  const int nv = m->nv, nf = m->nf, ne = t->ne, *F = m->F, nc = c ? c->n : 0, *Ft = L->Ft;
+  const unsigned char *cut = L->cut;
+  const double *vt = L->vt;
+  int *deg = calloc((size_t)nv, sizeof *deg), *vstart = calloc((size_t)nv + 1, sizeof *vstart);
+  int *vadj = malloc(2 * (size_t)ne * sizeof *vadj), *queue = malloc((size_t)ne * sizeof *queue);
+  unsigned char *iscone = calloc((size_t)nv, 1);
+  if (!deg || !vstart || !vadj || !queue || !iscone) {
+    free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
+  }
+  for (int i = 0; i < nc; i++) iscone[c->v[i]] = 1;
+  L->ncut = 0;
+  for (int e = 0; e < ne; e++) {
+    vstart[t->E[2 * e] + 1]++, vstart[t->E[2 * e + 1] + 1]++;
+    if (cut[e]) deg[t->E[2 * e]]++, deg[t->E[2 * e + 1]]++, L->ncut++;
+  }
+  for (int v = 0; v < nv; v++) vstart[v + 1] += vstart[v];
+  {
+    int *fill = calloc((size_t)nv, sizeof *fill);
+    if (!fill) {
+      free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+      return au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
+    }
+    for (int e = 0; e < ne; e++)
+      for (int s = 0; s < 2; s++) {
+        int v = t->E[2 * e + s];
+        vadj[vstart[v] + fill[v]++] = e;
+      }
+    free(fill);
+  }
+  int head, tail;
+  L->folds = 0, L->seam_len_dev = L->seam_rot_dev = 0;
+  free(L->seam_rot);
+  L->seam_rot = NULL;
+  /* 9. Folds and coverage. */
+  double cover = 0;
+  for (int f = 0; f < nf; f++) {
+    const double *a = vt + 2 * Ft[3 * f], *b = vt + 2 * Ft[3 * f + 1], *q = vt + 2 * Ft[3 * f + 2];
+    double ar = 0.5 * ((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]));
+    L->folds += !(ar > 0);
+    cover += ar;
+  }
+  L->coverage = cover;
+
+  /* 10. Seams: chains of cut edges through interior vertices on exactly two cut edges that are not cones.
+   * Each chain is walked with its edges directed one after the other, so that the face on the left of every
+   * edge lies on the same side; the rotation takes the right side's copy of an edge onto the left side's. */
+  for (int e = 0; e < ne; e++) L->seam_edge[e] = -1;
+  int nseams = 0;
+  double *rot = malloc((size_t)ne * sizeof *rot);
+  int *dir = malloc((size_t)ne * sizeof *dir);
+  if (!rot || !dir) {
+    free(rot), free(dir);
+    free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
+  }
+  for (int e0 = 0; e0 < ne; e0++) {
+    if (!cut[e0] || L->seam_edge[e0] >= 0) continue;
+    head = tail = 0;
+    queue[tail++] = e0, L->seam_edge[e0] = nseams, dir[e0] = 0; /* dir 0: E[2e] -> E[2e+1] */
+    while (head < tail) {
+      int e = queue[head++];
+      for (int s = 0; s < 2; s++) {
+        int v = t->E[2 * e + s];
+        if (t->vb[v] || iscone[v] || deg[v] != 2) continue;
+        for (int j = vstart[v]; j < vstart[v + 1]; j++) {
+          int e2 = vadj[j];
+          if (e2 == e || !cut[e2] || L->seam_edge[e2] >= 0) continue;
+          /* e ends at v (its head when s is its end in its direction) iff e2 starts there, and vice versa. */
+          int v_is_head_of_e = (s == 1) == (dir[e] == 0);
+          int v_is_first_of_e2 = t->E[2 * e2] == v;
+          dir[e2] = v_is_head_of_e == v_is_first_of_e2 ? 0 : 1;
+          L->seam_edge[e2] = nseams, queue[tail++] = e2;
+        }
+      }
+    }
+    nseams++;
+  }
+  L->nseams = nseams;
+  L->seam_rot = calloc((size_t)(nseams > 0 ? nseams : 1), sizeof *L->seam_rot);
+  int *seen = calloc((size_t)(nseams > 0 ? nseams : 1), sizeof *seen);
+  if (!L->seam_rot || !seen) {
+    free(rot), free(dir), free(seen);
+    free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory measuring the seams");
+  }
+  for (int e = 0; e < ne; e++) {
+    if (!cut[e]) continue;
+    int a = t->E[2 * e + dir[e]], b = t->E[2 * e + 1 - dir[e]];
+    double d[2][2];
+    int left = -1;
+    for (int s = 0; s < 2; s++) {
+      int f = t->EF[2 * e + s];
+      int ka = corner_at(F, f, a), kb = corner_at(F, f, b);
+      if ((ka + 1) % 3 == kb) left = s; /* f runs a -> b: it lies to the left of a -> b */
+      d[s][0] = vt[2 * Ft[3 * f + kb]] - vt[2 * Ft[3 * f + ka]];
+      d[s][1] = vt[2 * Ft[3 * f + kb] + 1] - vt[2 * Ft[3 * f + ka] + 1];
+    }
+    const double *dl = d[left], *dr = d[1 - left];
+    rot[e] = atan2(dr[0] * dl[1] - dr[1] * dl[0], dr[0] * dl[0] + dr[1] * dl[1]);
+    L->seam_len_dev = fmax(L->seam_len_dev, fabs(hypot(dl[0], dl[1]) - hypot(dr[0], dr[1])));
+    int sm = L->seam_edge[e];
+    if (!seen[sm]) seen[sm] = 1, L->seam_rot[sm] = rot[e];
+  }
+  for (int e = 0; e < ne; e++) {
+    if (!cut[e]) continue;
+    double dd = fabs(remainder(rot[e] - L->seam_rot[L->seam_edge[e]], 2 * AU_PI));
+    L->seam_rot_dev = fmax(L->seam_rot_dev, dd);
+  }
+  free(rot), free(dir), free(seen);
+  free(deg), free(vstart), free(vadj), free(queue), free(iscone);
+  return AU_OK;
+}
+
+au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
+                               int quarter, au_atlas_layout *L, au_msg *msg) {
+  if (!m || !t || !u || !L || t->nv != m->nv || t->nf != m->nf || !(gap >= 0) || gap >= 0.25)
+    return au_msg_set(msg, AU_E_ARG, "au_atlas_layout_make: bad arguments");
+  memset(L, 0, sizeof *L);
+  const int nv = m->nv, nf = m->nf, ne = t->ne, *F = m->F, nc = c ? c->n : 0;
+  au_status st = AU_OK;
+  double *elen = malloc((size_t)ne * sizeof *elen), *dist = malloc((size_t)nv * sizeof *dist);
+  int *vstart = calloc((size_t)nv + 1, sizeof *vstart), *vadj = malloc(2 * (size_t)ne * sizeof *vadj);
+  const int nq = nf > nv ? (nf > ne ? nf : ne) : (nv > ne ? nv : ne);
+  int *pedge = malloc((size_t)nv * sizeof *pedge), *queue = malloc((size_t)nq * sizeof *queue);
+  int *deg = calloc((size_t)nv, sizeof *deg), *uf = malloc(3 * (size_t)nf * sizeof *uf);
+  int *cls = malloc(3 * (size_t)nf * sizeof *cls), *fseen = malloc((size_t)nf * sizeof *fseen);
+  unsigned char *incot = calloc((size_t)ne, 1), *iscone = calloc((size_t)nv, 1);
+  /* Every vertex may be pushed once as a root and once per improvement along each edge end. */
+  const size_t hcap = 2 * (size_t)ne + (size_t)nv + 1;
+  heap h = {0, malloc(hcap * sizeof(double)), malloc(hcap * sizeof(int))};
+  double *flen = malloc(3 * (size_t)nf * sizeof *flen), *frame = NULL;
+  L->cut = calloc((size_t)ne, 1);
+  L->chart = malloc((size_t)nf * sizeof *L->chart);
+  L->Ft = malloc(3 * (size_t)nf * sizeof *L->Ft);
+  L->seam_edge = malloc((size_t)ne * sizeof *L->seam_edge);
+  if (!elen || !dist || !vstart || !vadj || !pedge || !queue || !deg || !uf || !cls || !fseen || !incot || !iscone ||
+      !h.key || !h.v || !flen || !L->cut || !L->chart || !L->Ft || !L->seam_edge) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory laying out the atlas");
+    goto done;
+  }
+  unsigned char *cut = L->cut;
+  for (int i = 0; i < nc; i++) iscone[c->v[i]] = 1;
+  for (int e = 0; e < ne; e++) {
+    int a = t->E[2 * e], b = t->E[2 * e + 1];
+    const double *p = m->X + 3 * (size_t)a, *q = m->X + 3 * (size_t)b;
+    elen[e] = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2])) *
+              exp(0.5 * (u[a] + u[b]));
+    vstart[a + 1]++, vstart[b + 1]++;
+  }
+  for (int v = 0; v < nv; v++) vstart[v + 1] += vstart[v];
+  {
+    int *fill = deg; /* borrowed, zeroed again below */
+    for (int e = 0; e < ne; e++)
+      for (int s = 0; s < 2; s++) {
+        int v = t->E[2 * e + s];
+        vadj[vstart[v] + fill[v]++] = e;
+      }
+    memset(deg, 0, (size_t)nv * sizeof *deg);
+  }
+  for (int f = 0; f < nf; f++)
+    for (int k = 0; k < 3; k++) flen[3 * f + k] = elen[t->FE[3 * f + k]];
+
+  /* 1. A shortest-path tree in the metric: from the boundary when there is one (every boundary vertex a
+   * root), else from the first cone (or vertex 0). */
+  for (int v = 0; v < nv; v++) dist[v] = INFINITY, pedge[v] = -1;
+  if (t->nloops > 0) {
+    for (int v = 0; v < nv; v++)
+      if (t->vb[v]) dist[v] = 0, heap_push(&h, 0, v);
+  } else {
+    int root = nc > 0 ? c->v[0] : 0;
+    while (!t->vused[root]) root++;
+    dist[root] = 0, heap_push(&h, 0, root);
+  }
+  while (h.n > 0) {
+    double d;
+    int v;
+    heap_pop(&h, &d, &v);
+    if (d > dist[v]) continue;
+    for (int i = vstart[v]; i < vstart[v + 1]; i++) {
+      int e = vadj[i], w = t->E[2 * e] == v ? t->E[2 * e + 1] : t->E[2 * e];
+      if (t->vb[w] && t->nloops > 0) continue;
+      if (d + elen[e] < dist[w]) dist[w] = d + elen[e], pedge[w] = e, heap_push(&h, dist[w], w);
+    }
+  }
+  /* 2. A dual spanning tree across interior edges off the tree (incot 2 marks a tree edge, 1 a crossed
+   * one); the interior edges it does not cross are the cut (cutting along them leaves one disk). */
+  for (int v = 0; v < nv; v++)
+    if (pedge[v] >= 0) incot[pedge[v]] = 2;
+  for (int f = 0; f < nf; f++) fseen[f] = 0;
+  int head = 0, tail = 0, reached = 0;
+  for (int pass = 0; pass < 2 && reached < nf; pass++) {
+    /* Pass 0 avoids the tree; pass 1 (never needed when the tree is as built) may cross it. */
+    head = tail = 0;
+    if (pass == 0) fseen[0] = 1, queue[tail++] = 0, reached = 1;
+    else
+      for (int f = 0; f < nf; f++)
+        if (fseen[f]) queue[tail++] = f;
+    while (head < tail) {
+      int f = queue[head++];
+      for (int k = 0; k < 3; k++) {
+        int e = t->FE[3 * f + k];
+        if (t->EF[2 * e + 1] < 0 || (incot[e] == 2 && pass == 0)) continue;
+        int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+        if (fseen[g]) continue;
+        fseen[g] = 1, incot[e] = 1, queue[tail++] = g, reached++;
+      }
+    }
+  }
+  if (reached < nf) {
+    st = au_msg_set(msg, AU_E_INTERNAL, "the dual tree reaches %d of %d faces", reached, nf);
+    goto done;
+  }
+  for (int e = 0; e < ne; e++) {
+    cut[e] = t->EF[2 * e + 1] >= 0 && incot[e] != 1;
+    if (cut[e]) deg[t->E[2 * e]]++, deg[t->E[2 * e + 1]]++;
+  }
+  /* 3. Prune the branches that end at an ordinary interior vertex. */
+  head = tail = 0;
+  for (int v = 0; v < nv; v++)
+    if (deg[v] == 1 && !t->vb[v] && !iscone[v]) queue[tail++] = v;
+  while (head < tail) {
+    int v = queue[head++];
+    if (deg[v] != 1) continue;
+    for (int i = vstart[v]; i < vstart[v + 1]; i++) {
+      int e = vadj[i];
+      if (!cut[e]) continue;
+      cut[e] = 0, deg[v]--;
+      int w = t->E[2 * e] == v ? t->E[2 * e + 1] : t->E[2 * e];
+      deg[w]--;
+      if (deg[w] == 1 && !t->vb[w] && !iscone[w] && tail < nv) queue[tail++] = w;
+      break;
+    }
+  }
+  /* 4. A cone of angle > 2 pi at the end of a branch would overlap itself around its single cut: a second
+   * cut from it, by breadth first over uncut edges to the nearest vertex on the cut or the boundary. */
+  for (int i = 0; i < nc; i++) {
+    int s = c->v[i];
+    if (c->angle[i] <= 2 * AU_PI || deg[s] >= 2) continue;
+    for (int v = 0; v < nv; v++) pedge[v] = -2;
+    head = tail = 0;
+    queue[tail++] = s, pedge[s] = -1;
+    int hit = -1;
+    while (head < tail && hit < 0) {
+      int v = queue[head++];
+      for (int j = vstart[v]; j < vstart[v + 1] && hit < 0; j++) {
+        int e = vadj[j], w = t->E[2 * e] == v ? t->E[2 * e + 1] : t->E[2 * e];
+        if (cut[e] || t->EF[2 * e + 1] < 0 || pedge[w] != -2) continue;
+        pedge[w] = e, queue[tail++] = w;
+        if (deg[w] > 0 || t->vb[w]) hit = w;
+      }
+    }
+    for (int v = hit; v >= 0 && v != s;) {
+      int e = pedge[v];
+      cut[e] = 1, deg[t->E[2 * e]]++, deg[t->E[2 * e + 1]]++;
+      v = t->E[2 * e] == v ? t->E[2 * e + 1] : t->E[2 * e];
+    }
+  }
+
+  /* A common frame: the direction of every face's edge from corner 0 to corner 1 when the surface is
+   * developed across all interior edges along a dual tree from face 0. Each chart starts in it, so that two
+   * charts meet at the rotation of the metric's holonomy (a multiple of pi/2 around quarter cones). */
+  frame = malloc((size_t)nf * sizeof *frame);
+  if (!frame) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory laying out the atlas");
+    goto done;
+  }
+  for (int f = 0; f < nf; f++) fseen[f] = 0;
+  frame[0] = 0, fseen[0] = 1;
+  head = tail = 0;
+  queue[tail++] = 0;
+  while (head < tail) {
+    int f = queue[head++];
+    for (int k = 0; k < 3; k++) {
+      int e = t->FE[3 * f + k];
+      if (t->EF[2 * e + 1] < 0) continue;
+      int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+      if (fseen[g]) continue;
+      fseen[g] = 1, queue[tail++] = g;
+      /* The shared edge runs from corner k+1 (at a) to k+2 (at b) in f; g runs it from b to a, from its
+       * corner gb. */
+      int ka = (k + 1) % 3, b = F[3 * f + (k + 2) % 3], gb = corner_at(F, g, b);
+      double d = edge_dir(flen + 3 * f, frame[f], ka) + AU_PI;
+      d -= edge_dir(flen + 3 * g, 0, gb);
+      frame[g] = remainder(d, 2 * AU_PI);
+    }
+  }
+  /* 5.-8. Lay out and pack; where a chart covers a texel of the 1024 x 1024 raster twice (it overlaps
+   * itself in the plane: a cone of large angle, a long arm that comes round), the chart is split between
+   * the two faces found there, by a breadth-first race from both, and the whole is packed again. */
+  for (int round = 0;; round++) {
+    if ((st = lay_out(m, t, cut, flen, frame, quarter, gap, uf, cls, queue, L, msg)) != AU_OK) goto done;
+    int split = 0;
+    if ((st = split_overlaps(m, t, cut, queue, L, &split, msg)) != AU_OK) goto done;
+    if (!split || round == 40) break;
+  }
+  /* 9., 10. Folds, coverage and the seams (splits added cut edges). */
+  st = au_atlas_measure(m, t, c, L, msg);
+
+done:
+  free(elen), free(dist), free(vstart), free(vadj), free(pedge), free(queue), free(deg), free(uf), free(cls),
+      free(fseen), free(incot), free(iscone), free(frame), free(h.key), free(h.v), free(flen);
+  if (st != AU_OK) au_atlas_layout_free(L);
+  return st;
+}

@@ -1,0 +1,373 @@
+/* au_atlas_metric.c - cone placement and the flat cone metric (au_atlas.h). */
+#include "au_atlas.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "au_solver.h"
+
+#define AU_PI 3.14159265358979323846
+
+au_atlas_opts au_atlas_opts_default(void) {
+  au_atlas_opts o;
+  memset(&o, 0, sizeof o);
+  o.max_cones = 24;
+  o.u_range = 1.5;
+  o.quarter = 0;
+  o.max_newton = 50;
+  o.tol = 1e-10;
+  return o;
+}
+
+void au_atlas_cones_clear(au_atlas_cones *c) {
+  if (!c) return;
+  free(c->v);
+  free(c->angle);
+  memset(c, 0, sizeof *c);
+}
+
+/* Length of the edge opposite corner k of face f, in the mesh's positions. */
+static double edge_len(const au_mesh *m, int f, int k) {
+  const double *p = m->X + 3 * (size_t)m->F[3 * (size_t)f + (k + 1) % 3];
+  const double *q = m->X + 3 * (size_t)m->F[3 * (size_t)f + (k + 2) % 3];
+  return sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+}
+
+/* Angles and cotangents of a triangle with side lengths l[k] opposite corner k. A triangle that violates
+ * the triangle inequality gets the extended angles (pi at the long side, 0 elsewhere) and zero cotangents:
+ * the convex extension of the energy (Springborn, Schroeder & Pinkall 2008, sec. 4). Returns 1 then. */
+static int tri_angles(const double l[3], double ang[3], double cot[3]) {
+  for (int k = 0; k < 3; k++) {
+    double a = l[k], b = l[(k + 1) % 3], c = l[(k + 2) % 3];
+    if (a >= b + c) {
+      ang[0] = ang[1] = ang[2] = 0;
+      ang[k] = AU_PI;
+      cot[0] = cot[1] = cot[2] = 0;
+      return 1;
+    }
+  }
+  double a = l[0], b = l[1], c = l[2];
+  double h = (a + b + c) * (-a + b + c) * (a - b + c) * (a + b - c);
+  double four_area = sqrt(h > 0 ? h : 0);
+  for (int k = 0; k < 3; k++) {
+    double x = l[k], y = l[(k + 1) % 3], z = l[(k + 2) % 3];
+    double num = y * y + z * z - x * x;
+    ang[k] = atan2(four_area, num);
+    cot[k] = four_area > 0 ? num / four_area : 0;
+  }
+  return 0;
+}
+
+/* Corner lengths scaled by u (NULL: none), then angles and cotangents of every face. */
+static int all_angles(const au_mesh *m, const double *len0, const double *u, double *ang, double *cot) {
+  int bad = 0;
+  for (int f = 0; f < m->nf; f++) {
+    double l[3], c[3];
+    const int *F = m->F + 3 * (size_t)f;
+    for (int k = 0; k < 3; k++) {
+      l[k] = len0[3 * (size_t)f + k];
+      if (u) l[k] *= exp(0.5 * (u[F[(k + 1) % 3]] + u[F[(k + 2) % 3]]));
+    }
+    bad += tri_angles(l, ang + 3 * (size_t)f, cot ? cot + 3 * (size_t)f : c);
+  }
+  return bad;
+}
+
+static double *corner_lengths(const au_mesh *m) {
+  double *len = malloc(3 * (size_t)(m->nf > 0 ? m->nf : 1) * sizeof *len);
+  if (len)
+    for (int f = 0; f < m->nf; f++)
+      for (int k = 0; k < 3; k++) len[3 * (size_t)f + k] = edge_len(m, f, k);
+  return len;
+}
+
+int au_atlas_corner_angles(const au_mesh *m, const double *u, double *ang) {
+  double *len = corner_lengths(m), *cot = malloc(3 * (size_t)(m->nf > 0 ? m->nf : 1) * sizeof *cot);
+  int bad = -1;
+  if (len && cot) bad = all_angles(m, len, u, ang, cot);
+  free(len);
+  free(cot);
+  return bad;
+}
+
+/* Edge weights w [0..ne-1]: half the sum of the cotangents opposite each edge. */
+static void cot_weights(const au_mesh *m, const au_topo *t, const double *cot, double *w) {
+  memset(w, 0, (size_t)t->ne * sizeof *w);
+  for (size_t c = 0; c < 3 * (size_t)m->nf; c++) w[t->FE[c]] += 0.5 * cot[c];
+}
+
+/* Angle defect K_v = 2 pi - angle sum at every interior vertex, 0 on the boundary and at unreferenced ones. */
+static void defects(const au_mesh *m, const au_topo *t, const double *ang, double *K) {
+  for (int v = 0; v < m->nv; v++) K[v] = t->vused[v] && !t->vb[v] ? 2 * AU_PI : 0;
+  for (size_t c = 0; c < 3 * (size_t)m->nf; c++)
+    if (!t->vb[m->F[c]]) K[m->F[c]] -= ang[c];
+}
+
+/* Solve L u = b with u = 0 where fixed (the weights w), and the residual curvature (L u)_v where fixed. */
+static au_status laplace_solve(const au_topo *t, const unsigned char *fixed, const double *w, const double *b, double *u,
+                               au_msg *msg) {
+  au_solver *s = NULL;
+  au_status st = au_solver_create(t->nv, t->ne, t->E, fixed, AU_ORDER_FAST, &s, msg);
+  if (st == AU_OK) st = au_solver_factor(s, w, NULL, msg);
+  if (st == AU_OK) {
+    memset(u, 0, (size_t)t->nv * sizeof *u);
+    st = au_solver_solve(s, 1, b, u, msg);
+  }
+  au_solver_free(&s);
+  return st;
+}
+
+/* (L u)_v for every vertex. */
+static void apply_laplacian(const au_topo *t, const double *w, const double *u, double *Lu) {
+  memset(Lu, 0, (size_t)t->nv * sizeof *Lu);
+  for (int e = 0; e < t->ne; e++) {
+    int i = t->E[2 * e], j = t->E[2 * e + 1];
+    double d = w[e] * (u[i] - u[j]);
+    Lu[i] += d, Lu[j] -= d;
+  }
+}
+
+/* Round curvatures to multiples of pi/2; on a closed surface the sum stays the Gauss-Bonnet total
+ * (the rounding's shortfall goes to the cones whose rounding moved them most the other way). */
+static void quarter_round(double *kappa, int n, int closed) {
+  const double q = AU_PI / 2;
+  double sum = 0;
+  int *r = malloc((size_t)(n > 0 ? n : 1) * sizeof *r);
+  if (!r) return;
+  for (int i = 0; i < n; i++) sum += kappa[i];
+  long target = lround(sum / q), have = 0;
+  for (int i = 0; i < n; i++) {
+    r[i] = (int)lround(kappa[i] / q);
+    if (r[i] >= 4) r[i] = 3; /* a cone's angle stays positive */
+    have += r[i];
+  }
+  while (closed && have != target) {
+    int dir = have < target ? 1 : -1, best = -1;
+    double bestd = -1e300;
+    for (int i = 0; i < n; i++) {
+      if (dir > 0 && r[i] >= 3) continue;
+      double d = dir * (kappa[i] / q - r[i]);
+      if (d > bestd) bestd = d, best = i;
+    }
+    if (best < 0) break;
+    r[best] += dir, have += dir;
+  }
+  for (int i = 0; i < n; i++) kappa[i] = r[i] * q;
+  free(r);
+}
+
+au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atlas_opts *o, au_atlas_cones *c,
+                               au_msg *msg) {
+  if (!m || !t || !c || t->nv != m->nv || t->nf != m->nf) return au_msg_set(msg, AU_E_ARG, "au_atlas_place_cones: bad arguments");
+  memset(c, 0, sizeof *c);
+  au_atlas_opts oo = o ? *o : au_atlas_opts_default();
+  int nv = m->nv, nf = m->nf, closed = t->nloops == 0;
+  if (oo.max_cones < (closed ? 1 : 0)) return au_msg_set(msg, AU_E_ARG, "max_cones %d: a closed surface needs a cone", oo.max_cones);
+  double *len = corner_lengths(m), *ang = malloc(3 * (size_t)nf * sizeof *ang), *cot = malloc(3 * (size_t)nf * sizeof *cot);
+  double *w = malloc((size_t)(t->ne > 0 ? t->ne : 1) * sizeof *w), *K = malloc((size_t)nv * sizeof *K);
+  double *b = malloc((size_t)nv * sizeof *b), *u = malloc((size_t)nv * sizeof *u), *Lu = malloc((size_t)nv * sizeof *Lu);
+  unsigned char *fixed = malloc((size_t)nv);
+  int *cv = malloc((size_t)(oo.max_cones > 0 ? oo.max_cones : 1) * sizeof *cv);
+  double *kappa = malloc((size_t)(oo.max_cones > 0 ? oo.max_cones : 1) * sizeof *kappa);
+  au_status st = AU_OK;
+  if (!len || !ang || !cot || !w || !K || !b || !u || !Lu || !fixed || !cv || !kappa) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
+    goto done;
+  }
+  all_angles(m, len, NULL, ang, cot);
+  cot_weights(m, t, cot, w);
+  defects(m, t, ang, K);
+  for (int v = 0; v < nv; v++) fixed[v] = !t->vused[v] || t->vb[v], b[v] = -K[v];
+  int n = 0;
+  if (closed) {
+    /* The first cone: where the flattening of the curvature spread evenly (its total by area) is most
+     * extreme. One vertex held at 0 makes the system definite; its curvature is then ~0. */
+    double *area = Lu, total = 0, ksum = 0;
+    memset(area, 0, (size_t)nv * sizeof *area);
+    for (int f = 0; f < nf; f++) {
+      double l[3] = {len[3 * f], len[3 * f + 1], len[3 * f + 2]}, s = 0.5 * (l[0] + l[1] + l[2]);
+      double a2 = s * (s - l[0]) * (s - l[1]) * (s - l[2]), a = a2 > 0 ? sqrt(a2) : 0;
+      for (int k = 0; k < 3; k++) area[m->F[3 * f + k]] += a / 3;
+      total += a;
+    }
+    for (int v = 0; v < nv; v++) ksum += K[v];
+    int ref = 0;
+    while (!t->vused[ref]) ref++;
+    for (int v = 0; v < nv; v++) b[v] = -(K[v] - ksum * area[v] / total);
+    fixed[ref] = 1;
+    if ((st = laplace_solve(t, fixed, w, b, u, msg)) != AU_OK) goto done;
+    fixed[ref] = 0;
+    double mean = 0;
+    int nu = 0;
+    for (int v = 0; v < nv; v++)
+      if (t->vused[v]) mean += u[v], nu++;
+    mean /= nu;
+    int best = ref;
+    for (int v = 0; v < nv; v++)
+      if (t->vused[v] && fabs(u[v] - mean) > fabs(u[best] - mean)) best = v;
+    cv[n++] = best;
+    fixed[best] = 1;
+    for (int v = 0; v < nv; v++) b[v] = -K[v];
+  }
+  /* Greedy: the vertex farthest from 0 in the flattening with the cones so far becomes a cone, until the
+   * factor's range is small or the budget is spent. A cone whose curvature reaches 2 pi (a non-positive
+   * angle) means too few cones, whatever the range says. */
+  for (;;) {
+    int any_free = 0;
+    for (int v = 0; v < nv && !any_free; v++) any_free = !fixed[v];
+    if (!any_free) break;
+    if ((st = laplace_solve(t, fixed, w, b, u, msg)) != AU_OK) goto done;
+    apply_laplacian(t, w, u, Lu);
+    double lo = 0, hi = 0;
+    int far = -1;
+    for (int v = 0; v < nv; v++) {
+      if (!t->vused[v]) continue;
+      lo = u[v] < lo ? u[v] : lo, hi = u[v] > hi ? u[v] : hi;
+      if (!fixed[v] && (far < 0 || fabs(u[v]) > fabs(u[far]))) far = v;
+    }
+    int sharp = 0;
+    for (int i = 0; i < n; i++) sharp |= K[cv[i]] + Lu[cv[i]] >= 2 * AU_PI - 0.2;
+    if ((hi - lo <= oo.u_range && !sharp) || n >= oo.max_cones || far < 0) {
+      for (int i = 0; i < n; i++) kappa[i] = K[cv[i]] + Lu[cv[i]];
+      break;
+    }
+    cv[n++] = far;
+    fixed[far] = 1;
+  }
+  if (oo.quarter) quarter_round(kappa, n, closed);
+  /* Cones that came out flat are no cones; on a closed surface their (small) curvature moves to the
+   * strongest cone, so the total stays exact. */
+  int strongest = -1;
+  for (int i = 0; i < n; i++)
+    if (strongest < 0 || fabs(kappa[i]) > fabs(kappa[strongest])) strongest = i;
+  int keep = 0;
+  double moved = 0;
+  for (int i = 0; i < n; i++) {
+    if (i != strongest && fabs(kappa[i]) < 1e-3) {
+      moved += kappa[i];
+      continue;
+    }
+    cv[keep] = cv[i], kappa[keep] = kappa[i];
+    if (i == strongest) strongest = keep;
+    keep++;
+  }
+  if (strongest >= 0 && closed) kappa[strongest] += moved;
+  if (keep == 1 && fabs(kappa[0]) < 1e-3) keep = 0; /* a flat torus needs no cone */
+  for (int i = 0; i < keep; i++)
+    if (kappa[i] >= 2 * AU_PI) {
+      st = au_msg_set(msg, AU_E_NUMERIC, "cone at vertex %d would have angle %g (<= 0): more cones are needed (max_cones %d)",
+                      cv[i], 2 * AU_PI - kappa[i], oo.max_cones);
+      goto done;
+    }
+  c->n = keep;
+  c->v = malloc((size_t)(keep > 0 ? keep : 1) * sizeof *c->v);
+  c->angle = malloc((size_t)(keep > 0 ? keep : 1) * sizeof *c->angle);
+  if (!c->v || !c->angle) {
+    au_atlas_cones_clear(c);
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
+    goto done;
+  }
+  for (int i = 0; i < keep; i++) c->v[i] = cv[i], c->angle[i] = 2 * AU_PI - kappa[i];
+done:
+  free(len), free(ang), free(cot), free(w), free(K), free(b), free(u), free(Lu), free(fixed), free(cv), free(kappa);
+  return st;
+}
+
+/* Largest |g_v| over the free vertices and the 2-norm. */
+static double gradient(const au_mesh *m, const au_topo *t, const double *theta, const unsigned char *fixed,
+                       const double *ang, double *g, double *norm2) {
+  for (int v = 0; v < m->nv; v++) g[v] = fixed[v] ? 0 : theta[v];
+  for (size_t c = 0; c < 3 * (size_t)m->nf; c++)
+    if (!fixed[m->F[c]]) g[m->F[c]] -= ang[c];
+  double mx = 0, s = 0;
+  for (int v = 0; v < m->nv; v++) mx = fabs(g[v]) > mx ? fabs(g[v]) : mx, s += g[v] * g[v];
+  (void)t;
+  *norm2 = sqrt(s);
+  return mx;
+}
+
+au_status au_atlas_cetm(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const au_atlas_opts *o, double *u,
+                        au_atlas_cetm_info *info, au_msg *msg) {
+  if (!m || !t || !u || t->nv != m->nv || t->nf != m->nf || (c && c->n > 0 && (!c->v || !c->angle)))
+    return au_msg_set(msg, AU_E_ARG, "au_atlas_cetm: bad arguments");
+  au_atlas_opts oo = o ? *o : au_atlas_opts_default();
+  int nv = m->nv, nf = m->nf, closed = t->nloops == 0, nc = c ? c->n : 0;
+  if (info) memset(info, 0, sizeof *info);
+  double *theta = malloc((size_t)nv * sizeof *theta);
+  unsigned char *fixed = malloc((size_t)nv);
+  if (!theta || !fixed) {
+    free(theta), free(fixed);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory for the cone metric");
+  }
+  double ksum = 0;
+  for (int v = 0; v < nv; v++) theta[v] = 2 * AU_PI, fixed[v] = !t->vused[v] || t->vb[v], u[v] = 0;
+  au_status st = AU_OK;
+  for (int i = 0; i < nc; i++) {
+    int v = c->v[i];
+    if (v < 0 || v >= nv || !t->vused[v] || t->vb[v] || !(c->angle[i] > 0) || !isfinite(c->angle[i])) {
+      st = au_msg_set(msg, AU_E_ARG, "cone %d: vertex %d with angle %g is not an interior vertex with a positive angle", i,
+                      v, c->angle[i]);
+      break;
+    }
+    theta[v] = c->angle[i];
+    ksum += 2 * AU_PI - c->angle[i];
+  }
+  if (st == AU_OK && closed && fabs(ksum - 2 * AU_PI * t->euler) > 1e-9)
+    st = au_msg_set(msg, AU_E_ARG, "the cones' curvatures sum to %.12g, Gauss-Bonnet wants 2*pi*chi = %.12g (chi %d)",
+                    ksum, 2 * AU_PI * t->euler, t->euler);
+  if (st != AU_OK) {
+    free(theta), free(fixed);
+    return st;
+  }
+  if (closed) {
+    int ref = 0;
+    while (!t->vused[ref]) ref++;
+    fixed[ref] = 1; /* the scale */
+  }
+  double *len = corner_lengths(m), *ang = malloc(3 * (size_t)nf * sizeof *ang), *cot = malloc(3 * (size_t)nf * sizeof *cot);
+  double *w = malloc((size_t)(t->ne > 0 ? t->ne : 1) * sizeof *w), *g = malloc((size_t)nv * sizeof *g);
+  double *b = malloc((size_t)nv * sizeof *b), *d = malloc((size_t)nv * sizeof *d), *ut = malloc((size_t)nv * sizeof *ut);
+  au_solver *s = NULL;
+  if (!len || !ang || !cot || !w || !g || !b || !d || !ut) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory for the cone metric");
+    goto done;
+  }
+  if ((st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FILL, &s, msg)) != AU_OK) goto done;
+  int steps = 0;
+  double gn, err;
+  all_angles(m, len, u, ang, cot);
+  err = gradient(m, t, theta, fixed, ang, g, &gn);
+  while (err > oo.tol && steps < oo.max_newton) {
+    cot_weights(m, t, cot, w);
+    if ((st = au_solver_factor(s, w, NULL, msg)) != AU_OK) goto done;
+    for (int v = 0; v < nv; v++) b[v] = -g[v], d[v] = 0;
+    if ((st = au_solver_solve(s, 1, b, d, msg)) != AU_OK) goto done;
+    /* Damped Newton on a convex energy: halve the step until the gradient shrinks. */
+    double tstep = 1, gn_new = 0, err_new = err;
+    for (int k = 0; k < 40; k++, tstep *= 0.5) {
+      for (int v = 0; v < nv; v++) ut[v] = u[v] + tstep * d[v];
+      all_angles(m, len, ut, ang, cot);
+      err_new = gradient(m, t, theta, fixed, ang, g, &gn_new);
+      if (gn_new < gn * (1 - 1e-4 * tstep)) break;
+    }
+    memcpy(u, ut, (size_t)nv * sizeof *u);
+    steps++;
+    if (!(gn_new < gn) && err_new > oo.tol) {
+      err = err_new, gn = gn_new;
+      break; /* no progress: the metric is as good as doubles make it */
+    }
+    err = err_new, gn = gn_new;
+  }
+  if (info) {
+    info->steps = steps;
+    info->err = err;
+    info->degenerate = all_angles(m, len, u, ang, cot);
+  }
+  if (err > oo.tol)
+    st = au_msg_set(msg, AU_W_NOT_CONVERGED, "cone metric: angle error %.3g after %d Newton steps", err, steps);
+done:
+  au_solver_free(&s);
+  free(theta), free(fixed), free(len), free(ang), free(cot), free(w), free(g), free(b), free(d), free(ut);
+  return st;
+}
