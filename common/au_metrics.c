@@ -369,12 +369,13 @@ au_status au__metrics_vt(int nv, int nf, const double *X, const int *F, int nvt,
   if (!X || !F || !vt || !Ft || nv <= 0 || nf <= 0 || nvt < nv) return AU_E_ARG;
   for (size_t c = 0; c < 3 * (size_t)nf; c++)
     if (F[c] < 0 || F[c] >= nv || Ft[c] < 0 || Ft[c] >= nvt) return AU_E_ARG;
-  double *Xc = malloc(3 * (size_t)nvt * sizeof *Xc), *Pc = calloc(3 * (size_t)nvt, sizeof *Pc);
+  /* Each vt row takes the surface position of the corners that use it: vt rows need not follow the
+   * vertices' order (an atlas's do not; a torus map's first nv rows happen to). Rows no corner uses stay 0. */
+  double *Xc = calloc(3 * (size_t)nvt, sizeof *Xc), *Pc = calloc(3 * (size_t)nvt, sizeof *Pc);
   au_status st = Xc && Pc ? AU_OK : AU_E_NOMEM;
   for (size_t c = 0; st == AU_OK && c < 3 * (size_t)nf; c++)
     memcpy(Xc + 3 * (size_t)Ft[c], X + 3 * (size_t)F[c], 3 * sizeof *Xc);
   for (int i = 0; st == AU_OK && i < nvt; i++) {
-    if (i < nv) memcpy(Xc + 3 * (size_t)i, X + 3 * (size_t)i, 3 * sizeof *Xc);
     Pc[3 * (size_t)i] = vt[2 * (size_t)i], Pc[3 * (size_t)i + 1] = vt[2 * (size_t)i + 1];
   }
   if (st == AU_OK) st = au_metrics_compute(nvt, nf, Xc, Pc, Ft, AU_DOMAIN_PLANE, out, ups, lam);

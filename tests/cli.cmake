@@ -9,7 +9,7 @@ function(au_cli_test name script)
   set_tests_properties(cli.${name} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
 endfunction()
 
-foreach(c help sphere_help version no_command unknown_command unknown_flag prefix_flag missing_args
+foreach(c help sphere_help version no_command unknown_command unknown_flag unknown_flag_help prefix_flag missing_args
           missing_value bad_number duplicate_flag bad_combination refine_outputs extra_arg in_eq_out bad_extension
           special_outputs)
   au_cli_test(${c} usage.sh ${c})
@@ -156,7 +156,7 @@ endforeach()
 
 au_cli_test(unreferenced unreferenced.sh)
 au_cli_test(reoriented reoriented.sh)
-foreach(c data genus shared quarter cones usage)
+foreach(c data genus shared quarter cones usage html)
   au_cli_test(atlas.${c} atlas_runs.sh ${c})
 endforeach()
 foreach(mesh spiky_ico bumpy_star)

@@ -238,11 +238,12 @@ static const cli_option *find_option(const char *name, int cmd) {
 }
 
 int cli_parse(int argc, char **argv, int cmd, int maxpos, const char *usage_text, cli_args *a) {
-  static char helps[7][40];
+  enum { NCMD = (int)(sizeof cmd_names / sizeof cmd_names[0]) };
+  static char helps[NCMD][40];
   memset(a, 0, sizeof *a);
   a->cmd = cmd;
   const char *name = cli_cmd_name(cmd);
-  for (int k = 0; k < 7; k++)
+  for (int k = 0; k < NCMD; k++)
     if (cmd == 1 << k) snprintf(helps[k], sizeof helps[k], "authalic %s --help", name), a->help = helps[k];
   int dashdash = 0;
   for (int i = 1; i < argc; i++) {

@@ -143,7 +143,7 @@ enum {
     "IN drawn with the baked texture through OUT.obj's coordinates, from the side of the seam and from the "       \
     "opposite side (needs --bake)")                                                                                  \
   X(OPT_MARK_SEAM, "mark-seam", NULL, CLI_FLAG, CLI_TEXTURE, "tint the faces across the cea seam red in --render")  \
-  X(OPT_HTML, "html", "OUT.html", CLI_FILE, CLI_MAPS | CLI_TORUS,                                                  \
+  X(OPT_HTML, "html", "OUT.html", CLI_FILE, CLI_MAPS | CLI_TORUS | CLI_ATLAS,                                                  \
     "the map as one self-contained interactive page (authalic view; docs/view.md)")                                  \
   X(OPT_CONES, "cones", "FILE", CLI_FILE, CLI_ATLAS,                                                                 \
     "the cones instead of automatic ones: one line per cone, a vertex (0-based) and its angle in degrees; on a "    \

@@ -71,6 +71,11 @@ int cli_cmd_atlas(int argc, char **argv) {
   if (!*in || !*out) return cli_usage_error(help, "empty file name");
   if (!cli_has_ext(out, ".obj")) return cli_usage_error(help, "output '%s': the atlas is written as OBJ (per-corner vt): use .obj", out);
   if ((rc = cli_check_outputs(help, in, out, report))) return rc;
+  const char *html = c.val[OPT_HTML];
+  if (html && (cli_same_file(html, in) || cli_same_file(html, out) || (report && cli_same_file(html, report)) ||
+               (cones && cli_same_file(html, cones))))
+    return cli_usage_error(help, "--html '%s' is also another input or output file", html);
+  if (html && (rc = cli_check_writable_path(help, html, "--html"))) return rc;
   au_atlas_options o = au_atlas_options_default();
   if (cli_opt_int(&c, OPT_MAX_CONES, 1, 1000, &o.max_cones)) return EXIT_USAGE;
   o.quarter = c.val[OPT_QUARTER] != NULL;
@@ -112,11 +117,27 @@ int cli_cmd_atlas(int argc, char **argv) {
       goto done;
     }
   }
+  if (html) {
+    /* The page is written whole under its own name (au_write_text renames a temporary into place) and
+     * removed again, as the report is, if OUT cannot be published. */
+    au_view_input v = au_view_input_default();
+    v.nv = m->nv, v.nf = m->nf, v.X = m->X, v.F = r->F;
+    v.nvt = r->nvt, v.vt = r->vt, v.Ft = r->Ft;
+    v.steps = r->flow_steps, v.seconds = cli_now() - t_start;
+    const char *slash = strrchr(in, '/');
+    v.title = slash ? slash + 1 : in;
+    cli_expect_output(html);
+    if ((rc = cli_write_view(html, html, &v, quiet)) >= 0) {
+      if (report) cli_remove_output(report);
+      goto done;
+    }
+  }
   au_write_opts w = au_write_opts_default();
   w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
   rc = cli_publish(out, m->nv, m->X, m->nf, r->F, &w, NULL, NULL, NULL);
   if (rc != EXIT_OK) {
     if (report) cli_remove_output(report);
+    if (html) cli_remove_output(html);
     goto done;
   }
   if (!quiet)

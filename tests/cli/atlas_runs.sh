@@ -169,6 +169,22 @@ usage)
   expect_rejected "use .obj"
   run atlas "$IN" "$OUT" --max-cones 0
   expect_rejected "--max-cones '0'"
+  run atlas "$IN" "$OUT" --html "$OUT"
+  expect_rejected "--html '.*' is also another input or output file"
+  ;;
+html)
+  # --html writes the atlas's page beside OUT: the page is self-contained (no URL) and holds the per-corner map.
+  IN=$(stage "$SRC/data/genus2.obj")
+  run atlas "$IN" "$OUT" --html "$T/o/atlas.html"
+  expect_status 0
+  [ -s "$OUT" ] || fail "no atlas written"
+  [ -s "$T/o/atlas.html" ] || fail "no page written"
+  grep -Eiq '^<!doctype html' "$T/o/atlas.html" || fail "the page is not HTML"
+  if grep -Eq 'https?://' "$T/o/atlas.html"; then fail "the page holds a URL"; fi
+  # Into a folder that does not exist: refused before any work, nothing written.
+  run atlas "$IN" "$OUT.2.obj" --html "$T/o/missing/atlas.html"
+  expect_status 2
+  [ ! -e "$OUT.2.obj" ] || fail "OUT written although --html cannot be"
   ;;
 *) fail "unknown case $1" ;;
 esac

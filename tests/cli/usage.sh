@@ -37,6 +37,13 @@ unknown_flag)
   run sphere "$IN" "$OUT" --fast
   expect_rejected "unknown option '--fast'"
   ;;
+unknown_flag_help)
+  # Every command's usage errors point at its own help (circles and atlas came after the first seven).
+  for cmd in sphere disk annulus square torus circles atlas texture sample; do
+    run $cmd "$IN" "$OUT" --fast
+    expect_rejected "unknown option '--fast' \\(see \`authalic $cmd --help\`\\)"
+  done
+  ;;
 prefix_flag)
   # Flags match exactly: an abbreviation or an extension of a real flag is unknown.
   run sphere "$IN" "$OUT" --rep "$T/o/r.json"
