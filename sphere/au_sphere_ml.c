@@ -548,7 +548,7 @@ done:
 
 /* The coarse mesh's map (the live part of s) into P (the other vertices at (0, 0, 1)): the sphere pipeline
  * from the conformal start, as a start only: the spherical areas (a coarse triangle's chord runs far
- * beneath it), no retries nor polish, and a shear floor that keeps the triangles' shapes. */
+ * beneath it), no lantern or staged retry nor polish, and a shear floor that keeps the triangles' shapes. */
 static au_status coarse_map(const ml_state *s, const au_sphere_opts *o, double *P, int *steps, au_msg *msg) {
   au_mesh sub = {0};
   au_topo *tc = NULL;
@@ -562,7 +562,9 @@ static au_status coarse_map(const ml_state *s, const au_sphere_opts *o, double *
   if (st == AU_OK) {
     au_sphere_opts co = *o;
     co.start = AU_SPHERE_START_CONFORMAL, co.flow.progress = NULL, co.flow.weight = NULL;
-    co.lantern_retry = 0, co.twist_retry = 0, co.vertex_polish = 0, co.global_polish = 0, co.staged_retry = 0;
+    /* twist_retry stays: where every conformal attempt folds (nested protrusions, tpose) the strong
+     * twisted start is the coarse map's start. */
+    co.lantern_retry = 0, co.vertex_polish = 0, co.global_polish = 0, co.staged_retry = 0;
     co.flow.sphere_areas = 2, co.flow.shear_tail = AU_ML_SHEAR_TAIL, co.flow.angle_steps = 0;
     st = au_sphere_map(&sub, tc, &co, Pc, NULL, cr, msg);
     if (st == AU_W_NOT_CONVERGED) st = AU_OK;
