@@ -607,7 +607,7 @@ au_status au_sphere_multilevel(const au_mesh *m, const au_topo *t, const au_sphe
   int top = nlevel - 1;
   for (int tries = 0;; tries++) {
     st = coarse_map(&s, o, P, &rep->coarse_steps, msg);
-    if (st != AU_E_FOLD || tries + 1 >= AU_ML_COARSE_TRIES || top == 0) break;
+    if (st != AU_E_FOLD || tries + 1 >= AU_ML_COARSE_TRIES || top <= 1) break;
     top--;
     for (int i = s.nrec - 1; i >= level[top]; i--)
       if (unsplit(&s, &s.rec[i]) < 0) goto nomem;
