@@ -3,12 +3,13 @@
  * A conformal start squeezes every protrusion exponentially (Zou et al. 2011, sec. 6), and the flow then
  * spends most of its steps, retries and polishes opening them up. Here the mesh is simplified by
  * half-edge collapses (u into v, v keeps its place) to a few hundred vertices, keeping the topology
- * (link condition) and the faces' orientation on the surface; the coarse mesh is mapped by the whole
- * sphere pipeline, where a step costs next to nothing. The collapses are then undone in reverse order
+ * (link condition) and the faces' orientation on the surface; the coarse mesh is mapped by the sphere
+ * pipeline, where a step costs next to nothing. The collapses are then undone in reverse order
  * (a progressive mesh, Hoppe 1996; Praun & Hoppe 2003 map one the same way), each vertex placed strictly
  * inside the kernel of its 1-ring on the sphere, so no triangle can fold; after every level (about twice
- * the vertices of the one before) a few flow steps bring the map back near equal area. The fine flow
- * then starts from a map whose cells are close to their shares and only finishes. */
+ * the vertices of the one before) a few flow steps bring the map back towards equal area. The fine flow
+ * starts from a map far nearer equal area than the conformal start, but rougher from face to face, and
+ * on the shared meshes it takes longer from there (docs/coarse-to-fine.md). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -34,14 +35,13 @@
 #define AU_ML_COARSE_TRIES 3
 /* Gauss-Newton steps of a vertex's placement (place_opt). */
 #define AU_ML_PLACE_STEPS 8
-/* Vertices with more faces than this keep the place their collapse partner's chart gives them. */
+/* The placement leaves a vertex with more faces than this where it is (and a re-inserted one makes the
+ * start fall back to the conformal one). */
 #define AU_ML_STAR_MAX 64
 /* The weight of a placed vertex's triangles' shapes (log of the sum of squared edges over the area, against
  * the surface triangle's) beside their areas: areas alone make needles, whose rings later leave a vertex
  * no room. */
-#ifndef AU_ML_SHAPE
 #define AU_ML_SHAPE 0.5
-#endif
 
 typedef struct ml_rec {
   int u, v;       /* u was collapsed into v */
