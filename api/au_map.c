@@ -96,6 +96,8 @@ static au_status check_options(const au_options *o, int nv, int nf, au_msg *msg)
   if (o->expert && o->expert->staged_retry < 0) return au_msg_set(msg, AU_E_ARG, "expert staged_retry: expected stages >= 0");
   if (o->expert && o->expert->global_polish < 0)
     return au_msg_set(msg, AU_E_ARG, "expert global_polish: expected steps >= 0");
+  if (o->start != AU_START_CONFORMAL && o->start != AU_START_MULTILEVEL)
+    return au_msg_set(msg, AU_E_ARG, "start %d: expected AU_START_CONFORMAL (0) or AU_START_MULTILEVEL (1)", (int)o->start);
   if (o->spherical_areas != 0 && o->spherical_areas != 1)
     return au_msg_set(msg, AU_E_ARG, "spherical_areas %d: expected 0 or 1", o->spherical_areas);
   /* The refinement splits where chord triangles cannot shrink to their shares and judges by chord
@@ -285,16 +287,33 @@ static au_status refine_sphere(map_run *x, const au_sphere_opts *so, au_sphere_r
 static au_status run_sphere(map_run *x, au_msg *msg) {
   au_result *r = x->r;
   au_status st;
+  r->init_method = "conformal";
   if (x->o->init_only) {
     double t0 = now_s();
-    st = au_sphere_conformal(x->m, x->t, r->P, msg);
-    if (st == AU_OK && x->o->balance) st = au_sphere_balance(x->m, x->t, r->P, msg);
+    st = AU_E_ARG;
+    if (x->o->start == AU_START_MULTILEVEL) {
+      au_sphere_opts so = x->sphere;
+      so.flow = x->flow;
+      au_msg m1 = {0};
+      st = au_sphere_multilevel(x->m, x->t, &so, r->P, NULL, &m1);
+      if (st == AU_OK) r->init_method = "multilevel";
+      else if (st == AU_E_CANCELLED || st == AU_E_NOMEM) {
+        if (msg) *msg = m1;
+        return st;
+      } else
+        warn(r, "the coarse-to-fine start could not be made (%s); the conformal start was made instead", m1.text);
+    }
+    if (st != AU_OK) {
+      st = au_sphere_conformal(x->m, x->t, r->P, msg);
+      if (st == AU_OK && x->o->balance) st = au_sphere_balance(x->m, x->t, r->P, msg);
+    }
     r->t_init = now_s() - t0;
     if (st == AU_OK) memcpy(r->P0, r->P, 3 * (size_t)r->nv * sizeof *r->P);
     return st;
   }
   au_sphere_opts so = x->sphere;
   so.flow = x->flow, so.balance = x->o->balance != 0;
+  so.start = x->o->start == AU_START_MULTILEVEL ? AU_SPHERE_START_MULTILEVEL : AU_SPHERE_START_CONFORMAL;
   au_sphere_report *rep = calloc(1, sizeof *rep);
   if (!rep) return au_msg_set(msg, AU_E_NOMEM, "out of memory");
   /* With refinement, the vertex polish comes after it (au_sphere_refine): re-flows from a polished map
@@ -303,6 +322,9 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
   if (x->o->refine_mesh) sm.vertex_polish = 0;
   st = au_sphere_map(x->m, x->t, &sm, r->P, r->P0, rep, msg);
   r->t_init = rep->t_init, r->t_flow = rep->t_flow;
+  r->init_method = rep->start == AU_SPHERE_START_MULTILEVEL ? "multilevel" : "conformal";
+  if (so.start == AU_SPHERE_START_MULTILEVEL && rep->start != AU_SPHERE_START_MULTILEVEL && st >= 0)
+    warn(r, "the coarse-to-fine start could not be made (%s); the map was made from the conformal start", rep->ml_fallback.text);
   if (st >= 0 && x->o->refine_mesh) st = refine_sphere(x, &so, rep, msg);
   if (st >= 0) {
     au_status s2 = keep_log(r, &rep->flow, msg);
@@ -723,7 +745,7 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.angle_from = flow ? r->conv.angle_from : 0;
   if (r->target == AU_TARGET_TORUS)
     info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;
-  info.start = r->target == AU_TARGET_TORUS ? r->init_method : NULL;
+  info.start = r->target == AU_TARGET_TORUS || r->target == AU_TARGET_SPHERE ? r->init_method : NULL;
   info.ncircles = r->ncircles, info.circles = r->circles, info.circle_vertex = r->circle_vertex;
   info.circle_outer = r->circle_outer;
   return au_report_json(&info, json, msg);

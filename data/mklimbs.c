@@ -599,9 +599,17 @@ static void make_coil(mesh *m) {
   for (int k = 0; k < 4; k++) straight_limb(m, &b, legs[k], 6, 4, 1.0);
 }
 
+/* A hammer: an elongated head (an ellipsoid 2.4 x 0.7 x 0.7) on a long, thin handle of girth 6 and 30
+ * diameters, straight down from the head's middle: a conformal map squeezes the handle far past e^-20. */
+static void make_hammer(mesh *m) {
+  const double c[3] = {0, 0, 0}, ax[3] = {1.2, 0.35, 0.35}, down[3] = {0, 0, -1};
+  blob head = add_blob(m, 3, c, ax);
+  straight_limb(m, &head, down, 6, 30, 1.0);
+}
+
 int main(int argc, char **argv) {
   if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
-    printf("usage: au_mklimbs DIR\nwrites limbs4.obj, limbs8.obj, tpose.obj and coil.obj into DIR (see data/README.md)\n");
+    printf("usage: au_mklimbs DIR\nwrites limbs4.obj, limbs8.obj, tpose.obj, coil.obj and hammer.obj into DIR (see data/README.md)\n");
     return 0;
   }
   if (argc == 2 && !strcmp(argv[1], "--version")) {
@@ -621,6 +629,8 @@ int main(int argc, char **argv) {
       {"tpose", "T-posed stick figure with ten fingers (thin-limbed family, issue 21)", make_tpose},
       {"coil", "unit ball with a corkscrew tail of 24 diameters and four short legs (thin-limbed family, issue 21)",
        make_coil},
+      {"hammer", "ellipsoidal head on a handle of girth 6 and 30 diameters (coarse-to-fine start, issue 39)",
+       make_hammer},
   };
   int status = 0;
   for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++) {

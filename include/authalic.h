@@ -367,6 +367,15 @@ typedef int (*au_progress_fn)(void *user, int step, int max_steps, double err);
 
 typedef struct au_expert au_expert;
 
+/* The sphere map's start (au_options.start). */
+typedef enum au_start {
+  AU_START_CONFORMAL = 0, /* the conformal map, Moebius-balanced: squeezes protrusions exponentially */
+  AU_START_MULTILEVEL = 1 /* coarse-to-fine: the mesh simplified to a few hundred vertices, mapped, and
+                             its vertices brought back level by level, each inside its ring's kernel,
+                             with a few flow steps per level (docs/coarse-to-fine.md); where it cannot
+                             be made, the conformal start is used and au_result.init_method says so */
+} au_start;
+
 /* What au_map is asked to do. Start from au_options_default() or au_options_preset(); fields that
  * do not apply to the target are ignored. */
 typedef struct au_options {
@@ -435,6 +444,7 @@ typedef struct au_options {
   double aspect;          /* square: the rectangle's width / height, > 0: the equal-area map onto the unit
                              square stretched to [0, w] x [0, h], max(w, h) = 1 (a linear stretch scales every
                              area alike, so the map stays equal area); 0 (default): the unit square */
+  au_start start;         /* sphere: the start (default AU_START_CONFORMAL); other targets ignore it */
 } au_options;
 
 AU_API au_options au_options_default(void);
@@ -621,7 +631,8 @@ typedef struct au_result {
   double t_check, t_init, t_flow, t_metrics; /* seconds in the mesh check, the initial map, the flow,
                                                 the metrics */
   double boundary_dev;     /* planar: the boundary's largest distance from the domain's boundary */
-  const char *init_method; /* planar: "cotan" or "meanvalue" (how the harmonic start was made) */
+  const char *init_method; /* planar and torus: "cotan" or "meanvalue" (how the harmonic start was made);
+                              sphere: "conformal" or "multilevel" (the start that made the map) */
   double inner_radius, modulus_radius; /* annulus: the inner radius used, the conformal modulus's */
   int outer_loop_vertex;   /* annulus: a vertex on the loop mapped to the unit circle */
   int corners[4];          /* square: the corner vertices, in the order (0,0), (1,0), (1,1), (0,1) */

@@ -15,6 +15,20 @@
 extern "C" {
 #endif
 
+/* Which start the sphere map makes (au_sphere_opts.start). */
+typedef enum au_sphere_start {
+  AU_SPHERE_START_CONFORMAL = 0, /* the conformal map, balanced (Choi, Lam & Lui 2015) */
+  AU_SPHERE_START_MULTILEVEL = 1 /* coarse-to-fine (au_sphere_multilevel) */
+} au_sphere_start;
+
+/* The coarse-to-fine start's settings (sphere/au_sphere_ml.c). */
+typedef struct au_sphere_ml_opts {
+  int coarse_vertices; /* simplify down to about this many vertices (default 300; <= 0: the default) */
+  int level_steps;     /* flow steps after each level but the finest (default 3) */
+} au_sphere_ml_opts;
+
+au_sphere_ml_opts au_sphere_ml_opts_default(void);
+
 typedef struct au_sphere_opts {
   au_advect_opts flow; /* the advection's options; defaults from au_advect_opts_default() */
   int balance;         /* 1: Moebius-balance the conformal map before the flow (default 1) */
@@ -46,11 +60,34 @@ typedef struct au_sphere_opts {
                            of the way (au_sphere_map.c), at most this many, then once towards the
                            surface's areas; kept if its vertex error (retry_err) is lower (default 8; 0 off).
                            Not with a density (flow.weight, flow.face_weight) */
+  au_sphere_start start; /* the start (default AU_SPHERE_START_CONFORMAL) */
+  au_sphere_ml_opts ml;   /* the coarse-to-fine start's settings (au_sphere_ml_opts_default) */
 } au_sphere_opts;
 
 au_sphere_opts au_sphere_opts_default(void);
 
+typedef struct au_sphere_ml_report {
+  int coarse_vertices; /* vertices of the coarse mesh */
+  int levels;          /* levels, coarse and fine included */
+  int coarse_steps;    /* the coarse map's flow steps */
+  int level_steps;     /* flow steps over the levels between the coarse and the fine mesh */
+} au_sphere_ml_report;
+
+/* The coarse-to-fine start: the mesh simplified by half-edge collapses (topology kept) to about
+ * o->ml.coarse_vertices vertices, mapped by au_sphere_map (conformal start, o's flow and rescues), then
+ * the collapses undone in reverse order, each vertex placed strictly inside the kernel of its ring on
+ * the sphere, with o->ml.level_steps flow steps after each level but the finest (sphere/au_sphere_ml.c).
+ * P: out, nv x 3 unit vectors, fold-free. rep may be NULL. Not with flow.face_weight (AU_E_ARG); a
+ * flow.weight is followed from the first level on. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED,
+ * AU_E_FOLD (a ring's kernel was empty to rounding), or the coarse map's error. */
+au_status au_sphere_multilevel(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
+                               au_sphere_ml_report *rep, au_msg *msg);
+
 typedef struct au_sphere_report {
+  au_sphere_start start;  /* the start that made the map (a coarse-to-fine start that failed falls back
+                             to the conformal one) */
+  au_sphere_ml_report ml; /* with the coarse-to-fine start: what it did */
+  au_msg ml_fallback;     /* a coarse-to-fine start asked for and not made: why (empty text otherwise) */
   double t_init;          /* seconds spent in the conformal initialization and balancing */
   double t_flow;          /* seconds spent in the advection */
   int init_folds;         /* folded triangles of the conformal map (must be 0) */

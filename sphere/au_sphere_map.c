@@ -40,6 +40,8 @@ au_sphere_opts au_sphere_opts_default(void) {
   o.polish_cells = 1;
   o.global_polish = 200;
   o.staged_retry = 8;
+  o.start = AU_SPHERE_START_CONFORMAL;
+  o.ml = au_sphere_ml_opts_default();
   return o;
 }
 
@@ -290,7 +292,20 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
   /* The flow's analysis needs only the mesh: it runs in a second thread beside the conformal start. */
   au_advect_plan *plan = NULL;
   au_status st = au_advect_plan_start(m, t, &o.flow, &plan, msg);
-  if (st == AU_OK) st = au_sphere_conformal(m, t, P, msg);
+  int ml_done = 0;
+  if (st == AU_OK && o.start == AU_SPHERE_START_MULTILEVEL && !o.flow.face_weight) {
+    /* A coarse-to-fine start that fails (an empty kernel to rounding, a coarse map refused) leaves the
+     * conformal start to make the map: no mesh is refused for its start. */
+    au_msg msg1 = {0};
+    au_status s1 = au_sphere_multilevel(m, t, &o, P, &rep->ml, &msg1);
+    if (s1 == AU_OK) ml_done = 1, rep->start = AU_SPHERE_START_MULTILEVEL;
+    else if (s1 == AU_E_CANCELLED || s1 == AU_E_NOMEM) {
+      st = s1;
+      if (msg) *msg = msg1;
+    } else
+      rep->ml_fallback = msg1;
+  }
+  if (st == AU_OK && !ml_done) st = au_sphere_conformal(m, t, P, msg);
   int strong = 0;
   if (st == AU_E_FOLD && o.twist_retry > 0) {
     /* Every conformal attempt folded (nested protrusions squeezed past any coordinate): the strong
@@ -300,7 +315,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
     if (au_sphere_twisted_strong(m, t, P, &nsheared, &msg1) == AU_OK && nsheared > 0)
       st = AU_OK, strong = nsheared;
   }
-  if (st == AU_OK && o.balance) st = au_sphere_balance(m, t, P, msg);
+  if (st == AU_OK && o.balance && !ml_done) st = au_sphere_balance(m, t, P, msg);
   rep->t_init = now_s() - t0;
   if (st == AU_OK) {
     if (P0) memcpy(P0, P, sizeof(double) * 3 * (size_t)m->nv);

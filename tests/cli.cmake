@@ -150,7 +150,7 @@ foreach(i RANGE 0 ${last} 3)
   au_cli_test(bad.${cmd}.${file} bad_input.sh ${file} ${pattern} ${cmd})
 endforeach()
 
-foreach(c replace_existing not_converged options)
+foreach(c replace_existing not_converged options start)
   au_cli_test(${c} runs.sh ${c})
 endforeach()
 

@@ -83,6 +83,10 @@ enum {
     "first that meets both is kept, else the lowest per-face); long, thin limbs meet those at 2x (limbs4, coil) or " \
     "3x (limbs8, tpose; "                                                                                             \
     "docs/sphere.md)")                                                                                          \
+  X(OPT_START, "start", "S", CLI_VALUE, CLI_SPHERE,                                                                 \
+    "conformal (default): the balanced conformal map, which squeezes protrusions exponentially; multilevel: "     \
+    "coarse-to-fine, the mesh simplified to a few hundred vertices, mapped, and its vertices brought back level by " \
+    "level inside their rings (docs/coarse-to-fine.md); the report's \"start\" says which ran")                    \
   X(OPT_NO_BALANCE, "no-balance", NULL, CLI_FLAG, CLI_SPHERE, "skip the Moebius balancing of the conformal start")  \
   X(OPT_SPHERICAL_AREAS, "spherical-areas", NULL, CLI_FLAG, CLI_SPHERE,                                              \
     "equalize the spherical triangles' areas and skip the chord polish: the map `texture` and `sample` make "      \
@@ -159,7 +163,7 @@ enum {
 /* The ids, each once. */
 typedef enum cli_opt_id {
   OPT_MAP, OPT_GRID, OPT_REPORT, OPT_STEPS, OPT_TOL, OPT_DENSITY, OPT_BOUNDARY, OPT_INNER_RADIUS, OPT_OUTER_LOOP,
-  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_REFINE_BUDGET, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
+  OPT_CORNERS, OPT_RESTORE, OPT_REFINE_FACES, OPT_ANGLES, OPT_REFINE_MESH, OPT_REFINE_BUDGET, OPT_START, OPT_NO_BALANCE, OPT_SPHERICAL_AREAS, OPT_INIT_ONLY, OPT_LATTICE,
   OPT_FORMAT, OPT_RADIUS, OPT_DISTORTION, OPT_PROJECTION, OPT_AXIS, OPT_AREA_TOL, OPT_AREA_TARGET, OPT_LONLAT,
   OPT_BAKE, OPT_IMAGE, OPT_SIZE, OPT_NORMALS, OPT_ATTR, OPT_PREVIEW, OPT_RENDER, OPT_MARK_SEAM, OPT_HTML, OPT_QUIET, OPT_HELP,
   OPT_OUTER, OPT_ASPECT, OPT_CONES, OPT_QUARTER, OPT_MAX_CONES,

@@ -106,6 +106,11 @@ static int map_options(const cli_args *a, au_options *o) {
     return cli_usage_error(h, "--refine-budget '%s': expected auto or a number above 1 and at most %d", v, AU_REFINE_MAX_FACES);
   o->init_only = a->val[OPT_INIT_ONLY] != NULL;
   o->balance = a->val[OPT_NO_BALANCE] == NULL;
+  if ((v = a->val[OPT_START])) {
+    if (strcmp(v, "conformal") == 0) o->start = AU_START_CONFORMAL;
+    else if (strcmp(v, "multilevel") == 0) o->start = AU_START_MULTILEVEL;
+    else return cli_usage_error(h, "--start '%s': expected conformal or multilevel", v);
+  }
   if ((v = a->val[OPT_BOUNDARY])) {
     if (strcmp(v, "slide") == 0) o->boundary = AU_BOUNDARY_SLIDE;
     else if (strcmp(v, "fixed") == 0) o->boundary = AU_BOUNDARY_FIXED;

@@ -548,11 +548,12 @@ def _real_opt(name, v, lo, hi, lo_open=False, hi_open=False):
 _PLANAR_ONLY = {"boundary": "disk, annulus, square and circles", "inner_radius": "annulus", "outer_loop": "annulus",
                 "outer": "circles", "aspect": "square",
                 "corners": "square", "restore_shapes": "sphere", "balance": "sphere", "lattice": "torus",
-                "refine_mesh": "sphere", "refine_budget": "sphere", "spherical_areas": "sphere"}
+                "refine_mesh": "sphere", "refine_budget": "sphere", "spherical_areas": "sphere", "start": "sphere"}
 _APPLIES = {"boundary": ("disk", "annulus", "square", "circles"), "inner_radius": ("annulus",),
             "outer_loop": ("annulus",), "outer": ("circles",), "aspect": ("square",),
             "corners": ("square",), "restore_shapes": ("sphere",), "balance": ("sphere",), "lattice": ("torus",),
-            "refine_mesh": ("sphere",), "refine_budget": ("sphere",), "spherical_areas": ("sphere",)}
+            "refine_mesh": ("sphere",), "refine_budget": ("sphere",), "spherical_areas": ("sphere",),
+            "start": ("sphere",)}
 
 
 def _flag_opt(name, v):
@@ -643,6 +644,11 @@ def _options(target, nv, nf, steps, tol, density, angles, refine_faces, init_onl
     if _flag_opt("spherical_areas", extra.get("spherical_areas")):
         o.spherical_areas = 1
         flow_given.append("spherical_areas")
+    v = extra.get("start")
+    if v is not None:
+        if not isinstance(v, str) or v not in ("conformal", "multilevel"):
+            _bad("start %r: expected 'conformal' or 'multilevel'" % (v,))
+        o.start = 1 if v == "multilevel" else 0
     v = extra.get("lattice")
     if v is not None:
         if v not in _lib.AU_LATTICES:
@@ -750,7 +756,7 @@ def map_mesh(V, F, target, steps=None, tol=None, density=None, angles=0, refine_
 
     target: "sphere", "disk", "annulus", "square" or "torus". The other arguments are those of
     sphere(), disk(), annulus(), square() and torus(), whose manuals say more; the target-specific
-    keywords (restore_shapes, balance, refine_mesh, refine_budget, spherical_areas; boundary; inner_radius, outer_loop;
+    keywords (restore_shapes, balance, refine_mesh, refine_budget, spherical_areas, start; boundary; inner_radius, outer_loop;
     corners; lattice) are accepted for their targets only. Use this rather than square() when the square may split edges (MapResult.F then
     has more faces than F, and MapResult.X the split midpoints).
 
@@ -835,10 +841,10 @@ _RETURNS_DOC = """
 
 
 def sphere(V, F, steps=None, tol=None, density=None, angles=0, refine_faces=False, progress=False, *,
-           restore_shapes=None, balance=True, spherical_areas=False, init_only=False):
+           restore_shapes=None, balance=True, spherical_areas=False, init_only=False, start=None):
     r = map_mesh(V, F, "sphere", steps, tol, density, angles, refine_faces, progress, init_only, _stacklevel=3,
                  restore_shapes=restore_shapes, balance=None if balance is True else balance,
-                 spherical_areas=spherical_areas)
+                 spherical_areas=spherical_areas, start=start)
     return r.P, r.info
 
 
@@ -852,6 +858,10 @@ sphere.__doc__ = """Map a closed genus-0 triangle mesh onto the unit sphere with
     restore_shapes: while the spherical areas are driven, each step's shear aims this fraction
         (0..1) back at the surface's triangle shapes (None: 0.1; 0: off).
     balance: Moebius-balance the conformal start (default True).
+    start: "conformal" (None, the default) or "multilevel": coarse-to-fine, the mesh simplified to a
+        few hundred vertices, mapped, and its vertices brought back level by level, each inside its
+        ring (docs/coarse-to-fine.md); where it cannot be made, the conformal start is used with a
+        warning. info["start"] says which ran.
     spherical_areas: True to equalize the spherical triangles' areas only, with no chord polish: the
         map `authalic texture` and `sample` make for themselves (texels and grid cells lie on the
         sphere). info["metrics"]["sph_r_mean_abs_dev"] and ["sph_vertex_logr_mean_abs"] measure it;

@@ -62,6 +62,10 @@ OPTIONS = [
                                         "map's per-face mean |r-1| is over 0.02 or its vertex error over 0.005 "
                                         "(the first that meets both is kept, else the lowest per-face)"
                                         % _lib.AU_REFINE_MAX_FACES),
+    ("start", "S", ("sphere",), "conformal (default): the balanced conformal map, which squeezes protrusions "
+                                "exponentially; multilevel: coarse-to-fine, the mesh simplified to a few hundred "
+                                "vertices, mapped, and its vertices brought back level by level inside their rings "
+                                "(docs/coarse-to-fine.md); the report's \"start\" says which ran"),
     ("no-balance", None, ("sphere",), "skip the Moebius balancing of the conformal start"),
     ("spherical-areas", None, ("sphere",), "equalize the spherical triangles' areas and skip the chord polish: the "
                                            "map `texture` and `sample` make for themselves (closer texture areas; "
@@ -222,6 +226,10 @@ def map_kwargs(cmd, vals):
     kw["init_only"] = "init-only" in vals
     if "no-balance" in vals:
         kw["balance"] = False
+    if "start" in vals:
+        if vals["start"] not in ("conformal", "multilevel"):
+            raise Usage("--start '%s': expected conformal or multilevel" % vals["start"])
+        kw["start"] = vals["start"]
     if "spherical-areas" in vals:
         kw["spherical_areas"] = True
     if "boundary" in vals:

@@ -56,7 +56,8 @@ class Options(ctypes.Structure):
                 ("outer_loop", c_int), ("corners", c_int * 4), ("progress", PROGRESS_FN), ("user", c_void_p),
                 ("cancel", P_int), ("expert", c_void_p), ("lattice", c_int), ("refine_mesh", c_int),
                 ("measure_start", c_int), ("refine_max_faces", c_double), ("spherical_areas", c_int),
-                ("aspect", c_double)]
+                ("aspect", c_double),
+                ("start", c_int)]
 
 
 # The au_metrics fields in order; the doubles among them are named here once.

@@ -24,12 +24,22 @@ def test_sphere_on_unit_sphere_without_folds(star, star_map):
     assert info["version"] == authalic.version()
 
 
+def test_sphere_multilevel_start(star):
+    """start="multilevel" (the coarse-to-fine start): a fold-free map on the unit sphere within issue 39's
+    bounds, and info says which start made it (the default: the conformal one)."""
+    V, F = star
+    S, info = authalic.sphere(V, F, start="multilevel")
+    assert info["start"] == "multilevel" and info["folds"] == 0
+    assert np.abs(np.linalg.norm(S, axis=1) - 1).max() < 1e-12
+    assert info["metrics"]["r_mean_abs_dev"] <= 0.03 and info["metrics"]["vertex_logr_mean_abs"] <= 0.01
+
+
 def test_info_has_the_reports_keys(star_map):
     info = star_map[1]
     for k in ("tool", "version", "command", "input", "output", "V", "F", "steps", "converged", "folds", "time",
               "metrics", "initial_metrics", "convergence", "warnings"):
         assert k in info, k
-    assert info["input"] is None and info["output"] is None
+    assert info["input"] is None and info["output"] is None and info["start"] == "conformal"
     assert set(info["time"]) == {"validate", "init", "flow", "metrics", "total"}
     assert len(info["convergence"]["err"]) == info["steps"] + 1
 
@@ -188,6 +198,9 @@ def test_bad_input_errors(tmp_path, star):
     (lambda V, F: authalic.map_mesh(V, F, "sphere", refine_mesh=np.ones(2)), "refine_mesh"),
     (lambda V, F: authalic.sphere(V, F, spherical_areas=True, init_only=True), "init_only"),
     (lambda V, F: authalic.map_mesh(V, F, "sphere", spherical_areas=True, refine_mesh=True), "refine_mesh"),
+    (lambda V, F: authalic.sphere(V, F, start="fancy"), "start"),
+    (lambda V, F: authalic.sphere(V, F, start=1), "start"),
+    (lambda V, F: authalic.map_mesh(V, F, "disk", start="multilevel"), "sphere"),
 ])
 def test_bad_arguments(star, call, match):
     with pytest.raises(authalic.BadInputError, match=match):

@@ -1,5 +1,5 @@
 # runs.sh - successful runs on a small mesh: replacing an earlier result, options that change the
-# run (--steps, --tol, --no-balance), and what --quiet leaves on stderr.
+# run (--steps, --tol, --no-balance, --start), and what --quiet leaves on stderr.
 # sh runs.sh PROG SOURCE_DIR SHARED_DIR CASE
 . "$(dirname "$0")/lib.sh"
 IN=$(stage "$SRC/tests/cli/unreferenced.obj")
@@ -32,6 +32,22 @@ ok = r["steps"] == 1 and not r["converged"] and r["folds"] == 0 and len(r["conve
 ok = ok and any("not reached" in w for w in r["warnings"])
 sys.exit(0 if ok else "report: steps %s converged %s warnings %s" % (r["steps"], r["converged"], r["warnings"]))
 ' "$REP" || fail "the report does not show the unconverged run"
+  ;;
+start)
+  # --start multilevel (the coarse-to-fine start) on spiky_ico: a fold-free map within issue 39's bounds,
+  # and the report says which start made it; --start conformal names the conformal one.
+  SP=$(stage "$SRC/data/spiky_ico.obj")
+  for st in multilevel conformal; do
+    run sphere "$SP" "$T/o/$st.obj" --start $st --report "$T/o/$st.json" --quiet
+    expect_status 0
+    $PY -c '
+import json, sys
+r = json.load(open(sys.argv[1])); m = r["metrics"]
+ok = r["start"] == sys.argv[2] and r["folds"] == 0 and m["r_mean_abs_dev"] <= 0.03 and m["vertex_logr_mean_abs"] <= 0.01
+sys.exit(0 if ok else "report: start %s folds %s per-face %s vertex %s" % (r["start"], r["folds"], m["r_mean_abs_dev"],
+                                                                         m["vertex_logr_mean_abs"]))
+' "$T/o/$st.json" $st || fail "--start $st: the report does not show a good map from that start"
+  done
   ;;
 options)
   # --tol 0.5 stops early; --no-balance changes the start; both runs stay fold-free on the sphere.

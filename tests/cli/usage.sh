@@ -88,6 +88,10 @@ bad_number)
     run sphere "$IN" "$OUT" --refine-mesh "$T/o/surf.obj" --refine-budget "$v"
     expect_rejected "--refine-budget '$v'"
   done
+  for v in abc '' Multilevel 1 conformal2; do
+    run sphere "$IN" "$OUT" --start "$v"
+    expect_rejected "--start '$v': expected conformal or multilevel"
+  done
   ;;
 duplicate_flag)
   run sphere "$IN" "$OUT" --steps 5 --steps 6
