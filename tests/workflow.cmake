@@ -6,6 +6,7 @@
 #                     redo exactly that row
 #   workflow.slurm    the same cohort through a one-node Slurm started (and stopped) by the test
 #   workflow.circles  one row with command circles (a disk with three holes)
+#   workflow.atlas    rows with command atlas (genus 2, genus 0) and one bad input: metrics as param-eval's
 #
 # Registered in the normal build only, not in the sanitizer build (AU_SANITIZE): these tests check
 # the workflow (Snakemake, Slurm, the scripts), not new C code, and the program paths they run are
@@ -24,8 +25,9 @@ if(NOT AU_SANITIZE)
   au_workflow_test(rerun rerun.sh)
   au_workflow_test(slurm slurm.sh)
   au_workflow_test(circles circles.sh)
+  au_workflow_test(atlas atlas.sh)
   set_tests_properties(workflow.local PROPERTIES FIXTURES_SETUP workflow_cohort)
   set_tests_properties(workflow.rerun PROPERTIES FIXTURES_REQUIRED workflow_cohort)
   # Each run uses both cores (--cores 2; the Slurm node has 2 CPUs): one at a time under ctest -j2.
-  set_tests_properties(workflow.local workflow.rerun workflow.slurm workflow.circles PROPERTIES RESOURCE_LOCK workflow_cores)
+  set_tests_properties(workflow.local workflow.rerun workflow.slurm workflow.circles workflow.atlas PROPERTIES RESOURCE_LOCK workflow_cores)
 endif()

@@ -1,7 +1,7 @@
 """attribute.py - a per-vertex attribute of the surface drawn through its map (the manifest's
 `attribute` column: a text file with one number per vertex of the input, in order).
 
-    attribute.py IN MAP.obj ATTR.txt OUT.png --command sphere|disk|annulus|square|torus|circles
+    attribute.py IN MAP.obj ATTR.txt OUT.png --command sphere|disk|annulus|square|torus|circles|atlas
                  [--authalic PROG] [--status S.json] [--title TEXT]
 
 Sphere maps: the equal-area texture `authalic texture IN --map MAP T.obj --bake ATTR --image OUT.png`
@@ -38,7 +38,7 @@ def main():
     ap.add_argument("map")
     ap.add_argument("attribute")
     ap.add_argument("out")
-    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square", "torus", "circles"])
+    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square", "torus", "circles", "atlas"])
     ap.add_argument("--authalic", default="authalic")
     ap.add_argument("--status", default="")
     ap.add_argument("--title", default="")
@@ -69,7 +69,7 @@ def work(a):
     val = np.loadtxt(a.attribute, dtype=np.float64).reshape(-1)
     if len(val) != len(X):
         raise ValueError(f"{a.attribute} has {len(val)} values for {len(X)} vertices of {a.input}")
-    if a.command == "torus":
+    if a.command in ("torus", "atlas"):
         VT, FT = meshio_np.read_obj_vt(a.map)
         full = np.zeros(len(VT))
         full[FT.reshape(-1)] = val[G.reshape(-1)]

@@ -8,7 +8,7 @@ id, status (authalic's exit status), error (its error line, empty when none), co
 wall_seconds, slurm_job_id; from its report (authalic --report), empty when the map failed:
 V, F, steps, seconds (the report's time.total), converged, folds, r_mean_abs_dev,
 vertex_logr_mean_abs, angle_diff_mean_deg, upsilon_mean_abs, lambda_mean, r_cv (all from the
-report's final metrics); notes: what went wrong with a mapped surface's other products (a preview,
+report's final metrics; atlas: from status.json's `metrics`, which run_map.py measures); notes: what went wrong with a mapped surface's other products (a preview,
 distortion or attribute script that failed leaves its file empty and its message in FILE.error).
 """
 import csv
@@ -48,9 +48,16 @@ def read_row(status_path, report_path):
     row["view"] = os.path.exists(view) and os.path.getsize(view) > 0  # linked from cohort.md, not a tsv column
     if st["status"] == 0 and os.path.getsize(report_path) > 0:
         rep = json.load(open(report_path))
-        final = rep.get("final") or rep.get("metrics") or {}
-        row.update(V=rep.get("V"), F=rep.get("F"), steps=rep.get("steps"),
-                   seconds=(rep.get("time") or {}).get("total"), converged=rep.get("converged"))
+        # atlas: its report has vertices/faces, flow.steps, per-stage times and no metrics block;
+        # run_map.py measured its map into status.json's `metrics`.
+        final = rep.get("final") or rep.get("metrics") or st.get("metrics") or {}
+        times = rep.get("time") or {}
+        seconds = times.get("total")
+        if seconds is None and times:
+            seconds = sum(v for v in times.values() if isinstance(v, (int, float)))
+        row.update(V=rep.get("V", rep.get("vertices")), F=rep.get("F", rep.get("faces")),
+                   steps=rep.get("steps", (rep.get("flow") or {}).get("steps")),
+                   seconds=seconds, converged=rep.get("converged"))
         for k in METRICS:
             row[k] = final.get(k, rep.get(k))
     return row

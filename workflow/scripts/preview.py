@@ -1,6 +1,6 @@
 """preview.py - the preview picture of one map of the workflow.
 
-    preview.py IN MAP.obj OUT.png --command sphere|disk|annulus|square|torus|circles [--authalic PROG]
+    preview.py IN MAP.obj OUT.png --command sphere|disk|annulus|square|torus|circles|atlas [--authalic PROG]
                [--status S.json] [--report R.json] [--title TEXT]
 
 Sphere maps: `authalic texture IN --map MAP T.obj --preview OUT.png` draws the map from +z and -z
@@ -9,7 +9,8 @@ annulus, square; the CLI has no preview for them): the map's triangles coloured 
 Upsilon = ln(surface area share / map area share) on the same scale (-0.5 blue .. +0.5 red), with
 the histogram of Upsilon beside it (matplotlib). Torus maps: the same for the map's per-corner vt
 triangles, tiled 3 x 3 by the report's lattice (seamless maps tile with no gap), the fundamental
-domain outlined. With --status S.json of a failed row
+domain outlined. Atlas maps: the per-corner vt triangles (the charts) in the unit square, outlined,
+coloured the same way. With --status S.json of a failed row
 (status != 0) it writes an empty OUT.png, like the map rule's placeholders.
 """
 import argparse
@@ -46,7 +47,7 @@ def main():
     ap.add_argument("--status", default="")
     ap.add_argument("--title", default="")
     ap.add_argument("--report", default="", help="the map's report (the torus's lattice)")
-    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square", "torus", "circles"])
+    ap.add_argument("--command", required=True, choices=["sphere", "disk", "annulus", "square", "torus", "circles", "atlas"])
     ap.add_argument("--authalic", default="authalic")
     a = ap.parse_args()
     return product.guarded(lambda: work(a), a.out)
@@ -76,6 +77,12 @@ def work(a):
         tiles = [tuple(i * L[0] + j * L[1]) for i in (-1, 0, 1) for j in (-1, 0, 1)]
         Y, P, G = P, VT, FT
         As, Am = meshio_np.face_areas(Y, F), meshio_np.face_areas(P, G)
+    elif a.command == "atlas":
+        # The vt triangles (the charts) drawn flat in the unit square, outlined; P is the surface.
+        VT, FT = meshio_np.read_obj_vt(a.map)
+        As, Am = meshio_np.face_areas(P, G), meshio_np.face_areas(VT, FT)
+        P, G = VT, FT
+        L = np.eye(2)
     else:
         Y = meshio_np.surface_for_map(X, F, P, G)
         As, Am = meshio_np.face_areas(Y, G), meshio_np.face_areas(P[:, :2], G)

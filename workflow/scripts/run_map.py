@@ -1,6 +1,6 @@
 """run_map.py - run one `authalic` map for the workflow and record how it ended.
 
-    run_map.py --authalic PROG --command sphere|disk|annulus|square|torus|circles --input IN --map MAP.obj
+    run_map.py --authalic PROG --command sphere|disk|annulus|square|torus|circles|atlas --input IN --map MAP.obj
                --report R.json --status S.json --log L.txt [--density FILE] [--distortion D] [--html V.html]
                [--options "EXTRA OPTIONS"] [--id ID]
 
@@ -11,6 +11,10 @@ exit status) and always leaves every declared output: on failure MAP, R.json and
 exit status; 128+N when it was killed by signal N), error (the program's `authalic: error: ...` line,
 else its last line of stderr; empty on success), wall_seconds, argv, host and slurm_job_id (the
 SLURM_JOB_ID of the job it ran in, empty outside Slurm). L.txt gets the program's stderr.
+
+Command atlas: its report has no `metrics` block and the program has no --distortion, so after a
+successful run this script computes them from MAP (vt_metrics.py, param-eval's definitions): S.json
+gets `metrics` (the cohort's metric columns) and D the per-vertex distortion.
 """
 import argparse
 import json
@@ -20,6 +24,17 @@ import socket
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+
+def atlas_products(map_path, distortion):
+    """The metrics of an atlas map (a dict) and, when asked, its distortion file."""
+    import vt_metrics
+    X, F, VT, FT = vt_metrics.read_map(map_path)
+    if distortion:
+        vt_metrics.write_distortion(distortion, vt_metrics.vertex_distortion(X, F, VT, FT), len(F))
+    return vt_metrics.metrics(X, F, VT, FT)
 
 
 def main():
@@ -41,7 +56,7 @@ def main():
     argv = [a.authalic, a.command, a.input, a.map, "--report", a.report]
     if a.density:
         argv += ["--density", a.density]
-    if a.distortion:
+    if a.distortion and a.command != "atlas":
         argv += ["--distortion", a.distortion]
     if a.html:
         argv += ["--html", a.html]
@@ -68,9 +83,16 @@ def main():
         error = errs[-1] if errs else (lines[-1] if lines else f"exit status {status}, no message")
         if rc < 0:
             error = f"killed by signal {-rc}" + (f" ({error})" if lines else "")
-    missing = [p for p in outputs if not os.path.exists(p)]
+    mine = [a.distortion] if a.command == "atlas" else []  # written below, not by authalic
+    missing = [p for p in outputs if p not in mine and not os.path.exists(p)]
     if status == 0 and missing:
         status, error = 1, "authalic exited 0 but did not write " + ", ".join(missing)
+    metrics = None
+    if status == 0 and a.command == "atlas":
+        try:
+            metrics = atlas_products(a.map, a.distortion)
+        except Exception as e:  # noqa: BLE001 - a map this script cannot read is the row's failure
+            status, error = 1, f"authalic atlas exited 0 but its map could not be measured: {type(e).__name__}: {e}"
     if status != 0:
         # Declared outputs must exist for the workflow; empty files stand for "not produced".
         for p in outputs:
@@ -81,6 +103,8 @@ def main():
         "argv": argv, "host": socket.gethostname(),
         "slurm_job_id": os.environ.get("SLURM_JOB_ID", ""),
     }
+    if metrics is not None:
+        record["metrics"] = metrics
     tmp = a.status + ".tmp"
     with open(tmp, "w") as fh:
         json.dump(record, fh, indent=1)
