@@ -2,6 +2,7 @@
  * metric, their packing into the unit square, and the seams' rigid motions (au_atlas.h). */
 #include "au_atlas.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -131,10 +132,205 @@ static int shelf_pack(int n, const int *ord, const double *w, const double *h, d
   return cy + shelf + g <= 1;
 }
 
+/* A triangle (grid coordinates) and the cell [i, i+1] x [j, j+1] overlap, touching included: no edge of
+ * the triangle has the whole cell strictly outside it (the cell's own axes are the caller's bounding box). */
+static int tri_cell(const double *x, const double *y, int i, int j) {
+  double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+  double sg = area < 0 ? -1 : 1;
+  for (int k = 0; k < 3; k++) {
+    double ax = x[k], ay = y[k], dx = x[(k + 1) % 3] - ax, dy = y[(k + 1) % 3] - ay, best = -INFINITY;
+    for (int c = 0; c < 4; c++) {
+      double px = i + (c & 1), py = j + (c >> 1);
+      best = fmax(best, sg * (dx * (py - ay) - dy * (px - ax)));
+    }
+    if (best < -1e-9 * (fabs(dx) + fabs(dy))) return 0;
+  }
+  return 1;
+}
+
+/* One chart's footprint on the packing grid: the cells its faces touch, grown by one cell on every side
+ * (the gap), in a w x h bitmap whose cell (i, j) is bit[j * w + i]. */
+typedef struct footprint {
+  int w, h;
+  unsigned char *bit;
+} footprint;
+
+/* The footprint turned by k quarter turns counter-clockwise: cell (i, j) of a w x h bitmap goes to
+ * (h - 1 - j, i) per turn, the same map as the continuous (u, v) -> (h - v, u). */
+static void turn_footprint(const footprint *a, int k, footprint *b) {
+  int w = a->w, h = a->h;
+  b->w = k & 1 ? h : w, b->h = k & 1 ? w : h;
+  for (int j = 0; j < h; j++)
+    for (int i = 0; i < w; i++) {
+      int x = i, y = j, cw = w, chh = h;
+      for (int r = 0; r < k; r++) {
+        int nx = chh - 1 - y, ny = x;
+        x = nx, y = ny;
+        int t = cw;
+        cw = chh, chh = t;
+      }
+      b->bit[(size_t)y * b->w + x] = a->bit[(size_t)j * w + i];
+    }
+}
+
+/* Skyline packing of the charts' footprints on a G x G grid, in the order ord: each chart, in the quarter
+ * turn that leaves its top lowest, drops onto the skyline (the first free row of each column) at the column
+ * where its top ends lowest; its bottom profile may reach into the skyline's dips. Returns 1 if all fit,
+ * with each chart's turn and lower-left cell in (turn, px, py) when they are given. */
+static int skyline_pack(int nch, const int *ord, const footprint *fp, int G, int *sky, unsigned char *tmp, int *bot,
+                        int *top, int *turn, int *px, int *py) {
+  for (int i = 0; i < G; i++) sky[i] = 0;
+  for (int n = 0; n < nch; n++) {
+    int ch = ord[n], bestk = -1, bestx = 0, besty = 0;
+    long bestkey = LONG_MAX;
+    for (int k = 0; k < 4; k++) {
+      footprint b = {0, 0, tmp};
+      turn_footprint(&fp[ch], k, &b);
+      if (b.w > G || b.h > G) continue;
+      int H = 0;
+      for (int i = 0; i < b.w; i++) {
+        bot[i] = INT_MAX, top[i] = -1;
+        for (int j = 0; j < b.h; j++)
+          if (b.bit[(size_t)j * b.w + i]) {
+            if (bot[i] == INT_MAX) bot[i] = j;
+            top[i] = j + 1;
+          }
+        if (top[i] > H) H = top[i];
+      }
+      for (int x = 0; x + b.w <= G; x++) {
+        int y = 0;
+        for (int i = 0; i < b.w; i++)
+          if (bot[i] != INT_MAX && sky[x + i] - bot[i] > y) y = sky[x + i] - bot[i];
+        if (y + H > G) continue;
+        long key = (long)(y + H) * 2 * G + x;
+        if (key < bestkey) bestkey = key, bestk = k, bestx = x, besty = y;
+      }
+    }
+    if (bestk < 0) return 0;
+    footprint b = {0, 0, tmp};
+    turn_footprint(&fp[ch], bestk, &b);
+    for (int i = 0; i < b.w; i++)
+      for (int j = b.h - 1; j >= 0; j--)
+        if (b.bit[(size_t)j * b.w + i]) {
+          if (besty + j + 1 > sky[bestx + i]) sky[bestx + i] = besty + j + 1;
+          break;
+        }
+    if (turn) turn[ch] = bestk, px[ch] = bestx, py[ch] = besty;
+  }
+  return 1;
+}
+
 static const double *sort_key;
 static int by_key_desc(const void *a, const void *b) {
   double x = sort_key[*(const int *)a], y = sort_key[*(const int *)b];
   return x < y ? 1 : x > y ? -1 : *(const int *)a - *(const int *)b;
+}
+
+/* Packing by the charts' shapes: footprints (the grid cells of side gap that the chart's faces touch at
+ * scale s, grown by one cell up and to the right, so footprints that do not share a cell leave at least
+ * a cell between the charts) packed on a skyline, the largest area first; the largest scale that packs, by
+ * bisection above the shelves' scale s0. The charts' vt are turned flat and start at (lox, loy) with extent
+ * (bw, bh). *s: the scale found (0 when none beats s0), with each chart's quarter turns and lower-left grid
+ * cell in turn, px, py. Returns AU_OK, AU_E_NOMEM. */
+static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, const double *vt, const double *lox,
+                             const double *loy, const double *bw, const double *bh, double gap, double s0, double *s,
+                             int *turn, int *px, int *py) {
+  const int G = (int)floor(1 / gap);
+  *s = 0;
+  if (nch <= 0 || G < 8) return AU_OK;
+  int *fstart = calloc((size_t)nch + 1, sizeof *fstart), *flist = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *flist);
+  int *ord = malloc((size_t)nch * sizeof *ord), *sky = malloc((size_t)G * sizeof *sky);
+  double *area = calloc((size_t)nch, sizeof *area);
+  footprint *fp = calloc((size_t)nch, sizeof *fp);
+  au_status st = AU_OK;
+  unsigned char *tmp = NULL;
+  int *bot = NULL, *top = NULL;
+  if (!fstart || !flist || !ord || !sky || !area || !fp) {
+    st = AU_E_NOMEM;
+    goto done;
+  }
+  double total = 0;
+  for (int f = 0; f < nf; f++) {
+    fstart[chart[f] + 1]++;
+    const double *a = vt + 2 * Ft[3 * f], *b = vt + 2 * Ft[3 * f + 1], *c = vt + 2 * Ft[3 * f + 2];
+    double ar = 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+    area[chart[f]] += ar, total += ar;
+  }
+  for (int ch = 0; ch < nch; ch++) fstart[ch + 1] += fstart[ch], ord[ch] = ch;
+  {
+    int *fill = calloc((size_t)nch, sizeof *fill);
+    if (!fill) {
+      st = AU_E_NOMEM;
+      goto done;
+    }
+    for (int f = 0; f < nf; f++) flist[fstart[chart[f]] + fill[chart[f]]++] = f;
+    free(fill);
+  }
+  sort_key = area;
+  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
+  double lo = s0, hi = 1 / sqrt(total > 0 ? total : 1);
+  for (int it = 0; it < 18 && hi > lo * (1 + 1e-3); it++) {
+    double sc = it == 0 ? hi * 0.999 : 0.5 * (lo + hi);
+    /* The footprints at scale sc. */
+    size_t maxcells = 0;
+    int fits = 1;
+    for (int ch = 0; ch < nch; ch++) {
+      free(fp[ch].bit);
+      fp[ch].w = (int)floor(bw[ch] * sc * G) + 2, fp[ch].h = (int)floor(bh[ch] * sc * G) + 2;
+      if (fp[ch].w > G + 2 || fp[ch].h > G + 2) fits = 0;
+      size_t cells = (size_t)fp[ch].w * fp[ch].h;
+      if (cells > maxcells) maxcells = cells;
+      if (!(fp[ch].bit = calloc(cells, 1))) {
+        st = AU_E_NOMEM;
+        goto done;
+      }
+    }
+    if (fits) {
+      for (int ch = 0; ch < nch; ch++) {
+        footprint *p = &fp[ch];
+        for (int n = fstart[ch]; n < fstart[ch + 1]; n++) {
+          int f = flist[n];
+          double x[3], y[3];
+          for (int k = 0; k < 3; k++)
+            x[k] = (vt[2 * Ft[3 * f + k]] - lox[ch]) * sc * G, y[k] = (vt[2 * Ft[3 * f + k] + 1] - loy[ch]) * sc * G;
+          int i0 = (int)floor(fmin(x[0], fmin(x[1], x[2]))), i1 = (int)floor(fmax(x[0], fmax(x[1], x[2])));
+          int j0 = (int)floor(fmin(y[0], fmin(y[1], y[2]))), j1 = (int)floor(fmax(y[0], fmax(y[1], y[2])));
+          i0 = i0 < 0 ? 0 : i0, j0 = j0 < 0 ? 0 : j0, i1 = i1 > p->w - 2 ? p->w - 2 : i1, j1 = j1 > p->h - 2 ? p->h - 2 : j1;
+          for (int j = j0; j <= j1; j++)
+            for (int i = i0; i <= i1; i++)
+              if (!p->bit[(size_t)j * p->w + i] && tri_cell(x, y, i, j)) p->bit[(size_t)j * p->w + i] = 1;
+        }
+        /* Grown by one cell up and to the right (top rows first, so a grown cell does not grow again). */
+        for (int j = p->h - 1; j >= 0; j--)
+          for (int i = p->w - 1; i >= 0; i--)
+            if (!p->bit[(size_t)j * p->w + i]) {
+              int l = i > 0 && p->bit[(size_t)j * p->w + i - 1] == 1, d = j > 0 && p->bit[(size_t)(j - 1) * p->w + i] == 1;
+              int ld = i > 0 && j > 0 && p->bit[(size_t)(j - 1) * p->w + i - 1] == 1;
+              if (l || d || ld) p->bit[(size_t)j * p->w + i] = 2;
+            }
+      }
+      free(tmp), free(bot), free(top);
+      size_t side = (size_t)G + 2;
+      for (int ch = 0; ch < nch; ch++) side = side > (size_t)fp[ch].w ? side : (size_t)fp[ch].w, side = side > (size_t)fp[ch].h ? side : (size_t)fp[ch].h;
+      tmp = malloc(maxcells), bot = malloc(side * sizeof *bot), top = malloc(side * sizeof *top);
+      if (!tmp || !bot || !top) {
+        st = AU_E_NOMEM;
+        goto done;
+      }
+      fits = skyline_pack(nch, ord, fp, G, sky, tmp, bot, top, NULL, NULL, NULL);
+    }
+    if (fits) {
+      skyline_pack(nch, ord, fp, G, sky, tmp, bot, top, turn, px, py);
+      lo = sc, *s = sc;
+    } else {
+      hi = sc;
+    }
+  }
+done:
+  if (fp)
+    for (int ch = 0; ch < nch; ch++) free(fp[ch].bit);
+  free(fstart), free(flist), free(ord), free(sky), free(area), free(fp), free(tmp), free(bot), free(top);
+  return st;
 }
 
 au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
@@ -192,13 +388,39 @@ au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nv
     else hi = mid;
   }
   shelf_pack(nch, ord, bw, bh, lo, gap, bx, by);
-  if (scale) *scale = lo;
+  /* 8b. The same by the charts' shapes (raster_pack); kept when it packs at a larger scale. */
+  double rs = 0;
+  int *turn = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *turn);
+  int *px = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *px), *py = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *py);
+  au_status st = AU_OK;
+  if (!turn || !px || !py) st = AU_E_NOMEM;
+  else st = raster_pack(nf, Ft, chart, nch, vt, lox, loy, bw, bh, gap, lo, &rs, turn, px, py);
+  if (st != AU_OK) {
+    free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
+        free(bestang), free(turn), free(px), free(py);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory packing the atlas");
+  }
+  const int G = (int)floor(1 / gap);
+  if (scale) *scale = rs > lo ? rs : lo;
   for (int q = 0; q < nvt; q++) {
     int ch = vchart[q];
-    vt[2 * q] = bx[ch] + lo * (vt[2 * q] - lox[ch]);
-    vt[2 * q + 1] = by[ch] + lo * (vt[2 * q + 1] - loy[ch]);
+    if (rs > lo) {
+      double u = (vt[2 * q] - lox[ch]) * rs * G, v = (vt[2 * q + 1] - loy[ch]) * rs * G;
+      int w = (int)floor(bw[ch] * rs * G) + 2, h = (int)floor(bh[ch] * rs * G) + 2;
+      for (int k = 0; k < turn[ch]; k++) {
+        double nu = h - v;
+        v = u, u = nu;
+        int tw = w;
+        w = h, h = tw;
+      }
+      vt[2 * q] = (px[ch] + u) / G, vt[2 * q + 1] = (py[ch] + v) / G;
+    } else {
+      vt[2 * q] = bx[ch] + lo * (vt[2 * q] - lox[ch]);
+      vt[2 * q + 1] = by[ch] + lo * (vt[2 * q + 1] - loy[ch]);
+    }
     vt[2 * q] = fmin(1, fmax(0, vt[2 * q])), vt[2 * q + 1] = fmin(1, fmax(0, vt[2 * q + 1]));
   }
+  free(turn), free(px), free(py);
   free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
       free(bestang);
 
