@@ -173,48 +173,46 @@ static void turn_footprint(const footprint *a, int k, footprint *b) {
     }
 }
 
-/* Skyline packing of the charts' footprints on a G x G grid, in the order ord: each chart, in the quarter
- * turn that leaves its top lowest, drops onto the skyline (the first free row of each column) at the column
- * where its top ends lowest; its bottom profile may reach into the skyline's dips. Returns 1 if all fit,
+/* Bottom-left packing of the charts' footprints on a G x G grid of occupied cells (occ: G rows of nw
+ * 64-bit words), in the order ord: each chart goes, in the quarter turn that leaves its top lowest, to the
+ * lowest, then leftmost, cells where its footprint meets no occupied cell, so a chart may nest in the
+ * hollows of the ones below it. tmp holds a turned footprint, rows its rows as words. Returns 1 if all fit,
  * with each chart's turn and lower-left cell in (turn, px, py) when they are given. */
-static int skyline_pack(int nch, const int *ord, const footprint *fp, int G, int *sky, unsigned char *tmp, int *bot,
-                        int *top, int *turn, int *px, int *py) {
-  for (int i = 0; i < G; i++) sky[i] = 0;
+static int grid_pack(int nch, const int *ord, const footprint *fp, int G, uint64_t *occ, unsigned char *tmp,
+                     uint64_t *rows, int *turn, int *px, int *py) {
+  const int nw = (G + 63) / 64;
+  memset(occ, 0, (size_t)G * nw * sizeof *occ);
   for (int n = 0; n < nch; n++) {
-    int ch = ord[n], bestk = -1, bestx = 0, besty = 0;
-    long bestkey = LONG_MAX;
+    int ch = ord[n], bestk = -1, bestx = 0, besty = 0, besttop = INT_MAX;
     for (int k = 0; k < 4; k++) {
       footprint b = {0, 0, tmp};
       turn_footprint(&fp[ch], k, &b);
       if (b.w > G || b.h > G) continue;
-      int H = 0;
-      for (int i = 0; i < b.w; i++) {
-        bot[i] = INT_MAX, top[i] = -1;
-        for (int j = 0; j < b.h; j++)
-          if (b.bit[(size_t)j * b.w + i]) {
-            if (bot[i] == INT_MAX) bot[i] = j;
-            top[i] = j + 1;
-          }
-        if (top[i] > H) H = top[i];
-      }
-      for (int x = 0; x + b.w <= G; x++) {
-        int y = 0;
+      int rw = (b.w + 63) / 64;
+      memset(rows, 0, (size_t)b.h * rw * sizeof *rows);
+      for (int j = 0; j < b.h; j++)
         for (int i = 0; i < b.w; i++)
-          if (bot[i] != INT_MAX && sky[x + i] - bot[i] > y) y = sky[x + i] - bot[i];
-        if (y + H > G) continue;
-        long key = (long)(y + H) * 2 * G + x;
-        if (key < bestkey) bestkey = key, bestk = k, bestx = x, besty = y;
-      }
+          if (b.bit[(size_t)j * b.w + i]) rows[(size_t)j * rw + i / 64] |= (uint64_t)1 << (i % 64);
+      int found = 0;
+      for (int y = 0; y + b.h <= G && y + b.h < besttop && !found; y++)
+        for (int x = 0; x + b.w <= G && !found; x++) {
+          int sh = x & 63, o = x >> 6, hit = 0;
+          for (int j = 0; j < b.h && !hit; j++) {
+            const uint64_t *r = rows + (size_t)j * rw, *g = occ + (size_t)(y + j) * nw + o;
+            for (int q = 0; q < rw && !hit; q++) {
+              if (g[q] & (r[q] << sh)) hit = 1;
+              else if (sh && o + q + 1 < nw && (g[q + 1] & (r[q] >> (64 - sh)))) hit = 1;
+            }
+          }
+          if (!hit) found = 1, besttop = y + b.h, bestk = k, bestx = x, besty = y;
+        }
     }
     if (bestk < 0) return 0;
     footprint b = {0, 0, tmp};
     turn_footprint(&fp[ch], bestk, &b);
-    for (int i = 0; i < b.w; i++)
-      for (int j = b.h - 1; j >= 0; j--)
-        if (b.bit[(size_t)j * b.w + i]) {
-          if (besty + j + 1 > sky[bestx + i]) sky[bestx + i] = besty + j + 1;
-          break;
-        }
+    for (int j = 0; j < b.h; j++)
+      for (int i = 0; i < b.w; i++)
+        if (b.bit[(size_t)j * b.w + i]) occ[(size_t)(besty + j) * nw + (bestx + i) / 64] |= (uint64_t)1 << ((bestx + i) % 64);
     if (turn) turn[ch] = bestk, px[ch] = bestx, py[ch] = besty;
   }
   return 1;
@@ -228,7 +226,7 @@ static int by_key_desc(const void *a, const void *b) {
 
 /* Packing by the charts' shapes: footprints (the grid cells of side gap that the chart's faces touch at
  * scale s, grown by one cell up and to the right, so footprints that do not share a cell leave at least
- * a cell between the charts) packed on a skyline, the largest area first; the largest scale that packs, by
+ * a cell between the charts) packed bottom-left on a grid (grid_pack), the largest area first; the largest scale that packs, by
  * bisection above the shelves' scale s0. The charts' vt are turned flat and start at (lox, loy) with extent
  * (bw, bh). *s: the scale found (0 when none beats s0), with each chart's quarter turns and lower-left grid
  * cell in turn, px, py. Returns AU_OK, AU_E_NOMEM. */
@@ -239,13 +237,13 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
   *s = 0;
   if (nch <= 0 || G < 8) return AU_OK;
   int *fstart = calloc((size_t)nch + 1, sizeof *fstart), *flist = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *flist);
-  int *ord = malloc((size_t)nch * sizeof *ord), *sky = malloc((size_t)G * sizeof *sky);
+  int *ord = malloc((size_t)nch * sizeof *ord);
+  uint64_t *occ = malloc((size_t)G * ((G + 63) / 64) * sizeof *occ), *rows = NULL;
   double *area = calloc((size_t)nch, sizeof *area);
   footprint *fp = calloc((size_t)nch, sizeof *fp);
   au_status st = AU_OK;
   unsigned char *tmp = NULL;
-  int *bot = NULL, *top = NULL;
-  if (!fstart || !flist || !ord || !sky || !area || !fp) {
+  if (!fstart || !flist || !ord || !occ || !area || !fp) {
     st = AU_E_NOMEM;
     goto done;
   }
@@ -269,7 +267,7 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
   sort_key = area;
   qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
   double lo = s0, hi = 1 / sqrt(total > 0 ? total : 1);
-  for (int it = 0; it < 18 && hi > lo * (1 + 1e-3); it++) {
+  for (int it = 0; it < 14 && hi > lo * (1 + 1e-3); it++) {
     double sc = it == 0 ? hi * 0.999 : 0.5 * (lo + hi);
     /* The footprints at scale sc. */
     size_t maxcells = 0;
@@ -309,18 +307,16 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
               if (l || d || ld) p->bit[(size_t)j * p->w + i] = 2;
             }
       }
-      free(tmp), free(bot), free(top);
-      size_t side = (size_t)G + 2;
-      for (int ch = 0; ch < nch; ch++) side = side > (size_t)fp[ch].w ? side : (size_t)fp[ch].w, side = side > (size_t)fp[ch].h ? side : (size_t)fp[ch].h;
-      tmp = malloc(maxcells), bot = malloc(side * sizeof *bot), top = malloc(side * sizeof *top);
-      if (!tmp || !bot || !top) {
+      free(tmp), free(rows);
+      tmp = malloc(maxcells), rows = malloc((maxcells + 64 * (size_t)G) / 64 * sizeof *rows);
+      if (!tmp || !rows) {
         st = AU_E_NOMEM;
         goto done;
       }
-      fits = skyline_pack(nch, ord, fp, G, sky, tmp, bot, top, NULL, NULL, NULL);
+      fits = grid_pack(nch, ord, fp, G, occ, tmp, rows, NULL, NULL, NULL);
     }
     if (fits) {
-      skyline_pack(nch, ord, fp, G, sky, tmp, bot, top, turn, px, py);
+      grid_pack(nch, ord, fp, G, occ, tmp, rows, turn, px, py);
       lo = sc, *s = sc;
     } else {
       hi = sc;
@@ -329,12 +325,13 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
 done:
   if (fp)
     for (int ch = 0; ch < nch; ch++) free(fp[ch].bit);
-  free(fstart), free(flist), free(ord), free(sky), free(area), free(fp), free(tmp), free(bot), free(top);
+  free(fstart), free(flist), free(ord), free(occ), free(area), free(fp), free(tmp), free(rows);
   return st;
 }
 
-au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
-                        double *scale, au_msg *msg) {
+/* au_atlas_pack, by the charts' shapes too when shapes is 1, on shelves only when 0. */
+static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
+                      int shapes, double *scale, au_msg *msg) {
   /* 7. Each chart turned to its smallest bounding box (1 degree steps), lying flat, moved to the origin. */
   double *bw = calloc((size_t)nch, sizeof *bw), *bh = calloc((size_t)nch, sizeof *bh);
   double *bx = calloc((size_t)nch, sizeof *bx), *by = calloc((size_t)nch, sizeof *by);
@@ -394,7 +391,7 @@ au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nv
   int *px = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *px), *py = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *py);
   au_status st = AU_OK;
   if (!turn || !px || !py) st = AU_E_NOMEM;
-  else st = raster_pack(nf, Ft, chart, nch, vt, lox, loy, bw, bh, gap, lo, &rs, turn, px, py);
+  else if (shapes) st = raster_pack(nf, Ft, chart, nch, vt, lox, loy, bw, bh, gap, lo, &rs, turn, px, py);
   if (st != AU_OK) {
     free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
         free(bestang), free(turn), free(px), free(py);
@@ -425,6 +422,11 @@ au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nv
       free(bestang);
 
   return AU_OK;
+}
+
+au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
+                        double *scale, au_msg *msg) {
+  return pack(nf, Ft, chart, nch, nvt, vt, quarter, gap, 1, scale, msg);
 }
 
 /* Steps 5 to 8 for the cut as it stands: texture coordinates shared across uncut edges, the charts laid
@@ -502,10 +504,13 @@ static au_status lay_out(const au_mesh *m, const au_topo *t, const unsigned char
   }
   L->ncharts = nch;
 
-  au_status st = au_atlas_pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, &L->scale, msg);
+  au_status st = pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, 0, &L->scale, msg);
   free(placed);
   return st;
 }
+
+static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int ch, int fa,
+                     int fb, int *lab);
 
 /* Rasterize the atlas at 1024 x 1024 with the face that first covers each pixel centre; for every chart
  * with a pixel covered twice by two of its faces, race a breadth-first search from both faces over the
@@ -557,10 +562,23 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
   int n = 0;
   for (int ch = 0; ch < nch; ch++) {
     if (pa[ch] < 0) continue;
+    race_cut(t, nf, cut, queue, L, ch, pa[ch], pb[ch], lab);
+    n++;
+  }
+  free(owner), free(pa), free(pb), free(lab);
+  *nsplit = n;
+  return AU_OK;
+}
+
+/* Cut chart ch of L between faces fa and fb: a breadth-first race from both over the chart's uncut edges,
+ * and the edges between the two territories cut. lab [0..nf-1]: scratch. */
+static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int ch, int fa,
+                     int fb, int *lab) {
+  {
     for (int f = 0; f < nf; f++) lab[f] = -1;
     int head = 0, tail = 0;
-    lab[pa[ch]] = 0, lab[pb[ch]] = 1;
-    queue[tail++] = pa[ch], queue[tail++] = pb[ch];
+    lab[fa] = 0, lab[fb] = 1;
+    queue[tail++] = fa, queue[tail++] = fb;
     while (head < tail) {
       int f = queue[head++];
       for (int k = 0; k < 3; k++) {
@@ -576,11 +594,51 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
       int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
       if (L->chart[f0] == ch && lab[f0] >= 0 && lab[f1] >= 0 && lab[f0] != lab[f1]) cut[e] = 1;
     }
-    n++;
   }
-  free(owner), free(pa), free(pb), free(lab);
-  *nsplit = n;
-  return AU_OK;
+}
+
+/* When a chart's longer side exceeds AU_ATLAS_LONG times the square root of the atlas's area (at the scale
+ * that covers half of the square it would span more than 0.6 of its side, and set the common scale), cut the
+ * longest such chart in two between the faces at the two ends of that side (race_cut). Returns 1 if a chart
+ * was cut, 0 if none, -1 when out of memory. */
+#define AU_ATLAS_LONG 0.5
+static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L) {
+  const int nch = L->ncharts;
+  double cover = 0, *box = malloc(4 * (size_t)(nch > 0 ? nch : 1) * sizeof *box);
+  int *lab = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *lab);
+  if (!box || !lab) {
+    free(box), free(lab);
+    return -1;
+  }
+  for (int ch = 0; ch < nch; ch++) box[4 * ch] = box[4 * ch + 1] = INFINITY, box[4 * ch + 2] = box[4 * ch + 3] = -INFINITY;
+  for (int f = 0; f < nf; f++) {
+    const double *a = L->vt + 2 * L->Ft[3 * f], *b = L->vt + 2 * L->Ft[3 * f + 1], *c = L->vt + 2 * L->Ft[3 * f + 2];
+    cover += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+    double *bx = box + 4 * L->chart[f];
+    for (int k = 0; k < 3; k++) {
+      const double *p = L->vt + 2 * L->Ft[3 * f + k];
+      bx[0] = fmin(bx[0], p[0]), bx[1] = fmin(bx[1], p[1]), bx[2] = fmax(bx[2], p[0]), bx[3] = fmax(bx[3], p[1]);
+    }
+  }
+  int best = -1, axis = 0;
+  double span = AU_ATLAS_LONG * sqrt(cover > 0 ? cover : 0);
+  for (int ch = 0; ch < nch; ch++)
+    for (int d = 0; d < 2; d++)
+      if (box[4 * ch + 2 + d] - box[4 * ch + d] > span) span = box[4 * ch + 2 + d] - box[4 * ch + d], best = ch, axis = d;
+  int done = 0;
+  if (best >= 0) {
+    int fa = -1, fb = -1;
+    double lo = INFINITY, hi = -INFINITY;
+    for (int f = 0; f < nf; f++) {
+      if (L->chart[f] != best) continue;
+      double c = (L->vt[2 * L->Ft[3 * f] + axis] + L->vt[2 * L->Ft[3 * f + 1] + axis] + L->vt[2 * L->Ft[3 * f + 2] + axis]) / 3;
+      if (c < lo) lo = c, fa = f;
+      if (c > hi) hi = c, fb = f;
+    }
+    if (fa >= 0 && fb >= 0 && fa != fb) race_cut(t, nf, cut, queue, L, best, fa, fb, lab), done = 1;
+  }
+  free(box), free(lab);
+  return done;
 }
 
 au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout *L, int quarter, double gap, int *nsplit,
@@ -595,10 +653,20 @@ au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout 
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
     goto done;
   }
+  int nlong = 0;
   for (int round = 0;; round++) {
-    if ((st = au_atlas_pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, &L->scale, msg)) != AU_OK) goto done;
+    /* Shelves while charts are split (where they overlap themselves or are too long), then the shapes. */
+    if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 0, &L->scale, msg)) != AU_OK) goto done;
     int split = 0;
-    if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK || !split) break;
+    if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK) break;
+    if (!split && nlong < 32) {
+      if ((split = split_long(t, nf, L->cut, queue, L)) < 0) {
+        st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
+        goto done;
+      }
+      nlong += split;
+    }
+    if (!split) break;
     if (nsplit) *nsplit += split;
     /* The corners separated by the new cut edges get their own rows of vt, where they were. */
     for (int i = 0; i < 3 * nf; i++) uf[i] = i;
@@ -647,6 +715,7 @@ au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout 
     }
     L->ncharts = nch;
   }
+  if (st == AU_OK) st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg);
 done:
   free(queue), free(uf), free(cls);
   return st;
@@ -950,6 +1019,8 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
     if ((st = split_overlaps(m, t, cut, queue, L, &split, msg)) != AU_OK) goto done;
     if (!split || round == 40) break;
   }
+  /* On shelves while splitting, by the charts' shapes at the end. */
+  if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg)) != AU_OK) goto done;
   /* 9., 10. Folds, coverage and the seams (splits added cut edges). */
   st = au_atlas_measure(m, t, c, L, msg);
 
