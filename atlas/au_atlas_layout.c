@@ -598,7 +598,8 @@ static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, c
 }
 
 /* When a chart's longer side exceeds AU_ATLAS_LONG times the square root of the atlas's area (at the scale
- * that covers half of the square it would span more than 0.6 of its side, and set the common scale), cut the
+ * that covers half of the square it would span more than 0.35 of its side: long ragged charts leave space
+ * that no other chart fills), cut the
  * longest such chart in two between the faces at the two ends of that side (race_cut). Returns 1 if a chart
  * was cut, 0 if none, -1 when out of memory. */
 #define AU_ATLAS_LONG 0.5
