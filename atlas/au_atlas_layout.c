@@ -308,7 +308,7 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
             }
       }
       free(tmp), free(rows);
-      tmp = malloc(maxcells), rows = malloc((maxcells + 64 * (size_t)G) / 64 * sizeof *rows);
+      tmp = malloc(maxcells), rows = malloc((maxcells / 64 + 2 * (size_t)G + 2) * sizeof *rows);
       if (!tmp || !rows) {
         st = AU_E_NOMEM;
         goto done;
