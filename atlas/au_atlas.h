@@ -109,18 +109,18 @@ typedef struct au_atlas_layout {
  * common frame (the surface developed along a dual tree), turn each chart to its smallest bounding box
  * (with quarter: by a multiple of 90 degrees only, so that seam rotations stay the holonomy's), split a
  * chart that covers a texel of a 1024 x 1024 raster twice (a breadth-first race from the two faces), and
- * pack the charts on shelves into [0, 1]^2 at one scale with a gap of gap (atlas units)
- * around each. On success *L owns its arrays (au_atlas_layout_free).
+ * pack the charts into [0, 1]^2 at one scale with a gap of gap (atlas units) around each (au_atlas_pack). On success *L owns its arrays (au_atlas_layout_free).
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_INTERNAL (a dual tree that does not span). */
 au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
                                int quarter, au_atlas_layout *L, au_msg *msg);
 /* Free the arrays of L and zero it; NULL-safe. */
 void au_atlas_layout_free(au_atlas_layout *L);
 
-/* Pack L (au_atlas_pack) and, while a chart covers a texel of the 1024 x 1024 raster twice, split it between
- * the two faces found there (new cut edges; the separated corners keep their coordinates in new rows of
- * vt) and pack again, at most 40 rounds. *nsplit (may be NULL): the splits made. Returns AU_OK,
- * AU_E_NOMEM. */
+/* Pack L and, while a chart covers a texel of the 1024 x 1024 raster twice, split it between the two faces
+ * found there (new cut edges; the separated corners keep their coordinates in new rows of vt), and while a
+ * chart's longer side exceeds 0.5 sqrt(atlas area) (at most 32 times), split it between the faces at the
+ * two ends of that side; pack again, at most 40 rounds (on shelves), then by the charts' shapes
+ * (au_atlas_pack). *nsplit (may be NULL): the splits made. Returns AU_OK, AU_E_NOMEM. */
 au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout *L, int quarter, double gap, int *nsplit,
                             au_msg *msg);
 
@@ -132,8 +132,9 @@ au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_co
 
 /* Turn each of the nch charts (chart [0..nf-1] of each face; faces Ft into vt [0..2*nvt-1], every row of vt
  * used by faces of one chart only) to its smallest bounding box (quarter: by quarter turns only), lay it
- * flat and pack all on shelves into [0, 1]^2 at the largest common scale with gap around each, in place;
- * *scale (may be NULL) receives the scale. Returns AU_OK, AU_E_NOMEM. */
+ * flat and pack all into [0, 1]^2 at the largest common scale with gap around each, in place: on shelves, and
+ * by their rasterized footprints (grid cells of side gap, bottom-left fill, quarter turns), whichever packs
+ * at the larger scale; *scale (may be NULL) receives the scale. Returns AU_OK, AU_E_NOMEM. */
 au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
                         double *scale, au_msg *msg);
 

@@ -2,6 +2,7 @@
  * metric, their packing into the unit square, and the seams' rigid motions (au_atlas.h). */
 #include "au_atlas.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -131,14 +132,206 @@ static int shelf_pack(int n, const int *ord, const double *w, const double *h, d
   return cy + shelf + g <= 1;
 }
 
+/* A triangle (grid coordinates) and the cell [i, i+1] x [j, j+1] overlap, touching included: no edge of
+ * the triangle has the whole cell strictly outside it (the cell's own axes are the caller's bounding box). */
+static int tri_cell(const double *x, const double *y, int i, int j) {
+  double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+  double sg = area < 0 ? -1 : 1;
+  for (int k = 0; k < 3; k++) {
+    double ax = x[k], ay = y[k], dx = x[(k + 1) % 3] - ax, dy = y[(k + 1) % 3] - ay, best = -INFINITY;
+    for (int c = 0; c < 4; c++) {
+      double px = i + (c & 1), py = j + (c >> 1);
+      best = fmax(best, sg * (dx * (py - ay) - dy * (px - ax)));
+    }
+    if (best < -1e-9 * (fabs(dx) + fabs(dy))) return 0;
+  }
+  return 1;
+}
+
+/* One chart's footprint on the packing grid: the cells its faces touch, grown by one cell on every side
+ * (the gap), in a w x h bitmap whose cell (i, j) is bit[j * w + i]. */
+typedef struct footprint {
+  int w, h;
+  unsigned char *bit;
+} footprint;
+
+/* The footprint turned by k quarter turns counter-clockwise: cell (i, j) of a w x h bitmap goes to
+ * (h - 1 - j, i) per turn, the same map as the continuous (u, v) -> (h - v, u). */
+static void turn_footprint(const footprint *a, int k, footprint *b) {
+  int w = a->w, h = a->h;
+  b->w = k & 1 ? h : w, b->h = k & 1 ? w : h;
+  for (int j = 0; j < h; j++)
+    for (int i = 0; i < w; i++) {
+      int x = i, y = j, cw = w, chh = h;
+      for (int r = 0; r < k; r++) {
+        int nx = chh - 1 - y, ny = x;
+        x = nx, y = ny;
+        int t = cw;
+        cw = chh, chh = t;
+      }
+      b->bit[(size_t)y * b->w + x] = a->bit[(size_t)j * w + i];
+    }
+}
+
+/* Bottom-left packing of the charts' footprints on a G x G grid of occupied cells (occ: G rows of nw
+ * 64-bit words), in the order ord: each chart goes, in the quarter turn that leaves its top lowest, to the
+ * lowest, then leftmost, cells where its footprint meets no occupied cell, so a chart may nest in the
+ * hollows of the ones below it. tmp holds a turned footprint, rows its rows as words. Returns 1 if all fit,
+ * with each chart's turn and lower-left cell in (turn, px, py) when they are given. */
+static int grid_pack(int nch, const int *ord, const footprint *fp, int G, uint64_t *occ, unsigned char *tmp,
+                     uint64_t *rows, int *turn, int *px, int *py) {
+  const int nw = (G + 63) / 64;
+  memset(occ, 0, (size_t)G * nw * sizeof *occ);
+  for (int n = 0; n < nch; n++) {
+    int ch = ord[n], bestk = -1, bestx = 0, besty = 0, besttop = INT_MAX;
+    for (int k = 0; k < 4; k++) {
+      footprint b = {0, 0, tmp};
+      turn_footprint(&fp[ch], k, &b);
+      if (b.w > G || b.h > G) continue;
+      int rw = (b.w + 63) / 64;
+      memset(rows, 0, (size_t)b.h * rw * sizeof *rows);
+      for (int j = 0; j < b.h; j++)
+        for (int i = 0; i < b.w; i++)
+          if (b.bit[(size_t)j * b.w + i]) rows[(size_t)j * rw + i / 64] |= (uint64_t)1 << (i % 64);
+      int found = 0;
+      for (int y = 0; y + b.h <= G && y + b.h < besttop && !found; y++)
+        for (int x = 0; x + b.w <= G && !found; x++) {
+          int sh = x & 63, o = x >> 6, hit = 0;
+          for (int j = 0; j < b.h && !hit; j++) {
+            const uint64_t *r = rows + (size_t)j * rw, *g = occ + (size_t)(y + j) * nw + o;
+            for (int q = 0; q < rw && !hit; q++) {
+              if (g[q] & (r[q] << sh)) hit = 1;
+              else if (sh && o + q + 1 < nw && (g[q + 1] & (r[q] >> (64 - sh)))) hit = 1;
+            }
+          }
+          if (!hit) found = 1, besttop = y + b.h, bestk = k, bestx = x, besty = y;
+        }
+    }
+    if (bestk < 0) return 0;
+    footprint b = {0, 0, tmp};
+    turn_footprint(&fp[ch], bestk, &b);
+    for (int j = 0; j < b.h; j++)
+      for (int i = 0; i < b.w; i++)
+        if (b.bit[(size_t)j * b.w + i]) occ[(size_t)(besty + j) * nw + (bestx + i) / 64] |= (uint64_t)1 << ((bestx + i) % 64);
+    if (turn) turn[ch] = bestk, px[ch] = bestx, py[ch] = besty;
+  }
+  return 1;
+}
+
 static const double *sort_key;
 static int by_key_desc(const void *a, const void *b) {
   double x = sort_key[*(const int *)a], y = sort_key[*(const int *)b];
   return x < y ? 1 : x > y ? -1 : *(const int *)a - *(const int *)b;
 }
 
-au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
-                        double *scale, au_msg *msg) {
+/* Packing by the charts' shapes: footprints (the grid cells of side gap that the chart's faces touch at
+ * scale s, grown by one cell up and to the right, so footprints that do not share a cell leave at least
+ * a cell between the charts) packed bottom-left on a grid (grid_pack), the largest area first; the largest scale that packs, by
+ * bisection above the shelves' scale s0. The charts' vt are turned flat and start at (lox, loy) with extent
+ * (bw, bh). *s: the scale found (0 when none beats s0), with each chart's quarter turns and lower-left grid
+ * cell in turn, px, py. Returns AU_OK, AU_E_NOMEM. */
+static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, const double *vt, const double *lox,
+                             const double *loy, const double *bw, const double *bh, double gap, double s0, double *s,
+                             int *turn, int *px, int *py) {
+  const int G = (int)floor(1 / gap);
+  *s = 0;
+  if (nch <= 0 || G < 8) return AU_OK;
+  int *fstart = calloc((size_t)nch + 1, sizeof *fstart), *flist = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *flist);
+  int *ord = malloc((size_t)nch * sizeof *ord);
+  uint64_t *occ = malloc((size_t)G * ((G + 63) / 64) * sizeof *occ), *rows = NULL;
+  double *area = calloc((size_t)nch, sizeof *area);
+  footprint *fp = calloc((size_t)nch, sizeof *fp);
+  au_status st = AU_OK;
+  unsigned char *tmp = NULL;
+  if (!fstart || !flist || !ord || !occ || !area || !fp) {
+    st = AU_E_NOMEM;
+    goto done;
+  }
+  double total = 0;
+  for (int f = 0; f < nf; f++) {
+    fstart[chart[f] + 1]++;
+    const double *a = vt + 2 * Ft[3 * f], *b = vt + 2 * Ft[3 * f + 1], *c = vt + 2 * Ft[3 * f + 2];
+    double ar = 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+    area[chart[f]] += ar, total += ar;
+  }
+  for (int ch = 0; ch < nch; ch++) fstart[ch + 1] += fstart[ch], ord[ch] = ch;
+  {
+    int *fill = calloc((size_t)nch, sizeof *fill);
+    if (!fill) {
+      st = AU_E_NOMEM;
+      goto done;
+    }
+    for (int f = 0; f < nf; f++) flist[fstart[chart[f]] + fill[chart[f]]++] = f;
+    free(fill);
+  }
+  sort_key = area;
+  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
+  double lo = s0, hi = 1 / sqrt(total > 0 ? total : 1);
+  for (int it = 0; it < 14 && hi > lo * (1 + 1e-3); it++) {
+    double sc = it == 0 ? hi * 0.999 : 0.5 * (lo + hi);
+    /* The footprints at scale sc. */
+    size_t maxcells = 0;
+    int fits = 1;
+    for (int ch = 0; ch < nch; ch++) {
+      free(fp[ch].bit);
+      fp[ch].w = (int)floor(bw[ch] * sc * G) + 2, fp[ch].h = (int)floor(bh[ch] * sc * G) + 2;
+      if (fp[ch].w > G + 2 || fp[ch].h > G + 2) fits = 0;
+      size_t cells = (size_t)fp[ch].w * fp[ch].h;
+      if (cells > maxcells) maxcells = cells;
+      if (!(fp[ch].bit = calloc(cells, 1))) {
+        st = AU_E_NOMEM;
+        goto done;
+      }
+    }
+    if (fits) {
+      for (int ch = 0; ch < nch; ch++) {
+        footprint *p = &fp[ch];
+        for (int n = fstart[ch]; n < fstart[ch + 1]; n++) {
+          int f = flist[n];
+          double x[3], y[3];
+          for (int k = 0; k < 3; k++)
+            x[k] = (vt[2 * Ft[3 * f + k]] - lox[ch]) * sc * G, y[k] = (vt[2 * Ft[3 * f + k] + 1] - loy[ch]) * sc * G;
+          int i0 = (int)floor(fmin(x[0], fmin(x[1], x[2]))), i1 = (int)floor(fmax(x[0], fmax(x[1], x[2])));
+          int j0 = (int)floor(fmin(y[0], fmin(y[1], y[2]))), j1 = (int)floor(fmax(y[0], fmax(y[1], y[2])));
+          i0 = i0 < 0 ? 0 : i0, j0 = j0 < 0 ? 0 : j0, i1 = i1 > p->w - 2 ? p->w - 2 : i1, j1 = j1 > p->h - 2 ? p->h - 2 : j1;
+          for (int j = j0; j <= j1; j++)
+            for (int i = i0; i <= i1; i++)
+              if (!p->bit[(size_t)j * p->w + i] && tri_cell(x, y, i, j)) p->bit[(size_t)j * p->w + i] = 1;
+        }
+        /* Grown by one cell up and to the right (top rows first, so a grown cell does not grow again). */
+        for (int j = p->h - 1; j >= 0; j--)
+          for (int i = p->w - 1; i >= 0; i--)
+            if (!p->bit[(size_t)j * p->w + i]) {
+              int l = i > 0 && p->bit[(size_t)j * p->w + i - 1] == 1, d = j > 0 && p->bit[(size_t)(j - 1) * p->w + i] == 1;
+              int ld = i > 0 && j > 0 && p->bit[(size_t)(j - 1) * p->w + i - 1] == 1;
+              if (l || d || ld) p->bit[(size_t)j * p->w + i] = 2;
+            }
+      }
+      free(tmp), free(rows);
+      tmp = malloc(maxcells), rows = malloc((maxcells / 64 + 2 * (size_t)G + 2) * sizeof *rows);
+      if (!tmp || !rows) {
+        st = AU_E_NOMEM;
+        goto done;
+      }
+      fits = grid_pack(nch, ord, fp, G, occ, tmp, rows, NULL, NULL, NULL);
+    }
+    if (fits) {
+      grid_pack(nch, ord, fp, G, occ, tmp, rows, turn, px, py);
+      lo = sc, *s = sc;
+    } else {
+      hi = sc;
+    }
+  }
+done:
+  if (fp)
+    for (int ch = 0; ch < nch; ch++) free(fp[ch].bit);
+  free(fstart), free(flist), free(ord), free(occ), free(area), free(fp), free(tmp), free(rows);
+  return st;
+}
+
+/* au_atlas_pack, by the charts' shapes too when shapes is 1, on shelves only when 0. */
+static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
+                      int shapes, double *scale, au_msg *msg) {
   /* 7. Each chart turned to its smallest bounding box (1 degree steps), lying flat, moved to the origin. */
   double *bw = calloc((size_t)nch, sizeof *bw), *bh = calloc((size_t)nch, sizeof *bh);
   double *bx = calloc((size_t)nch, sizeof *bx), *by = calloc((size_t)nch, sizeof *by);
@@ -192,17 +385,48 @@ au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nv
     else hi = mid;
   }
   shelf_pack(nch, ord, bw, bh, lo, gap, bx, by);
-  if (scale) *scale = lo;
+  /* 8b. The same by the charts' shapes (raster_pack); kept when it packs at a larger scale. */
+  double rs = 0;
+  int *turn = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *turn);
+  int *px = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *px), *py = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *py);
+  au_status st = AU_OK;
+  if (!turn || !px || !py) st = AU_E_NOMEM;
+  else if (shapes) st = raster_pack(nf, Ft, chart, nch, vt, lox, loy, bw, bh, gap, lo, &rs, turn, px, py);
+  if (st != AU_OK) {
+    free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
+        free(bestang), free(turn), free(px), free(py);
+    return au_msg_set(msg, AU_E_NOMEM, "out of memory packing the atlas");
+  }
+  const int G = (int)floor(1 / gap);
+  if (scale) *scale = rs > lo ? rs : lo;
   for (int q = 0; q < nvt; q++) {
     int ch = vchart[q];
-    vt[2 * q] = bx[ch] + lo * (vt[2 * q] - lox[ch]);
-    vt[2 * q + 1] = by[ch] + lo * (vt[2 * q + 1] - loy[ch]);
+    if (rs > lo) {
+      double u = (vt[2 * q] - lox[ch]) * rs * G, v = (vt[2 * q + 1] - loy[ch]) * rs * G;
+      int w = (int)floor(bw[ch] * rs * G) + 2, h = (int)floor(bh[ch] * rs * G) + 2;
+      for (int k = 0; k < turn[ch]; k++) {
+        double nu = h - v;
+        v = u, u = nu;
+        int tw = w;
+        w = h, h = tw;
+      }
+      vt[2 * q] = (px[ch] + u) / G, vt[2 * q + 1] = (py[ch] + v) / G;
+    } else {
+      vt[2 * q] = bx[ch] + lo * (vt[2 * q] - lox[ch]);
+      vt[2 * q + 1] = by[ch] + lo * (vt[2 * q + 1] - loy[ch]);
+    }
     vt[2 * q] = fmin(1, fmax(0, vt[2 * q])), vt[2 * q + 1] = fmin(1, fmax(0, vt[2 * q + 1]));
   }
+  free(turn), free(px), free(py);
   free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
       free(bestang);
 
   return AU_OK;
+}
+
+au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
+                        double *scale, au_msg *msg) {
+  return pack(nf, Ft, chart, nch, nvt, vt, quarter, gap, 1, scale, msg);
 }
 
 /* Steps 5 to 8 for the cut as it stands: texture coordinates shared across uncut edges, the charts laid
@@ -280,10 +504,13 @@ static au_status lay_out(const au_mesh *m, const au_topo *t, const unsigned char
   }
   L->ncharts = nch;
 
-  au_status st = au_atlas_pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, &L->scale, msg);
+  au_status st = pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, 0, &L->scale, msg);
   free(placed);
   return st;
 }
+
+static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int ch, int fa,
+                     int fb, int *lab);
 
 /* Rasterize the atlas at 1024 x 1024 with the face that first covers each pixel centre; for every chart
  * with a pixel covered twice by two of its faces, race a breadth-first search from both faces over the
@@ -335,10 +562,23 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
   int n = 0;
   for (int ch = 0; ch < nch; ch++) {
     if (pa[ch] < 0) continue;
+    race_cut(t, nf, cut, queue, L, ch, pa[ch], pb[ch], lab);
+    n++;
+  }
+  free(owner), free(pa), free(pb), free(lab);
+  *nsplit = n;
+  return AU_OK;
+}
+
+/* Cut chart ch of L between faces fa and fb: a breadth-first race from both over the chart's uncut edges,
+ * and the edges between the two territories cut. lab [0..nf-1]: scratch. */
+static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int ch, int fa,
+                     int fb, int *lab) {
+  {
     for (int f = 0; f < nf; f++) lab[f] = -1;
     int head = 0, tail = 0;
-    lab[pa[ch]] = 0, lab[pb[ch]] = 1;
-    queue[tail++] = pa[ch], queue[tail++] = pb[ch];
+    lab[fa] = 0, lab[fb] = 1;
+    queue[tail++] = fa, queue[tail++] = fb;
     while (head < tail) {
       int f = queue[head++];
       for (int k = 0; k < 3; k++) {
@@ -354,11 +594,52 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
       int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
       if (L->chart[f0] == ch && lab[f0] >= 0 && lab[f1] >= 0 && lab[f0] != lab[f1]) cut[e] = 1;
     }
-    n++;
   }
-  free(owner), free(pa), free(pb), free(lab);
-  *nsplit = n;
-  return AU_OK;
+}
+
+/* When a chart's longer side exceeds AU_ATLAS_LONG times the square root of the atlas's area (at the scale
+ * that covers half of the square it would span more than 0.35 of its side: long ragged charts leave space
+ * that no other chart fills), cut the
+ * longest such chart in two between the faces at the two ends of that side (race_cut). Returns 1 if a chart
+ * was cut, 0 if none, -1 when out of memory. */
+#define AU_ATLAS_LONG 0.5
+static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L) {
+  const int nch = L->ncharts;
+  double cover = 0, *box = malloc(4 * (size_t)(nch > 0 ? nch : 1) * sizeof *box);
+  int *lab = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *lab);
+  if (!box || !lab) {
+    free(box), free(lab);
+    return -1;
+  }
+  for (int ch = 0; ch < nch; ch++) box[4 * ch] = box[4 * ch + 1] = INFINITY, box[4 * ch + 2] = box[4 * ch + 3] = -INFINITY;
+  for (int f = 0; f < nf; f++) {
+    const double *a = L->vt + 2 * L->Ft[3 * f], *b = L->vt + 2 * L->Ft[3 * f + 1], *c = L->vt + 2 * L->Ft[3 * f + 2];
+    cover += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+    double *bx = box + 4 * L->chart[f];
+    for (int k = 0; k < 3; k++) {
+      const double *p = L->vt + 2 * L->Ft[3 * f + k];
+      bx[0] = fmin(bx[0], p[0]), bx[1] = fmin(bx[1], p[1]), bx[2] = fmax(bx[2], p[0]), bx[3] = fmax(bx[3], p[1]);
+    }
+  }
+  int best = -1, axis = 0;
+  double span = AU_ATLAS_LONG * sqrt(cover > 0 ? cover : 0);
+  for (int ch = 0; ch < nch; ch++)
+    for (int d = 0; d < 2; d++)
+      if (box[4 * ch + 2 + d] - box[4 * ch + d] > span) span = box[4 * ch + 2 + d] - box[4 * ch + d], best = ch, axis = d;
+  int done = 0;
+  if (best >= 0) {
+    int fa = -1, fb = -1;
+    double lo = INFINITY, hi = -INFINITY;
+    for (int f = 0; f < nf; f++) {
+      if (L->chart[f] != best) continue;
+      double c = (L->vt[2 * L->Ft[3 * f] + axis] + L->vt[2 * L->Ft[3 * f + 1] + axis] + L->vt[2 * L->Ft[3 * f + 2] + axis]) / 3;
+      if (c < lo) lo = c, fa = f;
+      if (c > hi) hi = c, fb = f;
+    }
+    if (fa >= 0 && fb >= 0 && fa != fb) race_cut(t, nf, cut, queue, L, best, fa, fb, lab), done = 1;
+  }
+  free(box), free(lab);
+  return done;
 }
 
 au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout *L, int quarter, double gap, int *nsplit,
@@ -373,10 +654,20 @@ au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout 
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
     goto done;
   }
+  int nlong = 0;
   for (int round = 0;; round++) {
-    if ((st = au_atlas_pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, &L->scale, msg)) != AU_OK) goto done;
+    /* Shelves while charts are split (where they overlap themselves or are too long), then the shapes. */
+    if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 0, &L->scale, msg)) != AU_OK) goto done;
     int split = 0;
-    if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK || !split) break;
+    if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK) break;
+    if (!split && nlong < 32) {
+      if ((split = split_long(t, nf, L->cut, queue, L)) < 0) {
+        st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
+        goto done;
+      }
+      nlong += split;
+    }
+    if (!split) break;
     if (nsplit) *nsplit += split;
     /* The corners separated by the new cut edges get their own rows of vt, where they were. */
     for (int i = 0; i < 3 * nf; i++) uf[i] = i;
@@ -425,6 +716,7 @@ au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout 
     }
     L->ncharts = nch;
   }
+  if (st == AU_OK) st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg);
 done:
   free(queue), free(uf), free(cls);
   return st;
@@ -728,6 +1020,8 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
     if ((st = split_overlaps(m, t, cut, queue, L, &split, msg)) != AU_OK) goto done;
     if (!split || round == 40) break;
   }
+  /* On shelves while splitting, by the charts' shapes at the end. */
+  if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg)) != AU_OK) goto done;
   /* 9., 10. Folds, coverage and the seams (splits added cut edges). */
   st = au_atlas_measure(m, t, c, L, msg);
 

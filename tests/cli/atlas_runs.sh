@@ -2,7 +2,8 @@
 # every corner a vt in [0,1]^2; checked here in plain Python from the files alone: no vt triangle turned
 # over, both sides of every cut edge of one length (1e-6 of the atlas), the report's cones keep
 # Gauss-Bonnet on a closed surface (sum of 2 pi - angle = 2 pi chi, to 1e-9), with --quarter every cone angle and
-# seam rotation a multiple of 90 degrees, no texel covered twice; equal area where the flow converges.
+# seam rotation a multiple of 90 degrees, no texel covered twice, at least half of the square covered after
+# the flow; equal area where the flow converges.
 # Bad usage, bad cones and bad input exit 2 with one error line and no output.
 # sh atlas_runs.sh PROG SOURCE_DIR SHARED_DIR CASE
 . "$(dirname "$0")/lib.sh"
@@ -71,6 +72,8 @@ check(r["equal_area"] == (r["flow"]["face_error"] <= 0.02), "report: equal_area 
 if equal: check(r["equal_area"] and r["flow"]["face_error_start"] > 0.1, "not equal area: %r" % r["flow"])
 check(r["folds"] == 0 and r["overlap_texels"] == 0, "report: folds or overlapping texels")
 check(abs(r["coverage"] - area) <= 1e-6, "report: coverage %r, the vt triangles cover %r" % (r["coverage"], area))
+# After the flow the charts are packed by their shapes: at least half of the square covered.
+if r["flow"]["steps"] > 0: check(area >= 0.5, "the charts cover %.3f of the square (at least 0.5)" % area)
 kappa = sum(2 * math.pi - c["angle"] for c in r["cones"])
 if chi != "open": check(abs(kappa - 2 * math.pi * int(chi)) <= 1e-9, "cones: total curvature %r, chi %s" % (kappa, chi))
 if quarter:
