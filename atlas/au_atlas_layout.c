@@ -30,6 +30,28 @@ static int corner_at(const int *F, int f, int v) {
   return F[3 * f] == v ? 0 : F[3 * f + 1] == v ? 1 : 2;
 }
 
+/* The rows of vt the corners get: corners glued across an interior edge that is not cut share one.
+ * uf and cls hold 3 nf entries each; on return corner i's row is cls[uf_find(uf, i)], numbered in
+ * corner order. Returns the number of rows. */
+static int corner_rows(const au_topo *t, const int *F, int nf, const unsigned char *cut, int *uf, int *cls) {
+  for (int i = 0; i < 3 * nf; i++) uf[i] = i;
+  for (int e = 0; e < t->ne; e++) {
+    if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
+    int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+    for (int s = 0; s < 2; s++) {
+      int v = t->E[2 * e + s];
+      uf_union(uf, 3 * f0 + corner_at(F, f0, v), 3 * f1 + corner_at(F, f1, v));
+    }
+  }
+  int nvt = 0;
+  for (int i = 0; i < 3 * nf; i++) cls[i] = -1;
+  for (int i = 0; i < 3 * nf; i++) {
+    int r = uf_find(uf, i);
+    if (cls[r] < 0) cls[r] = nvt++;
+  }
+  return nvt;
+}
+
 /* Binary min-heap of (key, vertex) for Dijkstra. */
 typedef struct heap {
   int n;
@@ -434,26 +456,12 @@ au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nv
 static au_status lay_out(const au_mesh *m, const au_topo *t, const unsigned char *cut, const double *flen,
                          const double *frame, int quarter, double gap, int *uf, int *cls, int *queue,
                          au_atlas_layout *L, au_msg *msg) {
-  const int nf = m->nf, ne = t->ne, *F = m->F;
+  const int nf = m->nf, *F = m->F;
   free(L->vt);
   L->vt = NULL;
   /* 5. Corners glued across uncut interior edges share a texture coordinate. */
-  for (int i = 0; i < 3 * nf; i++) uf[i] = i;
-  for (int e = 0; e < ne; e++) {
-    if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
-    int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
-    for (int s = 0; s < 2; s++) {
-      int v = t->E[2 * e + s];
-      uf_union(uf, 3 * f0 + corner_at(F, f0, v), 3 * f1 + corner_at(F, f1, v));
-    }
-  }
-  int nvt = 0;
-  for (int i = 0; i < 3 * nf; i++) cls[i] = -1;
-  for (int i = 0; i < 3 * nf; i++) {
-    int r = uf_find(uf, i);
-    if (cls[r] < 0) cls[r] = nvt++;
-    L->Ft[i] = cls[r];
-  }
+  int nvt = corner_rows(t, F, nf, cut, uf, cls);
+  for (int i = 0; i < 3 * nf; i++) L->Ft[i] = cls[uf_find(uf, i)];
   L->nvt = nvt;
   L->vt = calloc(2 * (size_t)nvt, sizeof *L->vt);
   unsigned char *placed = calloc((size_t)nvt, 1);
@@ -670,21 +678,7 @@ au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout 
     if (!split) break;
     if (nsplit) *nsplit += split;
     /* The corners separated by the new cut edges get their own rows of vt, where they were. */
-    for (int i = 0; i < 3 * nf; i++) uf[i] = i;
-    for (int e = 0; e < ne; e++) {
-      if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
-      int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
-      for (int s = 0; s < 2; s++) {
-        int v = t->E[2 * e + s];
-        uf_union(uf, 3 * f0 + corner_at(F, f0, v), 3 * f1 + corner_at(F, f1, v));
-      }
-    }
-    int nvt = 0;
-    for (int i = 0; i < 3 * nf; i++) cls[i] = -1;
-    for (int i = 0; i < 3 * nf; i++) {
-      int r = uf_find(uf, i);
-      if (cls[r] < 0) cls[r] = nvt++;
-    }
+    int nvt = corner_rows(t, F, nf, L->cut, uf, cls);
     double *vt = malloc(2 * (size_t)nvt * sizeof *vt);
     if (!vt) {
       st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
