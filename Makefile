@@ -10,7 +10,7 @@
 #               tables, with the date, the CPU and the load average in the page's header
 #   make scale  bench/scale.sh: generated meshes of 10k..1M faces mapped under /usr/bin/time -v
 #   make python the Python package (python/) installed for $(PYTHON) with its copy of the library;
-#               its pytest suite runs in `make test` (ctest case python.pytest, both builds)
+#               its pytest suite runs in `make test` (ctest cases python.test_*, one per file, both builds)
 
 BUILD_DIR ?= build
 ASAN_DIR ?= build-asan
