@@ -246,7 +246,7 @@ static au_status place(const au_mesh *m, const au_topo *t, const double *w, cons
  * spout), and e^-37 is where a lattice coordinate of about 1 stops resolving a triangle's extent. */
 #define AU_TORUS_SQUEEZE_LOG (-20.0)
 /* The largest jump of the flat log scale across a squeezed triangle left by the compression: a protrusion
- * squeezed like e^-x comes out like e^-(x jump / its jump), about an eighth of it for girth 8. */
+ * squeezed like e^-x comes out like e^-(x AU_TORUS_JUMP / its jump): data/mug's spout e^-56 into e^-16. */
 #define AU_TORUS_JUMP 0.1
 /* A clamped weight's floor, as a part of the face's largest cotan term: positive weights embed (GGT 2006). */
 #define AU_TORUS_WEIGHT_FLOOR 1e-3
@@ -312,12 +312,13 @@ done:
   return st;
 }
 
-/* Weights of the surface with its protrusions compressed along their length (as the sphere's compressed
- * start, docs/torus-hard-shapes.md): where u jumps by more than AU_TORUS_JUMP across a triangle in the
- * squeezed half (u below its median), the triangle is shrunk along grad u by AU_TORUS_JUMP / jump, so a
- * tube of length L behaves like a shorter one; the cotan terms of the changed triangles are clamped
- * to a small positive floor. The harmonic map with these weights is an embedding, no longer conformal.
- * Returns the number of faces compressed, or -1 (out of memory). */
+/* Weights of the surface with its protrusions compressed along their length and their bands turned (as
+ * the sphere's twisted start, sphere/au_sphere_init.c; docs/torus-hard-shapes.md): where u jumps by more
+ * than AU_TORUS_JUMP across a triangle in the squeezed half (u below its median), the triangle is shrunk
+ * along grad u by AU_TORUS_JUMP / jump, so a tube of length L and girth C, squeezed like e^(-4 pi L / C),
+ * behaves like a shorter one, and then sheared along its girth (below). The cotan weights of the changed
+ * triangles, clamped to a small positive floor when clamp is 1 (positive weights embed, GGT 2006); the
+ * map is no longer conformal. Returns the number of faces changed, or -1 (out of memory). */
 static int compressed_weights(const au_mesh *m, const au_topo *t, const double *u, int clamp, double *w) {
   int nf = m->nf, nv = m->nv, n = 0, nc = 0;
   double *G = malloc(3 * sizeof(double) * (size_t)nf), *us = malloc(sizeof(double) * (size_t)nv);
@@ -345,6 +346,31 @@ static int compressed_weights(const au_mesh *m, const au_topo *t, const double *
         double sp = (x[k][0] * g[0] + x[k][1] * g[1] + x[k][2] * g[2]) / (gn * gn);
         for (int d = 0; d < 3; d++) x[k][d] -= (1 - beta) * sp * g[d];
       }
+    }
+    if (squeeze) {
+      /* Sheared along the girth (n x grad u, one handedness everywhere) until the corner off the edge most
+       * across grad u stands over an end of that edge: an antiprism band becomes a prism band, as in the
+       * sphere's twisted start (sphere/au_sphere_init.c), since the flow, a gradient, cannot turn one ring
+       * against the next. */
+      const double *p0 = m->X + 3 * (size_t)v[0], *p1 = m->X + 3 * (size_t)v[1], *p2 = m->X + 3 * (size_t)v[2];
+      double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+      double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      double gy[3] = {g[0] / gn, g[1] / gn, g[2] / gn}, gx[3], X[3], Y[3];
+      gx[0] = (nrm[1] * gy[2] - nrm[2] * gy[1]) / cn, gx[1] = (nrm[2] * gy[0] - nrm[0] * gy[2]) / cn;
+      gx[2] = (nrm[0] * gy[1] - nrm[1] * gy[0]) / cn;
+      for (int k = 0; k < 3; k++) {
+        X[k] = x[k][0] * gx[0] + x[k][1] * gx[1] + x[k][2] * gx[2];
+        Y[k] = x[k][0] * gy[0] + x[k][1] * gy[1] + x[k][2] * gy[2];
+      }
+      int a = 0;
+      for (int k = 1; k < 3; k++)
+        if (fabs(Y[(k + 1) % 3] - Y[(k + 2) % 3]) < fabs(Y[(a + 1) % 3] - Y[(a + 2) % 3])) a = k;
+      int pa = (a + 1) % 3, qa = (a + 2) % 3;
+      double xl = fmin(X[pa], X[qa]), xr = fmax(X[pa], X[qa]), ye = 0.5 * (Y[pa] + Y[qa]), dy = Y[a] - ye;
+      double k = dy > 0 ? (xr - X[a]) / dy : dy < 0 ? (X[a] - xl) / -dy : 0;
+      if (k > 0)
+        for (int j = 0; j < 3; j++)
+          for (int d = 0; d < 3; d++) x[j][d] += k * (Y[j] - ye) * gx[d];
     }
     double c[3], cmax = 0;
     for (int k = 0; k < 3; k++) {
