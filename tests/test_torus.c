@@ -762,6 +762,12 @@ static int corner_shifts(void) {
 static int hard_mug_of(const char *name, double squeeze_before_max, double face_max, double vertex_max) {
   char path[1024];
   snprintf(path, sizeof path, "%s/data/%s.obj", AU_SOURCE_DIR, name);
+  FILE *fp = fopen(path, "r");
+  if (!fp) {
+    fprintf(stderr, "skip: %s is missing (run au_mkdata to generate data/)\n", path);
+    return AU_SKIP;
+  }
+  fclose(fp);
   au_mesh *m = NULL;
   au_topo *t = NULL;
   au_torus_start *s = NULL;
