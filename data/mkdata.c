@@ -625,6 +625,7 @@ static void mug_profile(double s, double H, double *rho, double *z) {
 typedef struct curve {
   double P[4][3];
   double len;
+  double nrm[3]; /* the unit normal of the plane the centreline lies in */
 } curve;
 
 static void bez(const curve *c, double t, double *p, double *d) {
@@ -729,16 +730,18 @@ static void loop_free(loop *l) {
   free(l->a);
 }
 
-/* The tube's frame at a point of a centreline in the xz plane: nx = y x d, ny = y. */
-static void tube_frame(const double *d, double *nx, double *ny) {
-  nx[0] = d[2], nx[1] = 0, nx[2] = -d[0];
-  ny[0] = 0, ny[1] = 1, ny[2] = 0;
+/* The tube's frame at a point of a centreline in the plane of unit normal nrm: nx = nrm x d, ny = nrm
+ * (a plane curve's rotation-minimizing frame: no tube twists). */
+static void tube_frame(const double *d, const double *nrm, double *nx, double *ny) {
+  nx[0] = nrm[1] * d[2] - nrm[2] * d[1], nx[1] = nrm[2] * d[0] - nrm[0] * d[2], nx[2] = nrm[0] * d[1] - nrm[1] * d[0];
+  memcpy(ny, nrm, 3 * sizeof *ny);
 }
 
 /* A ring of g vertices about centreline point p (tangent d), radius r, turned by `turn` steps. */
-static void tube_ring(mesh *m, loop *l, const double *p, const double *d, double r, int g, double turn) {
+static void tube_ring(mesh *m, loop *l, const double *p, const double *d, const double *nrm, double r, int g,
+                      double turn) {
   double nx[3], ny[3];
-  tube_frame(d, nx, ny);
+  tube_frame(d, nrm, nx, ny);
   loop_alloc(l, g);
   for (int k = 0; k < g; k++) {
     double t = 2 * M_PI * (k + turn) / g;
@@ -755,7 +758,7 @@ static void tube(mesh *m, curve *c, loop *from, loop *to, double r0, double r, i
   const double L = curve_length(c), step = 2 * M_PI * r / g, ease = 4 * r0;
   double p[3], d[3], nx[3], ny[3];
   curve_at(c, 0, p, d);
-  tube_frame(d, nx, ny);
+  tube_frame(d, c->nrm, nx, ny);
   loop_angles(from, m, p, nx, ny);
   int nr = (int)lround((to ? L : L - step) / step) - 1;
   loop prev = *from;
@@ -765,14 +768,14 @@ static void tube(mesh *m, curve *c, loop *from, loop *to, double r0, double r, i
     if (to && L - s < ease) w = fmin(w, 0.5 - 0.5 * cos(M_PI * (L - s) / ease));
     loop cur;
     curve_at(c, s, p, d);
-    tube_ring(m, &cur, p, d, r0 + (r - r0) * w, g, 0.5 * j);
+    tube_ring(m, &cur, p, d, c->nrm, r0 + (r - r0) * w, g, 0.5 * j);
     join_loops(m, &prev, &cur);
     if (prev.v != from->v) loop_free(&prev);
     prev = cur;
   }
   if (to) {
     curve_at(c, L, p, d);
-    tube_frame(d, nx, ny);
+    tube_frame(d, c->nrm, nx, ny);
     loop_angles(to, m, p, nx, ny);
     join_loops(m, &prev, to);
   } else {
@@ -781,7 +784,7 @@ static void tube(mesh *m, curve *c, loop *from, loop *to, double r0, double r, i
       double phi = 0.5 * M_PI * q / 4;
       loop cur;
       curve_at(c, L + r * sin(phi), p, d);
-      tube_ring(m, &cur, p, d, r * cos(phi), g, 0.5 * (nr + 1 + q));
+      tube_ring(m, &cur, p, d, c->nrm, r * cos(phi), g, 0.5 * (nr + 1 + q));
       join_loops(m, &prev, &cur);
       loop_free(&prev);
       prev = cur;
@@ -928,14 +931,14 @@ static void make_mug_from(mesh *m, const mug_par *p) {
   }
   const double r0 = 1.1 * h;
   /* The handle: a C in the plane y = 0 from the lower hole out to x = 1 + hreach and back. */
-  curve ch = {{{0}}, 0};
+  curve ch = {{{0}}, 0, {0, 1, 0}};
   for (int k = 0; k < 3; k++) ch.P[0][k] = centre[0][k], ch.P[3][k] = centre[1][k];
   memcpy(ch.P[1], ch.P[0], sizeof ch.P[1]);
   memcpy(ch.P[2], ch.P[3], sizeof ch.P[2]);
   ch.P[1][0] += 4.0 / 3 * p->hreach, ch.P[2][0] += 4.0 / 3 * p->hreach;
   tube(m, &ch, &rim[0], &rim[1], r0, p->hr, p->girth);
   /* The spout: out of the far side along -x, bending up to the angle sang over the horizontal. */
-  curve cs = {{{0}}, 0};
+  curve cs = {{{0}}, 0, {0, 1, 0}};
   double dir[3] = {-cos(p->sang), 0, sin(p->sang)};
   for (int k = 0; k < 3; k++) {
     cs.P[0][k] = centre[2][k];
@@ -950,6 +953,55 @@ static void make_mug_from(mesh *m, const mug_par *p) {
   compact(m);
   orient(m);
 }
+
+/* A genus-1 ring with long legs: a torus of revolution (R = 2, tube radius 0.5; 192 x 48 vertices, the
+ * grid of make_torus) with a hole of 2 x 2 quads under it at each of four longitudes, and from each a
+ * straight leg of girth 8 and radius 0.05 hanging down `len`, closed by a round tip. */
+static void make_ring_legs_of(mesh *m, double len) {
+  const double R = 2, r = 0.5, rleg = 0.05;
+  const int nu = 192, nt = 48, g = 8, nleg = 4;
+  for (int i = 0; i < nu; i++)
+    for (int j = 0; j < nt; j++) {
+      double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nt;
+      add_v(m, (R + r * cos(v)) * cos(u), (R + r * cos(v)) * sin(u), r * sin(v));
+    }
+#define TV(i, j) ((((i) % nu + nu) % nu) * nt + (((j) % nt + nt) % nt))
+  const int jc = 3 * nt / 4; /* v = 3 pi / 2: the ring's underside */
+  int ic[4];
+  for (int k = 0; k < nleg; k++) ic[k] = nu / 8 + k * nu / nleg;
+  for (int i = 0; i < nu; i++)
+    for (int j = 0; j < nt; j++) {
+      int hole = 0;
+      for (int k = 0; k < nleg; k++) hole |= (i == ic[k] - 1 || i == ic[k]) && (j == jc - 1 || j == jc);
+      if (hole) continue;
+      add_f(m, TV(i, j), TV(i + 1, j), TV(i + 1, j + 1));
+      add_f(m, TV(i, j), TV(i + 1, j + 1), TV(i, j + 1));
+    }
+  const double h = r * 2 * M_PI / nt;
+  for (int k = 0; k < nleg; k++) {
+    loop rim;
+    int n = 0, c = ic[k];
+    loop_alloc(&rim, 8);
+    for (int t = -1; t < 1; t++) rim.v[n++] = TV(c + t, jc - 1);
+    for (int t = -1; t < 1; t++) rim.v[n++] = TV(c + 1, jc + t);
+    for (int t = 1; t > -1; t--) rim.v[n++] = TV(c + t, jc + 1);
+    for (int t = 1; t > -1; t--) rim.v[n++] = TV(c - 1, jc + t);
+    double u = 2 * M_PI * c / nu;
+    curve cl = {{{0}}, 0, {-sin(u), cos(u), 0}};
+    memcpy(cl.P[0], m->X + 3 * TV(c, jc), sizeof cl.P[0]);
+    for (int q = 1; q < 4; q++) {
+      memcpy(cl.P[q], cl.P[0], sizeof cl.P[q]);
+      cl.P[q][2] -= len * q / 3;
+    }
+    tube(m, &cl, &rim, NULL, 1.1 * h, rleg, g);
+    loop_free(&rim);
+  }
+#undef TV
+  compact(m);
+  orient(m);
+}
+
+static void make_ring_legs(mesh *m) { make_ring_legs_of(m, 2.5); }
 
 static void make_mug(mesh *m) {
   make_mug_from(m, &(mug_par){.H = 2.4, .hr = 0.04, .hreach = 0.8, .hz0 = 0.7, .hz1 = 1.8, .sr = 0.06, .slen = 1.6,
@@ -1106,6 +1158,7 @@ static const struct {
      make_genus2_thin, 0, 2},
     {"mug", "genus-1 mug: a rounded body, a thin handle (the genus) and a long thin spout", make_mug, 0, 1},
     {"mug_long", "the mug with a thinner handle and a spout twice as long and two thirds as thick", make_mug_long, 0, 1},
+    {"ring_legs", "genus-1 ring (torus of revolution) with four long thin legs hanging down", make_ring_legs, 0, 1},
 };
 
 int main(int argc, char **argv) {

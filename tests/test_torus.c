@@ -753,12 +753,13 @@ static int corner_shifts(void) {
   return 0;
 }
 
-/* The generated mugs (data/mug.obj, mug_long.obj; docs/torus-hard-shapes.md): a thin handle makes the genus,
- * a long thin spout is squeezed by the conformal start past what the flow opens (mug: e^-56 of its share;
- * mug_long: below a double, 910 folded triangles). The start compresses the spout (the start's squeeze
- * measured before and after), and the flow ends fold-free within the bounds measured with margin
- * (mug: 0.0099 / 0.0016 in 23 steps; mug_long: 0.0112 / 0.0021 in 25). Without the compressed start the
- * mug ends with a folded triangle (AU_E_FOLD) and mug_long is refused. */
+/* The generated genus-1 shapes with long thin parts (docs/torus-hard-shapes.md). The mugs: a thin handle
+ * makes the genus, a long thin spout is squeezed by the conformal start past what the flow opens (mug:
+ * e^-56 of its share; mug_long: below a double, 910 folded triangles); ring_legs: four legs under a ring
+ * (1118 folded). The start compresses them (its squeeze measured before and after), and the flow ends
+ * fold-free within the bounds measured with margin (mug: 0.0099 / 0.0016 in 23 steps; mug_long: 0.0112 /
+ * 0.0021 in 25). Without the compressed start the mug ends with a folded triangle (AU_E_FOLD) and the
+ * others are refused. */
 static int hard_mug_of(const char *name, double squeeze_before_max, double face_max, double vertex_max) {
   char path[1024];
   snprintf(path, sizeof path, "%s/data/%s.obj", AU_SOURCE_DIR, name);
@@ -798,6 +799,8 @@ static int hard_mug_of(const char *name, double squeeze_before_max, double face_
 
 static int hard_mug(void) { return hard_mug_of("mug", -50, 0.013, 0.0025); }
 static int hard_mug_long(void) { return hard_mug_of("mug_long", -INFINITY, 0.015, 0.003); }
+/* data/ring_legs.obj: four legs of 25 diameters under a ring; measured 0.0098 / 0.0010 in 11 steps. */
+static int hard_ring_legs(void) { return hard_mug_of("ring_legs", -INFINITY, 0.013, 0.002); }
 
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
@@ -809,6 +812,7 @@ int main(int argc, char **argv) {
       {"flow_square_lattice", flow_square_lattice}, {"flow_meshes", flow_meshes},
       {"flow_cancel", flow_cancel},         {"preview", preview},
       {"hard_mug", hard_mug},               {"hard_mug_long", hard_mug_long},
+      {"hard_ring_legs", hard_ring_legs},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof *cases));
 }
