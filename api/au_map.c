@@ -451,8 +451,14 @@ static au_status run_torus(map_run *x, au_msg *msg) {
   memcpy(r->conformal_lattice, s->conformal, sizeof r->conformal_lattice);
   au_torus_positions(s, (const double(*)[2])r->lattice, r->P);
   memcpy(r->P0, r->P, 3 * (size_t)r->nv * sizeof *r->P);
-  r->init_method = s->weights == AU_TORUS_COTAN ? "cotan" : "meanvalue";
-  if (s->weights != AU_TORUS_COTAN)
+  r->init_method = s->weights == AU_TORUS_COTAN ? "cotan" : s->weights == AU_TORUS_MEANVALUE ? "meanvalue" : "compressed";
+  if (s->weights == AU_TORUS_COMPRESSED && isfinite(s->squeeze_before))
+    warn(r, "the start squeezed a triangle to e^%.0f of its share: the start compresses the protrusions (e^%.0f)",
+         s->squeeze_before, s->squeeze);
+  else if (s->weights == AU_TORUS_COMPRESSED)
+    warn(r, "the start folded %d triangles in floating point: the start compresses the protrusions (e^%.0f)",
+         s->cotan_folds, s->squeeze);
+  else if (s->weights != AU_TORUS_COTAN)
     warn(r, "the cotan start folded %d triangles: the start uses positive (mean-value) weights in the cotan lattice",
          s->cotan_folds);
   if (!x->o->init_only) {

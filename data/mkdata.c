@@ -596,6 +596,423 @@ static void make_genus2_1loop(mesh *m) { make_plate(m, &(plate){5, 3, 0, 1, {{0,
 static void make_genus2_2loops(mesh *m) { make_plate(m, &(plate){5, 3, 0, 2, {{0, 0}, {4, 2}}}); }
 static void make_genus2_thin(mesh *m) { make_plate(m, &(plate){5, 10, 1, 0, {{0}}}); }
 
+/* Genus-1 mugs: a body of revolution (a rounded cylinder of radius 1) on an aligned grid, nlon vertices a
+ * ring and rings not turned, so that a hole is a block of grid quads; a thin handle, a tube from one hole
+ * in the body's side to another (the handle makes the genus); and a long thin spout, a tube from a third
+ * hole to a closed round tip. Faces are built unoriented and oriented afterwards by a walk (orient()). */
+typedef struct mug_par {
+  double H;             /* the body's height; its radius is 1, its rim rounded with radius 0.3 */
+  double hr, hreach;    /* the handle tube's radius and how far its centreline reaches out from the body */
+  double hz0, hz1;      /* the heights of the handle's holes */
+  double sr, slen;      /* the spout tube's radius and the length of its centreline */
+  double sz, sang;      /* the spout hole's height and the spout's final direction above the horizontal */
+  int nlon, girth;      /* vertices around the body and around each tube */
+} mug_par;
+
+#define MUG_RIM 0.3
+
+/* The body's profile at arc length s from the bottom pole: bottom disk, rounded rim, side, rim, top. */
+static void mug_profile(double s, double H, double *rho, double *z) {
+  const double c = MUG_RIM, flat = 1 - c, arc = 0.5 * M_PI * c, side = H - 2 * c;
+  if (s < flat) *rho = s, *z = 0;
+  else if ((s -= flat) < arc) *rho = flat + c * sin(s / c), *z = c - c * cos(s / c);
+  else if ((s -= arc) < side) *rho = 1, *z = c + s;
+  else if ((s -= side) < arc) *rho = flat + c * cos(s / c), *z = H - c + c * sin(s / c);
+  else *rho = fmax(flat - (s - arc), 0), *z = H;
+}
+
+/* A cubic Bezier centreline, resampled by arc length. */
+typedef struct curve {
+  double P[4][3];
+  double len;
+  double nrm[3]; /* the unit normal of the plane the centreline lies in */
+} curve;
+
+static void bez(const curve *c, double t, double *p, double *d) {
+  double u = 1 - t, b[4] = {u * u * u, 3 * u * u * t, 3 * u * t * t, t * t * t};
+  double db[4] = {-3 * u * u, 3 * u * u - 6 * u * t, 6 * u * t - 3 * t * t, 3 * t * t};
+  for (int k = 0; k < 3; k++) {
+    p[k] = d[k] = 0;
+    for (int i = 0; i < 4; i++) p[k] += b[i] * c->P[i][k], d[k] += db[i] * c->P[i][k];
+  }
+  normalize3(d);
+}
+
+enum { CURVE_NS = 4000 };
+
+/* Point and unit tangent at arc length s (beyond the end: continued along the end's tangent). */
+static void curve_at(curve *c, double s, double *p, double *d) {
+  double q[3], e[3], acc = 0, t0 = 0;
+  bez(c, 0, q, e);
+  for (int i = 1; i <= CURVE_NS; i++) {
+    double t = (double)i / CURVE_NS, r[3];
+    bez(c, t, r, e);
+    double dl = sqrt((r[0] - q[0]) * (r[0] - q[0]) + (r[1] - q[1]) * (r[1] - q[1]) + (r[2] - q[2]) * (r[2] - q[2]));
+    if (acc + dl >= s && dl > 0) {
+      bez(c, t0 + (t - t0) * (s - acc) / dl, p, d);
+      return;
+    }
+    acc += dl, t0 = t;
+    memcpy(q, r, sizeof q);
+  }
+  c->len = acc;
+  bez(c, 1, p, d);
+  for (int k = 0; k < 3; k++) p[k] += (s - acc) * d[k];
+}
+
+static double curve_length(curve *c) {
+  double p[3], d[3];
+  curve_at(c, 1e300, p, d);
+  return c->len;
+}
+
+/* A loop of vertices with their angles about a tube's axis, for join_loops. */
+typedef struct loop {
+  int *v, n;
+  double *a;
+} loop;
+
+/* Angles of the loop's vertices about centre o in the plane of the frame (nx, ny); the loop is turned to
+ * run by increasing angle from its vertex of least angle in [0, 2 pi), angles unwrapped. */
+static void loop_angles(loop *l, const mesh *m, const double *o, const double *nx, const double *ny) {
+  int n = l->n, *v = malloc(sizeof(int) * (size_t)n);
+  double *a = malloc(sizeof(double) * (size_t)n);
+  if (!v || !a) die_nomem();
+  for (int i = 0; i < n; i++) {
+    const double *p = m->X + 3 * l->v[i];
+    double d[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]};
+    a[i] = atan2(dot3(d, ny), dot3(d, nx));
+    if (a[i] < 0) a[i] += 2 * M_PI;
+  }
+  double turn = 0; /* the loop's winding sense: the sum of its angle steps, wrapped to (-pi, pi] */
+  for (int i = 0; i < n; i++) turn += remainder(a[(i + 1) % n] - a[i], 2 * M_PI);
+  int dir = turn > 0 ? 1 : -1, s = 0;
+  for (int i = 1; i < n; i++)
+    if (a[i] < a[s]) s = i;
+  for (int i = 0; i < n; i++) {
+    int j = ((s + dir * i) % n + n) % n;
+    v[i] = l->v[j];
+    double x = a[j];
+    while (i && x < l->a[i - 1]) x += 2 * M_PI;
+    l->a[i] = x;
+  }
+  memcpy(l->v, v, sizeof(int) * (size_t)n);
+  free(v);
+  free(a);
+}
+
+/* Triangulates the band between loops A and B by walking both in angle (each face gets one edge of a
+ * loop and a vertex of the other). Orientation is left to orient(). */
+static void join_loops(mesh *m, const loop *A, const loop *B) {
+  int i = 0, j = 0;
+  while (i < A->n || j < B->n) {
+    double ta = i + 1 < A->n ? A->a[i + 1] : A->a[0] + 2 * M_PI;
+    double tb = j + 1 < B->n ? B->a[j + 1] : B->a[0] + 2 * M_PI;
+    if (j < B->n && (i >= A->n || tb <= ta)) {
+      add_f(m, A->v[i % A->n], B->v[j % B->n], B->v[(j + 1) % B->n]);
+      j++;
+    } else {
+      add_f(m, A->v[i % A->n], B->v[j % B->n], A->v[(i + 1) % A->n]);
+      i++;
+    }
+  }
+}
+
+static void loop_alloc(loop *l, int n) {
+  l->n = n;
+  l->v = malloc(sizeof(int) * (size_t)n);
+  l->a = malloc(sizeof(double) * (size_t)n);
+  if (!l->v || !l->a) die_nomem();
+}
+
+static void loop_free(loop *l) {
+  free(l->v);
+  free(l->a);
+}
+
+/* The tube's frame at a point of a centreline in the plane of unit normal nrm: nx = nrm x d, ny = nrm
+ * (a plane curve's rotation-minimizing frame: no tube twists). */
+static void tube_frame(const double *d, const double *nrm, double *nx, double *ny) {
+  nx[0] = nrm[1] * d[2] - nrm[2] * d[1], nx[1] = nrm[2] * d[0] - nrm[0] * d[2], nx[2] = nrm[0] * d[1] - nrm[1] * d[0];
+  memcpy(ny, nrm, 3 * sizeof *ny);
+}
+
+/* A ring of g vertices about centreline point p (tangent d), radius r, turned by `turn` steps. */
+static void tube_ring(mesh *m, loop *l, const double *p, const double *d, const double *nrm, double r, int g,
+                      double turn) {
+  double nx[3], ny[3];
+  tube_frame(d, nrm, nx, ny);
+  loop_alloc(l, g);
+  for (int k = 0; k < g; k++) {
+    double t = 2 * M_PI * (k + turn) / g;
+    l->v[k] = add_v(m, p[0] + r * (cos(t) * nx[0] + sin(t) * ny[0]), p[1] + r * (cos(t) * nx[1] + sin(t) * ny[1]),
+                    p[2] + r * (cos(t) * nx[2] + sin(t) * ny[2]));
+  }
+  loop_angles(l, m, p, nx, ny);
+}
+
+/* A tube along c from loop `from` (a hole's rim, radius r0) to loop `to` (another hole's rim) or, when
+ * `to` is NULL, to a round closed tip. The radius eases from r0 to r over the first (and, into a hole,
+ * the last) `ease` of its length; rings are about one edge of the thin part apart, turned half a step. */
+static void tube(mesh *m, curve *c, loop *from, loop *to, double r0, double r, int g) {
+  const double L = curve_length(c), step = 2 * M_PI * r / g, ease = 4 * r0;
+  double p[3], d[3], nx[3], ny[3];
+  curve_at(c, 0, p, d);
+  tube_frame(d, c->nrm, nx, ny);
+  loop_angles(from, m, p, nx, ny);
+  int nr = (int)lround((to ? L : L - step) / step) - 1;
+  loop prev = *from;
+  for (int j = 1; j <= nr; j++) {
+    double s = L * j / (nr + 1), w = 1;
+    if (s < ease) w = fmin(w, 0.5 - 0.5 * cos(M_PI * s / ease));
+    if (to && L - s < ease) w = fmin(w, 0.5 - 0.5 * cos(M_PI * (L - s) / ease));
+    loop cur;
+    curve_at(c, s, p, d);
+    tube_ring(m, &cur, p, d, c->nrm, r0 + (r - r0) * w, g, 0.5 * j);
+    join_loops(m, &prev, &cur);
+    if (prev.v != from->v) loop_free(&prev);
+    prev = cur;
+  }
+  if (to) {
+    curve_at(c, L, p, d);
+    tube_frame(d, c->nrm, nx, ny);
+    loop_angles(to, m, p, nx, ny);
+    join_loops(m, &prev, to);
+  } else {
+    /* The tip: two rings on a quarter circle, then the apex. */
+    for (int q = 1; q <= 3; q++) {
+      double phi = 0.5 * M_PI * q / 4;
+      loop cur;
+      curve_at(c, L + r * sin(phi), p, d);
+      tube_ring(m, &cur, p, d, c->nrm, r * cos(phi), g, 0.5 * (nr + 1 + q));
+      join_loops(m, &prev, &cur);
+      loop_free(&prev);
+      prev = cur;
+    }
+    curve_at(c, L + r, p, d);
+    int tip = add_v(m, p[0], p[1], p[2]);
+    for (int k = 0; k < g; k++) add_f(m, prev.v[k], prev.v[(k + 1) % g], tip);
+  }
+  if (prev.v != from->v) loop_free(&prev);
+}
+
+/* Keeps only the vertices that faces use, renumbered in order. */
+static void compact(mesh *m) {
+  int *map = malloc(sizeof(int) * (size_t)m->nv), n = 0;
+  if (!map) die_nomem();
+  for (int i = 0; i < m->nv; i++) map[i] = -1;
+  for (int i = 0; i < 3 * m->nf; i++) map[m->F[i]] = 0;
+  for (int i = 0; i < m->nv; i++)
+    if (!map[i]) {
+      memmove(m->X + 3 * n, m->X + 3 * i, sizeof(double) * 3);
+      map[i] = n++;
+    }
+  for (int i = 0; i < 3 * m->nf; i++) m->F[i] = map[m->F[i]];
+  m->nv = n;
+  free(map);
+}
+
+/* Orients the faces consistently by a breadth-first walk across edges (a face next to an oriented one
+ * must use their shared edge the other way round), then flips them all if the volume is negative. An
+ * edge in other than two faces is left for check() to refuse. */
+typedef struct edge_face {
+  uint64_t key;
+  int f;
+} edge_face;
+
+static int cmp_edge_face(const void *a, const void *b) {
+  const edge_face *x = a, *y = b;
+  return x->key != y->key ? (x->key > y->key) - (x->key < y->key) : (x->f > y->f) - (x->f < y->f);
+}
+
+static void orient(mesh *m) {
+  int nf = m->nf, ne = 3 * nf;
+  edge_face *ef = malloc(sizeof(edge_face) * (size_t)ne);
+  int *queue = malloc(sizeof(int) * (size_t)nf), *other = malloc(sizeof(int) * (size_t)ne);
+  unsigned char *done = calloc((size_t)nf, 1);
+  if (!ef || !queue || !other || !done) die_nomem();
+  for (int f = 0; f < nf; f++)
+    for (int k = 0; k < 3; k++) {
+      uint64_t a = (uint64_t)m->F[3 * f + k], b = (uint64_t)m->F[3 * f + (k + 1) % 3];
+      ef[3 * f + k] = (edge_face){a < b ? a << 32 | b : b << 32 | a, 3 * f + k};
+    }
+  qsort(ef, (size_t)ne, sizeof *ef, cmp_edge_face);
+  for (int i = 0; i < ne; i++) other[i] = -1;
+  for (int i = 0; i + 1 < ne; i++)
+    if (ef[i].key == ef[i + 1].key && (i + 2 >= ne || ef[i + 2].key != ef[i].key)) {
+      other[ef[i].f] = ef[i + 1].f / 3;
+      other[ef[i + 1].f] = ef[i].f / 3;
+    }
+  for (int head = 0, tail = 0, seed = 0; seed < nf; seed++) {
+    if (done[seed]) continue;
+    done[seed] = 1, queue[tail++] = seed;
+    while (head < tail) {
+      int f = queue[head++];
+      for (int k = 0; k < 3; k++) {
+        int a = m->F[3 * f + k], b = m->F[3 * f + (k + 1) % 3], g = other[3 * f + k];
+        if (g < 0 || done[g]) continue;
+        int *t = m->F + 3 * g;
+        for (int j = 0; j < 3; j++)
+          if (t[j] == a && t[(j + 1) % 3] == b) { /* the same direction: turn g over */
+            int x = t[1];
+            t[1] = t[2], t[2] = x;
+            int o = other[3 * g];
+            other[3 * g] = other[3 * g + 2], other[3 * g + 2] = o;
+            break;
+          }
+        done[g] = 1, queue[tail++] = g;
+      }
+    }
+  }
+  double vol = 0;
+  for (int f = 0; f < nf; f++) {
+    const double *a = m->X + 3 * m->F[3 * f], *b = m->X + 3 * m->F[3 * f + 1], *c = m->X + 3 * m->F[3 * f + 2];
+    vol += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  if (vol < 0)
+    for (int f = 0; f < nf; f++) {
+      int x = m->F[3 * f + 1];
+      m->F[3 * f + 1] = m->F[3 * f + 2], m->F[3 * f + 2] = x;
+    }
+  free(ef);
+  free(queue);
+  free(other);
+  free(done);
+}
+
+/* A hole in the body's grid: the block of quads of rings [ic - hw, ic + hw) and columns [kc - hw, kc + hw). */
+typedef struct grid_hole {
+  int ic, kc, hw;
+} grid_hole;
+
+static int in_grid_hole(const grid_hole *h, int nh, int i, int k, int nlon) {
+  for (int j = 0; j < nh; j++) {
+    int dk = ((k - h[j].kc) % nlon + nlon + nlon / 2) % nlon - nlon / 2;
+    if (i >= h[j].ic - h[j].hw && i < h[j].ic + h[j].hw && dk >= -h[j].hw && dk < h[j].hw) return 1;
+  }
+  return 0;
+}
+
+static void make_mug_from(mesh *m, const mug_par *p) {
+  const double c = MUG_RIM, h = 2 * M_PI / p->nlon;
+  const double Ls = 2 * (1 - c) + M_PI * c + (p->H - 2 * c);
+  const int nlon = p->nlon, nlat = (int)lround(Ls / h) - 1;
+  int south = add_v(m, 0, 0, 0);
+  for (int i = 1; i <= nlat; i++) {
+    double rho, z;
+    mug_profile(Ls * i / (nlat + 1), p->H, &rho, &z);
+    for (int k = 0; k < nlon; k++) add_v(m, rho * cos(2 * M_PI * k / nlon), rho * sin(2 * M_PI * k / nlon), z);
+  }
+  int north = add_v(m, 0, 0, p->H);
+#define GV(i, k) (1 + ((i) - 1) * nlon + (((k) % nlon + nlon) % nlon))
+  /* The ring nearest to height z on the side. */
+#define SIDE_RING(z) ((int)lround((1 - c + 0.5 * M_PI * c + (z) - c) / Ls * (nlat + 1)))
+  grid_hole hole[3] = {{SIDE_RING(p->hz0), 0, 1}, {SIDE_RING(p->hz1), 0, 1}, {SIDE_RING(p->sz), nlon / 2, 1}};
+  for (int k = 0; k < nlon; k++) {
+    add_f(m, south, GV(1, k + 1), GV(1, k));
+    add_f(m, GV(nlat, k), GV(nlat, k + 1), north);
+    for (int i = 1; i < nlat; i++) {
+      if (in_grid_hole(hole, 3, i, k, nlon)) continue;
+      add_f(m, GV(i, k), GV(i, k + 1), GV(i + 1, k + 1));
+      add_f(m, GV(i, k), GV(i + 1, k + 1), GV(i + 1, k));
+    }
+  }
+  /* Each hole's rim, walked around the block, and its centre vertex (left out by compact()). */
+  loop rim[3];
+  double centre[3][3];
+  for (int j = 0; j < 3; j++) {
+    int ic = hole[j].ic, kc = hole[j].kc, w = hole[j].hw, n = 0;
+    loop_alloc(&rim[j], 8 * w);
+    for (int t = -w; t < w; t++) rim[j].v[n++] = GV(ic - w, kc + t);
+    for (int t = -w; t < w; t++) rim[j].v[n++] = GV(ic + t, kc + w);
+    for (int t = w; t > -w; t--) rim[j].v[n++] = GV(ic + w, kc + t);
+    for (int t = w; t > -w; t--) rim[j].v[n++] = GV(ic + t, kc - w);
+    memcpy(centre[j], m->X + 3 * GV(ic, kc), sizeof centre[j]);
+  }
+  const double r0 = 1.1 * h;
+  /* The handle: a C in the plane y = 0 from the lower hole out to x = 1 + hreach and back. */
+  curve ch = {{{0}}, 0, {0, 1, 0}};
+  for (int k = 0; k < 3; k++) ch.P[0][k] = centre[0][k], ch.P[3][k] = centre[1][k];
+  memcpy(ch.P[1], ch.P[0], sizeof ch.P[1]);
+  memcpy(ch.P[2], ch.P[3], sizeof ch.P[2]);
+  ch.P[1][0] += 4.0 / 3 * p->hreach, ch.P[2][0] += 4.0 / 3 * p->hreach;
+  tube(m, &ch, &rim[0], &rim[1], r0, p->hr, p->girth);
+  /* The spout: out of the far side along -x, bending up to the angle sang over the horizontal. */
+  curve cs = {{{0}}, 0, {0, 1, 0}};
+  double dir[3] = {-cos(p->sang), 0, sin(p->sang)};
+  for (int k = 0; k < 3; k++) {
+    cs.P[0][k] = centre[2][k];
+    cs.P[1][k] = centre[2][k] + (k == 0 ? -0.3 * p->slen : 0);
+    cs.P[3][k] = centre[2][k] + (k == 0 ? -0.3 * p->slen : 0) + 0.75 * p->slen * dir[k];
+    cs.P[2][k] = cs.P[3][k] - 0.35 * p->slen * dir[k];
+  }
+  tube(m, &cs, &rim[2], NULL, r0, p->sr, p->girth);
+  for (int j = 0; j < 3; j++) loop_free(&rim[j]);
+#undef GV
+#undef SIDE_RING
+  compact(m);
+  orient(m);
+}
+
+/* A genus-1 ring with long legs: a torus of revolution (R = 2, tube radius 0.5; 192 x 48 vertices, the
+ * grid of make_torus) with a hole of 2 x 2 quads under it at each of four longitudes, and from each a
+ * straight leg of girth 8 and radius 0.05 hanging down `len`, closed by a round tip. */
+static void make_ring_legs_of(mesh *m, double len) {
+  const double R = 2, r = 0.5, rleg = 0.05;
+  const int nu = 192, nt = 48, g = 8, nleg = 4;
+  for (int i = 0; i < nu; i++)
+    for (int j = 0; j < nt; j++) {
+      double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nt;
+      add_v(m, (R + r * cos(v)) * cos(u), (R + r * cos(v)) * sin(u), r * sin(v));
+    }
+#define TV(i, j) ((((i) % nu + nu) % nu) * nt + (((j) % nt + nt) % nt))
+  const int jc = 3 * nt / 4; /* v = 3 pi / 2: the ring's underside */
+  int ic[4];
+  for (int k = 0; k < nleg; k++) ic[k] = nu / 8 + k * nu / nleg;
+  for (int i = 0; i < nu; i++)
+    for (int j = 0; j < nt; j++) {
+      int hole = 0;
+      for (int k = 0; k < nleg; k++) hole |= (i == ic[k] - 1 || i == ic[k]) && (j == jc - 1 || j == jc);
+      if (hole) continue;
+      add_f(m, TV(i, j), TV(i + 1, j), TV(i + 1, j + 1));
+      add_f(m, TV(i, j), TV(i + 1, j + 1), TV(i, j + 1));
+    }
+  const double h = r * 2 * M_PI / nt;
+  for (int k = 0; k < nleg; k++) {
+    loop rim;
+    int n = 0, c = ic[k];
+    loop_alloc(&rim, 8);
+    for (int t = -1; t < 1; t++) rim.v[n++] = TV(c + t, jc - 1);
+    for (int t = -1; t < 1; t++) rim.v[n++] = TV(c + 1, jc + t);
+    for (int t = 1; t > -1; t--) rim.v[n++] = TV(c + t, jc + 1);
+    for (int t = 1; t > -1; t--) rim.v[n++] = TV(c - 1, jc + t);
+    double u = 2 * M_PI * c / nu;
+    curve cl = {{{0}}, 0, {-sin(u), cos(u), 0}};
+    memcpy(cl.P[0], m->X + 3 * TV(c, jc), sizeof cl.P[0]);
+    for (int q = 1; q < 4; q++) {
+      memcpy(cl.P[q], cl.P[0], sizeof cl.P[q]);
+      cl.P[q][2] -= len * q / 3;
+    }
+    tube(m, &cl, &rim, NULL, 1.1 * h, rleg, g);
+    loop_free(&rim);
+  }
+#undef TV
+  compact(m);
+  orient(m);
+}
+
+static void make_ring_legs(mesh *m) { make_ring_legs_of(m, 2.5); }
+
+static void make_mug(mesh *m) {
+  make_mug_from(m, &(mug_par){.H = 2.4, .hr = 0.04, .hreach = 0.8, .hz0 = 0.7, .hz1 = 1.8, .sr = 0.06, .slen = 1.6,
+                              .sz = 0.6, .sang = 0.8, .nlon = 96, .girth = 8});
+}
+
+static void make_mug_long(mesh *m) {
+  make_mug_from(m, &(mug_par){.H = 2.4, .hr = 0.03, .hreach = 0.8, .hz0 = 0.7, .hz1 = 1.8, .sr = 0.04, .slen = 3.0,
+                              .sz = 0.6, .sang = 0.8, .nlon = 96, .girth = 8});
+}
+
 /* Self-check that every mesh is what the README promises: each directed edge used once and its
  * reverse present (closed, manifold along edges, consistently oriented), Euler characteristic 2 on
  * one component (genus 0), and positive signed volume (outward normals). Returns 0 if all hold.
@@ -739,6 +1156,9 @@ static const struct {
     {"genus2_2loops", "the double torus with two cubes' bottom faces left out (two boundary loops)", make_genus2_2loops, 2, 2},
     {"genus2_thin", "genus 2 with a long thin handle: a 5 x 10 plate, a one-cube hole and a long one beside a bar 1 x 10",
      make_genus2_thin, 0, 2},
+    {"mug", "genus-1 mug: a rounded body, a thin handle (the genus) and a long thin spout", make_mug, 0, 1},
+    {"mug_long", "the mug with a thinner handle and a spout twice as long and two thirds as thick", make_mug_long, 0, 1},
+    {"ring_legs", "genus-1 ring (torus of revolution) with four long thin legs hanging down", make_ring_legs, 0, 1},
 };
 
 int main(int argc, char **argv) {

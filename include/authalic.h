@@ -631,7 +631,8 @@ typedef struct au_result {
   double t_check, t_init, t_flow, t_metrics; /* seconds in the mesh check, the initial map, the flow,
                                                 the metrics */
   double boundary_dev;     /* planar: the boundary's largest distance from the domain's boundary */
-  const char *init_method; /* planar and torus: "cotan" or "meanvalue" (how the harmonic start was made);
+  const char *init_method; /* planar and torus: "cotan" or "meanvalue" (how the harmonic start was made),
+                              torus also "compressed" (docs/torus-hard-shapes.md);
                               sphere: "conformal" or "multilevel" (the start that made the map) */
   double inner_radius, modulus_radius; /* annulus: the inner radius used, the conformal modulus's */
   int outer_loop_vertex;   /* annulus: a vertex on the loop mapped to the unit circle */

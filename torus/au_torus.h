@@ -42,7 +42,12 @@ typedef enum au_torus_shape {
 } au_torus_shape;
 
 /* How the start's lattice coordinates were solved (the lattice is always the cotan one). */
-typedef enum au_torus_weights { AU_TORUS_COTAN = 0, AU_TORUS_MEANVALUE = 1 } au_torus_weights;
+typedef enum au_torus_weights {
+  AU_TORUS_COTAN = 0,
+  AU_TORUS_MEANVALUE = 1, /* the cotan start folded */
+  AU_TORUS_COMPRESSED = 2 /* the start squeezed a triangle below e^-20 of its share: cotan weights of the
+                             surface with its protrusions compressed along their length, clamped positive */
+} au_torus_weights;
 
 /* The conformal start. Arrays are owned by the struct (au_torus_start_free). */
 typedef struct au_torus_start {
@@ -54,7 +59,9 @@ typedef struct au_torus_start {
   double conformal[2][2]; /* the conformal lattice: a1 = conformal[0], a2 = conformal[1]; a1 = (|a1|, 0),
                              det = 1, reduced (|a1| <= |a2|, |a1 . a2| <= |a1|^2 / 2) */
   au_torus_weights weights; /* cotan, or mean-value after the cotan start folded */
-  int cotan_folds;        /* folded triangles of the cotan start (0 unless weights is MEANVALUE) */
+  int cotan_folds;        /* folded triangles of the cotan start (0 unless it folded) */
+  double squeeze;         /* the least log of a face's domain share over its surface share (-inf: a fold) */
+  double squeeze_before;  /* COMPRESSED: squeeze of the start it replaced; else 0 */
   int folds;              /* folded triangles of the start returned (0 on success) */
   int gen[2];             /* the generator edges of the homology basis (indices into the topology) */
   double star_gap;        /* how far *h_1 is from span(h_1, h_2): |*h_1 - (a h_1 + b h_2)| / |h_1| in the

@@ -241,6 +241,153 @@ static au_status place(const au_mesh *m, const au_topo *t, const double *w, cons
   return AU_OK;
 }
 
+/* The compressed start is made when the start's most squeezed triangle has less than e^this of its
+ * share of the area: the flow opens a protrusion from e^-9 (rocker_arm) but stalls at e^-57 (data/mug's
+ * spout), and e^-37 is where a lattice coordinate of about 1 stops resolving a triangle's extent. */
+#define AU_TORUS_SQUEEZE_LOG (-20.0)
+/* The largest jump of the flat log scale across a squeezed triangle left by the compression: a protrusion
+ * squeezed like e^-x comes out like e^-(x AU_TORUS_JUMP / its jump): data/mug's spout e^-56 into e^-16. */
+#define AU_TORUS_JUMP 0.1
+/* A clamped weight's floor, as a part of the face's largest cotan term: positive weights embed (GGT 2006). */
+#define AU_TORUS_WEIGHT_FLOOR 1e-3
+
+static double tri_area(const double *X, const int *v) {
+  const double *p = X + 3 * (size_t)v[0], *q = X + 3 * (size_t)v[1], *r = X + 3 * (size_t)v[2];
+  double e1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+  double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  return 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+}
+
+static int cmp_dbl(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* The least log of a face's share of the domain over its share of the surface (-inf if one folded). */
+static double min_log_ratio(const au_mesh *m, const au_torus_start *s) {
+  double Ssurf = 0, Sdom = 0, lo = INFINITY;
+  for (int f = 0; f < m->nf; f++) Ssurf += tri_area(m->X, m->F + 3 * f), Sdom += au_torus_face_area(s, m->F, f);
+  for (int f = 0; f < m->nf; f++) {
+    double a = au_torus_face_area(s, m->F, f), A = tri_area(m->X, m->F + 3 * f);
+    if (!(a > 0)) return -INFINITY;
+    if (A > 0) lo = fmin(lo, log((a / Sdom) / (A / Ssurf)));
+  }
+  return lo;
+}
+
+/* The flat log scale u of the surface: e^(2u) g is flat, so L u = -K with L the cotan Laplacian (w) and
+ * K the angle defects (their sum is 0 on a torus: Gauss-Bonnet). A protrusion, which every harmonic map
+ * squeezes, is where u falls fast; unlike the start's own areas, u does not underflow there. */
+static au_status flat_log_scale(const au_mesh *m, const au_topo *t, const double *w, double *u, au_msg *msg) {
+  int nv = m->nv, pinned = -1;
+  unsigned char *fixed = malloc((size_t)nv);
+  double *b = calloc((size_t)nv, sizeof *b);
+  au_solver *sv = NULL;
+  au_status st = AU_OK;
+  if (!fixed || !b) {
+    st = au_msg_set(msg, AU_E_NOMEM, "torus: out of memory for the flat log scale");
+    goto done;
+  }
+  for (int i = 0; i < nv; i++) {
+    fixed[i] = !t->vused[i];
+    if (!fixed[i] && pinned < 0) pinned = i, fixed[i] = 1;
+    if (t->vused[i]) b[i] = -2 * M_PI;
+  }
+  for (int f = 0; f < m->nf; f++)
+    for (int k = 0; k < 3; k++) {
+      const double *p = m->X + 3 * (size_t)m->F[3 * f + k], *q = m->X + 3 * (size_t)m->F[3 * f + (k + 1) % 3],
+                   *r = m->X + 3 * (size_t)m->F[3 * f + (k + 2) % 3];
+      double e1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+      double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      b[m->F[3 * f + k]] += atan2(sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]),
+                                  e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]);
+    }
+  memset(u, 0, sizeof(double) * (size_t)nv);
+  st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &sv, msg);
+  if (st == AU_OK) st = au_solver_factor(sv, w, NULL, msg);
+  if (st == AU_OK) st = au_solver_solve(sv, 1, b, u, msg);
+done:
+  au_solver_free(&sv);
+  free(fixed), free(b);
+  return st;
+}
+
+/* Weights of the surface with its protrusions compressed along their length and their bands turned (as
+ * the sphere's twisted start, sphere/au_sphere_init.c; docs/torus-hard-shapes.md): where u jumps by more
+ * than AU_TORUS_JUMP across a triangle in the squeezed half (u below its median), the triangle is shrunk
+ * along grad u by AU_TORUS_JUMP / jump, so a tube of length L and girth C, squeezed like e^(-4 pi L / C),
+ * behaves like a shorter one, and then sheared along its girth (below). The cotan weights of the changed
+ * triangles, clamped to a small positive floor when clamp is 1 (positive weights embed, GGT 2006); the
+ * map is no longer conformal. Returns the number of faces changed, or -1 (out of memory). */
+static int compressed_weights(const au_mesh *m, const au_topo *t, const double *u, int clamp, double *w) {
+  int nf = m->nf, nv = m->nv, n = 0, nc = 0;
+  double *G = malloc(3 * sizeof(double) * (size_t)nf), *us = malloc(sizeof(double) * (size_t)nv);
+  if (!G || !us) {
+    free(G), free(us);
+    return -1;
+  }
+  for (int i = 0; i < nv; i++)
+    if (t->vused[i]) us[n++] = u[i];
+  qsort(us, (size_t)n, sizeof *us, cmp_dbl);
+  double umid = n ? us[n / 2] : 0;
+  au_dec_face_grad(nf, m->F, m->X, u, G);
+  memset(w, 0, sizeof(double) * (size_t)t->ne);
+  for (int f = 0; f < nf; f++) {
+    const int *v = m->F + 3 * f;
+    double x[3][3], g[3] = {G[3 * f], G[3 * f + 1], G[3 * f + 2]};
+    for (int k = 0; k < 3; k++) memcpy(x[k], m->X + 3 * (size_t)v[k], sizeof x[k]);
+    double cn = 2 * tri_area(m->X, v), gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    double jump = gn * sqrt(2 * cn / sqrt(3.0));
+    int squeeze = cn > 0 && gn > 0 && jump > AU_TORUS_JUMP && u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid;
+    if (squeeze) {
+      double beta = AU_TORUS_JUMP / jump;
+      nc++;
+      for (int k = 0; k < 3; k++) {
+        double sp = (x[k][0] * g[0] + x[k][1] * g[1] + x[k][2] * g[2]) / (gn * gn);
+        for (int d = 0; d < 3; d++) x[k][d] -= (1 - beta) * sp * g[d];
+      }
+    }
+    if (squeeze) {
+      /* Sheared along the girth (n x grad u, one handedness everywhere) until the corner off the edge most
+       * across grad u stands over an end of that edge: an antiprism band becomes a prism band, as in the
+       * sphere's twisted start (sphere/au_sphere_init.c), since the flow, a gradient, cannot turn one ring
+       * against the next. */
+      const double *p0 = m->X + 3 * (size_t)v[0], *p1 = m->X + 3 * (size_t)v[1], *p2 = m->X + 3 * (size_t)v[2];
+      double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+      double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      double gy[3] = {g[0] / gn, g[1] / gn, g[2] / gn}, gx[3], X[3], Y[3];
+      gx[0] = (nrm[1] * gy[2] - nrm[2] * gy[1]) / cn, gx[1] = (nrm[2] * gy[0] - nrm[0] * gy[2]) / cn;
+      gx[2] = (nrm[0] * gy[1] - nrm[1] * gy[0]) / cn;
+      for (int k = 0; k < 3; k++) {
+        X[k] = x[k][0] * gx[0] + x[k][1] * gx[1] + x[k][2] * gx[2];
+        Y[k] = x[k][0] * gy[0] + x[k][1] * gy[1] + x[k][2] * gy[2];
+      }
+      int a = 0;
+      for (int k = 1; k < 3; k++)
+        if (fabs(Y[(k + 1) % 3] - Y[(k + 2) % 3]) < fabs(Y[(a + 1) % 3] - Y[(a + 2) % 3])) a = k;
+      int pa = (a + 1) % 3, qa = (a + 2) % 3;
+      double xl = fmin(X[pa], X[qa]), xr = fmax(X[pa], X[qa]), ye = 0.5 * (Y[pa] + Y[qa]), dy = Y[a] - ye;
+      double k = dy > 0 ? (xr - X[a]) / dy : dy < 0 ? (X[a] - xl) / -dy : 0;
+      if (k > 0)
+        for (int j = 0; j < 3; j++)
+          for (int d = 0; d < 3; d++) x[j][d] += k * (Y[j] - ye) * gx[d];
+    }
+    double c[3], cmax = 0;
+    for (int k = 0; k < 3; k++) {
+      const double *p = x[k], *q = x[(k + 1) % 3], *r = x[(k + 2) % 3];
+      double a1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, a2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+      double c2[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2], a1[0] * a2[1] - a1[1] * a2[0]};
+      double sn = sqrt(c2[0] * c2[0] + c2[1] * c2[1] + c2[2] * c2[2]);
+      c[k] = sn > 0 ? 0.5 * (a1[0] * a2[0] + a1[1] * a2[1] + a1[2] * a2[2]) / sn : 0;
+      cmax = fmax(cmax, c[k]);
+    }
+    /* c[k] is the cotan of corner k: the weight of the opposite edge, FE[3f + k]. */
+    for (int k = 0; k < 3; k++) w[t->FE[3 * f + k]] += clamp && squeeze ? fmax(c[k], AU_TORUS_WEIGHT_FLOOR * cmax) : c[k];
+  }
+  free(G), free(us);
+  return nc;
+}
+
 au_status au_torus_init(const au_mesh *m, const au_topo *t, au_torus_start **out, au_msg *msg) {
   if (!out) return au_msg_set(msg, AU_E_ARG, "torus: out is NULL");
   *out = NULL;
@@ -275,9 +422,45 @@ au_status au_torus_init(const au_mesh *m, const au_topo *t, au_torus_start **out
     au__disk_meanvalue_weights(t, m->F, m->X, w);
     memcpy(M, Mc, sizeof M);
     if ((st = place(m, t, w, omega, M, s, Ucol, msg)) != AU_OK) goto done;
-    if (s->folds > 0)
-      st = au_msg_set(msg, AU_E_FOLD, "torus: the start has %d folded triangles (%d with cotan weights)", s->folds,
-                      s->cotan_folds);
+  }
+  s->squeeze = min_log_ratio(m, s);
+  if (s->squeeze < AU_TORUS_SQUEEZE_LOG) {
+    /* A protrusion squeezed past what the flow opens (or past a double): the compressed start. */
+    au_torus_start keep = *s;
+    double *u = malloc(sizeof(double) * (size_t)nv), *U0 = malloc(2 * sizeof(double) * (size_t)nv);
+    int *off0 = malloc(6 * sizeof(int) * (size_t)m->nf);
+    if (!u || !U0 || !off0) {
+      free(u), free(U0), free(off0);
+      st = au_msg_set(msg, AU_E_NOMEM, "torus: out of memory");
+      goto done;
+    }
+    memcpy(U0, s->U, 2 * sizeof(double) * (size_t)nv);
+    memcpy(off0, s->off, 6 * sizeof(int) * (size_t)m->nf);
+    au_dec_cotan(t, m->F, m->X, w);
+    st = flat_log_scale(m, t, w, u, msg);
+    /* Clamped first: positive weights, and the flow ends nearer equal area from them (docs/torus-hard-shapes.md);
+     * where their start folds in floating point (they compress less), the unclamped cotan weights. */
+    for (int clamp = 1; st == AU_OK && clamp >= 0; clamp--) {
+      if (compressed_weights(m, t, u, clamp, w) < 0) st = au_msg_set(msg, AU_E_NOMEM, "torus: out of memory");
+      memcpy(M, Mc, sizeof M);
+      if (st == AU_OK) st = place(m, t, w, omega, M, s, Ucol, msg);
+      if (st == AU_OK && s->folds == 0) break;
+    }
+    if (st == AU_OK && s->folds == 0) {
+      s->weights = AU_TORUS_COMPRESSED, s->cotan_folds = keep.weights == AU_TORUS_COTAN ? 0 : keep.cotan_folds;
+      s->squeeze_before = keep.squeeze;
+      s->squeeze = min_log_ratio(m, s);
+    } else if (st == AU_OK) { /* the compressed start folded in floating point: back to the one before */
+      int folds = s->folds;
+      memcpy(s->U, U0, 2 * sizeof(double) * (size_t)nv);
+      memcpy(s->off, off0, 6 * sizeof(int) * (size_t)m->nf);
+      memcpy(s->conformal, keep.conformal, sizeof s->conformal);
+      s->folds = keep.folds;
+      if (s->folds > 0)
+        st = au_msg_set(msg, AU_E_FOLD, "torus: the start has %d folded triangles (%d with cotan weights, %d compressed)",
+                        s->folds, s->cotan_folds, folds);
+    }
+    free(u), free(U0), free(off0);
   }
 done:
   free(omega), free(w), free(Ucol);
