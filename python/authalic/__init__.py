@@ -440,7 +440,8 @@ class MapResult:
     inner_radius, modulus_radius, outer_loop_vertex: the annulus's; corners (4 vertex indices for
               (0,0), (1,0), (1,1), (0,1)) and nsplit: the square's; boundary_dev: planar targets'
               largest distance of the boundary from the domain's boundary; init_method: "cotan" or
-              "meanvalue" for planar targets, else None.
+              "meanvalue" for planar targets and the torus (the torus also "compressed"); the sphere's
+              start, "conformal" or "multilevel".
     parent, parent_t: the sphere with refine_mesh=True: int32 (nv - nv_in, 2) and float64 (nv - nv_in,):
               new vertex nv_in + k lies at (1 - parent_t[k]) X[parent[k, 0]] + parent_t[k] X[parent[k, 1]]
               (a parent may itself be new, with a smaller number); None without refinement.
