@@ -894,7 +894,8 @@ static int multilevel_start_spiky(void) {
 /* The coarse-to-fine start on limbs4, whose coarse mesh's conformal start folds (its limbs squeezed below
  * a double whatever the resolution): the coarse map is made from a Tutte embedding of a few vertices
  * instead (coarse_progressive), so the start is the coarse-to-fine one, not the conformal fallback, and
- * fold-free; the map made from it has 0 folds and the per-face error measured here (0.0739) with margin. */
+ * fold-free; the map made from it (without the polishes) has 0 folds and the per-face error measured
+ * here (0.0886) with margin. */
 static int multilevel_start_limbs4(void) {
   loaded L;
   if (load("limbs4.obj", 1, &L)) return 1;
@@ -912,7 +913,8 @@ static int multilevel_start_limbs4(void) {
   AU_CHECK_INT(mr.levels, >=, 2);
   /* The conformal start squeezes limbs4 to 4.55 (77 folded triangles); this start is far nearer. */
   AU_CHECK_DBL(q.vertex_logr_mean_abs, <=, 1.5);
-  o.start = AU_SPHERE_START_MULTILEVEL;
+  /* Without the polishes, which do not depend on the start and cost most of the time here. */
+  o.start = AU_SPHERE_START_MULTILEVEL, o.vertex_polish = 0;
   au_sphere_report rep;
   const au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &rep, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
@@ -922,7 +924,7 @@ static int multilevel_start_limbs4(void) {
                   (au_msg *)NULL);
   fprintf(stderr, "limbs4 map: %d steps, per-face %.4f, vertex %.4f\n", rep.flow.steps, q.r_mean_abs_dev, q.vertex_logr_mean_abs);
   AU_CHECK_INT(q.folds, ==, 0);
-  AU_CHECK_DBL(q.r_mean_abs_dev, <=, 0.09);
+  AU_CHECK_DBL(q.r_mean_abs_dev, <=, 0.1);
   AU_CHECK_DBL(radius_dev(&L), <=, 1e-12);
   unload(&L);
   return 0;
