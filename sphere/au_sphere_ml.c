@@ -548,14 +548,13 @@ done:
   return st;
 }
 
-/* The coarse start (coarse_tutte) is a Tutte embedding: a conformal map squeezes a limb by e^(-2 pi
- * length / girth) whatever the resolution, so the coarse mesh's conformal start folds where the fine
- * one does (limbs4, hammer, coil, tpose). A Tutte embedding with positive weights of a triangulated disk
- * with a convex boundary folds nowhere (Tutte 1963; Floater 2003), and its squeeze at a few hundred
- * vertices stays far above a double's rounding; the flow then undoes it on the coarse mesh, where a step
- * costs next to nothing. */
-/* Flow steps at most for the coarse map, from the Tutte start (it squeezes limbs as the conformal map
- * does, and the flow needs some 30-60 steps to open them; a coarse step costs a millisecond). */
+/* The progressive coarse map (coarse_progressive): a conformal map squeezes a limb by e^(-2 pi length /
+ * girth) whatever the resolution, so the coarse mesh's conformal start folds where the fine one does
+ * (limbs4, limbs8, coil, hammer, tpose; bunny, hand_closed, airplane and cow at 300 vertices). A Tutte
+ * embedding squeezes a limb the same way (limbs4 at 300 vertices: plane triangles of 1e-35), but of a
+ * tetrahedron, with no limb left, it folds nowhere (Tutte 1963; Floater 2003); the limbs then come back
+ * one vertex at a time, each given room by the flow at its level (docs/coarse-to-fine-coarse-map.md). */
+/* Flow steps at most on the coarse mesh itself (a coarse step costs a millisecond). */
 #define AU_ML_COARSE_STEPS 150
 /* The Tutte map is tried at these many scales (x 2^k about the median radius's, nearest first) before
  * its stereographic image is given up as folded. */
@@ -602,17 +601,19 @@ static int pinned_face(const au_mesh *m) {
   return best;
 }
 
-/* The Tutte start of the coarse mesh m (closed, genus 0) into P (nv x 3, unit vectors): face pinned_face()
- * pinned as an equilateral triangle on the unit circle, every other vertex the mean-value-weighted average
- * of its neighbours (one sparse solve, refined in extended precision: a limb's vertices come out squeezed
- * to ~1e-6 of the map), then the inverse stereographic projection, scaled so that half the vertices lie on
- * each hemisphere, or by the nearest power of 2 of that at which no spherical triangle is turned over (a
- * planar triangle maps to a region bounded by circular arcs, the mesh's triangle is the one through its
- * corners). Returns AU_OK, AU_E_NOMEM, AU_E_FOLD (folded at every scale tried) or the solver's error. */
 static int cmp_double(const void *a, const void *b) {
   const double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
 }
+
+/* The Tutte map of the base mesh m (closed, genus 0, a few vertices) into P (nv x 3, unit vectors): face
+ * pinned_face() pinned as an equilateral triangle on the unit circle, every other vertex the average of
+ * its neighbours (uniform weights: the tetrahedron comes out regular; one sparse solve, refined in
+ * extended precision), then the inverse stereographic projection, scaled so that half the vertices lie
+ * on each hemisphere, or by the nearest power of 2 of that at which no spherical triangle is turned over
+ * (a planar triangle maps to a region bounded by circular arcs, the mesh's triangle is the one through its
+ * corners; the pinned face, the disk's outside, must stay smaller than a hemisphere). Returns AU_OK,
+ * AU_E_NOMEM, AU_E_FOLD (folded at every scale tried) or the solver's error. */
 
 static au_status coarse_tutte(const au_mesh *m, const au_topo *t, double *P, au_msg *msg) {
   const int nv = m->nv, fp = pinned_face(m);
@@ -680,8 +681,9 @@ done:
 }
 
 /* The vertex mean |log r| of the live part of s in P: each vertex's third of its spherical triangles' area
- * over its third of their surface area, both as shares of their totals. */
-static double live_error(const ml_state *s, const double *P) {
+ * over its third of their surface area (times weight[i], the per-vertex density, where not NULL), both as
+ * shares of their totals. */
+static double live_error(const ml_state *s, const double *weight, const double *P) {
   double *cell = calloc(2 * (size_t)s->nv, sizeof(double)), sd = 0, sx = 0, e = 0, wt = 0;
   if (!cell) return INFINITY;
   for (int f = 0; f < s->nf; f++) {
@@ -693,8 +695,13 @@ static double live_error(const ml_state *s, const double *P) {
     for (int k = 0; k < 3; k++) cell[2 * c[k]] += ad / 3, cell[2 * c[k] + 1] += ax / 3;
     sd += ad, sx += ax;
   }
+  if (weight) {
+    sx = 0;
+    for (int i = 0; i < s->nv; i++) cell[2 * i + 1] *= weight[i], sx += s->vdead[i] ? 0 : cell[2 * i + 1];
+  }
   for (int i = 0; i < s->nv; i++)
-    if (!s->vdead[i] && cell[2 * i] > 0 && cell[2 * i + 1] > 0) e += fabs(log((cell[2 * i] / sd) / (cell[2 * i + 1] / sx))), wt++;
+    if (!s->vdead[i] && cell[2 * i] > 0 && cell[2 * i + 1] > 0)
+      e += fabs(log((cell[2 * i] / sd) / (cell[2 * i + 1] / sx))), wt++;
   free(cell);
   return wt > 0 ? e / wt : INFINITY;
 }
@@ -760,10 +767,11 @@ static au_status coarse_conformal(const ml_state *s, const au_sphere_opts *o, do
 }
 
 /* The coarse mesh's map (the live part of s) into P (the other vertices at (0, 0, 1)) where its conformal
- * start folds. The coarse mesh is simplified further, keeping its topology only, to a base of a few vertices (a tetrahedron where the
- * collapses allow), which coarse_tutte maps without a squeeze worth the name (no limb is left to squeeze);
- * the collapses are then undone as the fine ones are (split), with AU_ML_BASE_STEPS flow steps after each
- * level, and the coarse mesh's map is flowed (at most AU_ML_COARSE_STEPS), then polished vertex by vertex.
+ * start folds. The coarse mesh is simplified further, keeping its topology only, to a base of a few
+ * vertices (a tetrahedron where the collapses allow), which coarse_tutte maps without a squeeze worth the
+ * name (no limb is left to squeeze); the collapses are then undone as the fine ones are (split), with
+ * AU_ML_BASE_STEPS flow steps after each level, and the coarse mesh's map is flowed (at most
+ * AU_ML_COARSE_STEPS), then polished vertex by vertex (not with a density, which the polish ignores).
  * The flows are of the spherical areas, with a shear floor that keeps the triangles' shapes. The collapses
  * below the coarse mesh are dropped from s at the end. Returns AU_OK, AU_W_NOT_CONVERGED (the coarse map
  * missed AU_ML_COARSE_GATE), AU_E_FOLD (no room for a vertex, or the base's Tutte map folded),
@@ -792,21 +800,21 @@ static au_status coarse_progressive(ml_state *s, const au_sphere_opts *o, double
     s->nrec = level[L];
     /* The flow is restarted where it stops short of its budget while a run gains (an undone step ends
      * it on these small meshes long before it has converged); each run starts where the last one ended. */
-    double err = live_error(s, P);
+    double err = live_error(s, o->flow.weight, P);
     for (int run = 0, used = 0; st == AU_OK && run < AU_ML_FLOW_RUNS; run++) {
       const int before = *steps;
       st = level_flow(s, o, L > 0 ? AU_ML_BASE_STEPS : AU_ML_COARSE_STEPS - used, P, steps, msg);
       used += *steps - before;
-      const double e1 = live_error(s, P);
+      const double e1 = live_error(s, o->flow.weight, P);
       if (!(e1 < (1 - AU_ML_RUN_GAIN) * err) || e1 <= o->flow.tol || used >= AU_ML_COARSE_STEPS - 1) break;
       err = e1;
     }
   }
   /* The flow stalls on the coarse mesh's few, long limbs (limbs4 at 0.027, limbs8 at 0.091); the vertex
    * polish takes the coarse map on from there (0.010, 0.060) for a fraction of a second. */
-  if (st == AU_OK) st = live_map(s, AU_ML_COARSE_POLISH, o->flow.tol, P, msg);
+  if (st == AU_OK && !o->flow.weight) st = live_map(s, AU_ML_COARSE_POLISH, o->flow.tol, P, msg);
   if (st == AU_OK) {
-    const double err = live_error(s, P);
+    const double err = live_error(s, o->flow.weight, P);
     if (!(err <= AU_ML_COARSE_GATE))
       st = au_msg_set(msg, AU_W_NOT_CONVERGED, "sphere: the coarse map stayed at a vertex error of %.3f", err);
   }
