@@ -13,7 +13,7 @@ if [ $# -eq 0 ]; then
   set -- $S/spot_lowres.obj $S/cow.off $S/spot.obj $S/hippocampus.obj $S/cheburashka.off $S/blub.obj \
     $S/hand_closed.obj $S/maxplanck.obj $S/bunny.obj $S/nefertiti.obj $S/ferret_brain_sim.off $S/armadillo.obj \
     $S/brain.obj $S/lion_statue.obj $S/penguin_hr.obj $S/screwdriver.off $S/airplane.obj \
-    data/limbs4.obj data/limbs8.obj data/tpose.obj data/coil.obj data/hammer.obj
+    data/limbs4.obj data/limbs8.obj data/tpose.obj data/coil.obj data/hammer.obj data/octopus.obj
 fi
 echo "| mesh | F | start | ran | steps | stages | per-face | vertex | folds | total s |"
 echo "|---|---:|---|---|---:|---|---:|---:|---:|---:|"

@@ -607,9 +607,26 @@ static void make_hammer(mesh *m) {
   straight_limb(m, &head, down, 6, 30, 1.0);
 }
 
+/* A unit ball with twelve long legs of girth 6, 10 to 25 diameters, straight out along the directions of an
+ * icosahedron's vertices: every leg squeezed far past a double by a conformal map, on the coarse mesh as on
+ * the fine one (coarse-to-fine start, issue 39). */
+static void make_octopus(mesh *m) {
+  const double c[3] = {0, 0, 0}, ax[3] = {1, 1, 1}, g = (1 + sqrt(5.0)) / 2;
+  blob b = add_blob(m, 3, c, ax);
+  /* The icosahedron's vertices (0, +-1, +-g) and their cyclic permutations, turned a little so that no
+   * leg leaves through a vertex of the blob's own icosahedron. */
+  for (int k = 0; k < 12; k++) {
+    const double s1 = k & 1 ? -1 : 1, s2 = k & 2 ? -1 : 1, v[3] = {0, s1, s2 * g};
+    const int r = k / 4;
+    double dir[3] = {v[(3 - r) % 3], v[(4 - r) % 3], v[(5 - r) % 3]};
+    dir[0] += 0.21, dir[1] += 0.13;
+    straight_limb(m, &b, dir, 6, 10 + 15.0 * k / 11, 1.0);
+  }
+}
+
 int main(int argc, char **argv) {
   if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
-    printf("usage: au_mklimbs DIR\nwrites limbs4.obj, limbs8.obj, tpose.obj, coil.obj and hammer.obj into DIR (see data/README.md)\n");
+    printf("usage: au_mklimbs DIR\nwrites limbs4.obj, limbs8.obj, tpose.obj, coil.obj, hammer.obj and octopus.obj into DIR (see data/README.md)\n");
     return 0;
   }
   if (argc == 2 && !strcmp(argv[1], "--version")) {
@@ -631,6 +648,8 @@ int main(int argc, char **argv) {
        make_coil},
       {"hammer", "ellipsoidal head on a handle of girth 6 and 30 diameters (coarse-to-fine start, issue 39)",
        make_hammer},
+      {"octopus", "unit ball, twelve legs of girth 6 and 10-25 diameters (coarse-to-fine start, issue 39)",
+       make_octopus},
   };
   int status = 0;
   for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++) {

@@ -74,12 +74,14 @@ typedef struct au_sphere_ml_report {
 } au_sphere_ml_report;
 
 /* The coarse-to-fine start: the mesh simplified by half-edge collapses (topology kept) to about
- * o->ml.coarse_vertices vertices, mapped by au_sphere_map (conformal start, o's flow and rescues), then
+ * o->ml.coarse_vertices vertices, mapped by au_sphere_map (conformal start, o's flow and rescues; where that
+ * start folds, from a Tutte embedding of a further simplification to a tetrahedron, re-inserted), then
  * the collapses undone in reverse order, each vertex placed strictly inside the kernel of its ring on
  * the sphere, with o->ml.level_steps flow steps after each level but the finest (sphere/au_sphere_ml.c).
  * P: out, nv x 3 unit vectors, fold-free. rep may be NULL. Not with flow.face_weight (AU_E_ARG); a
  * flow.weight is followed from the first level on. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED,
- * AU_E_FOLD (a ring's kernel was empty to rounding), or the coarse map's error. */
+ * AU_E_FOLD (a ring's kernel was empty to rounding), AU_W_NOT_CONVERGED (the coarse map stayed far from
+ * equal area: vertex error above 0.1 on every coarse mesh tried), or the coarse map's error. */
 au_status au_sphere_multilevel(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
                                au_sphere_ml_report *rep, au_msg *msg);
 

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "au_dec.h"
+#include "au_solver.h"
 #include "au_sphere.h"
 
 /* Each level has at least this many times the vertices of the one before. */
@@ -82,6 +83,7 @@ typedef struct ml_state {
   ml_rec *rec;
   int nrec, caprec;
   ivec mods;
+  int topo_only;       /* 1: collapses keep the topology only (coarse_map's levels below the coarse mesh) */
 } ml_state;
 
 static void sub3(const double *a, const double *b, double *d) { d[0] = a[0] - b[0], d[1] = a[1] - b[1], d[2] = a[2] - b[2]; }
@@ -138,7 +140,7 @@ static int try_collapse(ml_state *s, int u, int v) {
     }
   if (shared != 2) return 0;
   /* The surface's faces keep their sides. */
-  for (int i = 0; i < fu->n; i++) {
+  for (int i = 0; i < fu->n && !s->topo_only; i++) {
     const int *c = s->F + 3 * fu->a[i];
     if (c[0] == v || c[1] == v || c[2] == v) continue;
     double n0[3], n1[3];
@@ -199,7 +201,7 @@ static int simplify(ml_state *s, int nlive, int target, int *level, int *nlevel)
   unsigned char *touched = calloc((size_t)s->nv, 1);
   int *count = malloc(sizeof(int) * 256), *at = malloc(sizeof(int) * 256), nround = 0, ret = 0;
   if (!E || !touched || !count || !at) ret = -1;
-  count[0] = nlive, at[0] = 0;
+  count[0] = nlive, at[0] = s->nrec;
   while (ret == 0 && nlive > target && nround < 255) {
     int ne = 0;
     for (int f = 0; f < s->nf; f++) {
@@ -546,10 +548,195 @@ done:
   return st;
 }
 
-/* The coarse mesh's map (the live part of s) into P (the other vertices at (0, 0, 1)): the sphere pipeline
- * from the conformal start, as a start only: the spherical areas (a coarse triangle's chord runs far
+/* The progressive coarse map (coarse_progressive): a conformal map squeezes a limb by e^(-2 pi length /
+ * girth) whatever the resolution, so the coarse mesh's conformal start folds where the fine one does
+ * (limbs4, limbs8, coil, hammer, tpose; bunny, hand_closed, airplane and cow at 300 vertices). A Tutte
+ * embedding squeezes a limb the same way (limbs4 at 300 vertices: plane triangles of 1e-35), but of a
+ * tetrahedron, with no limb left, it folds nowhere (Tutte 1963; Floater 2003); the limbs then come back
+ * one vertex at a time, each given room by the flow at its level (docs/coarse-to-fine-coarse-map.md). */
+/* Flow steps at most on the coarse mesh itself (a coarse step costs a millisecond). */
+#define AU_ML_COARSE_STEPS 150
+/* The Tutte map is tried at these many scales (x 2^k about the median radius's, nearest first) before
+ * its stereographic image is given up as folded. */
+#define AU_ML_TUTTE_SCALES 13
+/* The coarse mesh is simplified further, keeping its topology only, down to this many vertices, and mapped
+ * from there (coarse_map). */
+#define AU_ML_BASE_VERTICES 4
+/* Flow steps after each level below the coarse mesh (a step there costs next to nothing). */
+#define AU_ML_BASE_STEPS 10
+/* Runs of the flow per level below and at the coarse mesh at most (coarse_map). */
+#define AU_ML_FLOW_RUNS 8
+/* ... while a run lowers the vertex error by this fraction. */
+#define AU_ML_RUN_GAIN 0.02
+/* coarse_progressive's map is given up above this vertex error (spherical triangles): from a coarse map that
+ * far from equal area the map ends worse than from the conformal start (data/tpose.obj: coarse map at
+ * 0.24 without the polish, the final map's vertex error 1.01 against 0.19; limbs8's coarse map at 0.060
+ * ends as from the conformal start). */
+#define AU_ML_COARSE_GATE 0.1
+/* Sweeps of the vertex polish (au_sphere_vertex_polish, spherical triangles) of the coarse map at most. */
+#define AU_ML_COARSE_POLISH 200
+
+/* The face to pin as the Tutte embedding's outer triangle: the one whose centre is nearest the surface's
+ * area centroid (a body's face, not a limb's: the limbs the pinned face is not on are the ones squeezed,
+ * and the body holds the most surface). */
+static int pinned_face(const au_mesh *m) {
+  double c[3] = {0, 0, 0}, at = 0;
+  for (int f = 0; f < m->nf; f++) {
+    double n[3];
+    face_normal(m->X, m->F[3 * f], m->F[3 * f + 1], m->F[3 * f + 2], n);
+    const double a = sqrt(dot3(n, n));
+    for (int k = 0; k < 3; k++)
+      for (int d = 0; d < 3; d++) c[d] += a * m->X[3 * m->F[3 * f + k] + d] / 3;
+    at += a;
+  }
+  for (int d = 0; d < 3; d++) c[d] = at > 0 ? c[d] / at : 0;
+  int best = 0;
+  double bd = INFINITY;
+  for (int f = 0; f < m->nf; f++) {
+    double g[3];
+    for (int d = 0; d < 3; d++)
+      g[d] = (m->X[3 * m->F[3 * f] + d] + m->X[3 * m->F[3 * f + 1] + d] + m->X[3 * m->F[3 * f + 2] + d]) / 3 - c[d];
+    if (dot3(g, g) < bd) bd = dot3(g, g), best = f;
+  }
+  return best;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  const double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* The Tutte map of the base mesh m (closed, genus 0, a few vertices) into P (nv x 3, unit vectors): face
+ * pinned_face() pinned as an equilateral triangle on the unit circle, every other vertex the average of
+ * its neighbours (uniform weights: the tetrahedron comes out regular; one sparse solve, refined in
+ * extended precision), then the inverse stereographic projection, scaled so that half the vertices lie
+ * on each hemisphere, or by the nearest power of 2 of that at which no spherical triangle is turned over
+ * (a planar triangle maps to a region bounded by circular arcs, the mesh's triangle is the one through its
+ * corners; the pinned face, the disk's outside, must stay smaller than a hemisphere). Returns AU_OK,
+ * AU_E_NOMEM, AU_E_FOLD (folded at every scale tried) or the solver's error. */
+
+static au_status coarse_tutte(const au_mesh *m, const au_topo *t, double *P, au_msg *msg) {
+  const int nv = m->nv, fp = pinned_face(m);
+  double *w = malloc(sizeof(double) * (size_t)t->ne), *x = calloc(2 * (size_t)nv, sizeof(double));
+  double *b = calloc(2 * (size_t)nv, sizeof(double)), *dx = malloc(sizeof(double) * 2 * (size_t)nv);
+  double *rad = malloc(sizeof(double) * (size_t)nv);
+  long double *xx = malloc(sizeof(long double) * 2 * (size_t)nv), *res = malloc(sizeof(long double) * 2 * (size_t)nv);
+  unsigned char *fixed = calloc((size_t)nv, 1);
+  au_solver *solver = NULL;
+  au_status st = AU_OK;
+  if (!w || !x || !b || !dx || !rad || !xx || !res || !fixed) {
+    st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+    goto done;
+  }
+  for (int e = 0; e < t->ne; e++) w[e] = 1;
+  /* The pinned face is the disk's outside: its corners go round clockwise. */
+  for (int k = 0; k < 3; k++) {
+    const int i = m->F[3 * fp + k];
+    const double ang = M_PI / 2 - 2 * M_PI * k / 3;
+    fixed[i] = 1, x[i] = cos(ang), x[nv + i] = sin(ang);
+  }
+  st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &solver, msg);
+  if (st == AU_OK) st = au_solver_factor(solver, w, NULL, msg);
+  if (st == AU_OK) st = au_solver_solve(solver, 2, b, x, msg);
+  for (int i = 0; i < 2 * nv; i++) xx[i] = x[i];
+  /* Iterative refinement: the free rows' residuals in extended precision, corrections by the factor. */
+  for (int it = 0; it < 3 && st == AU_OK; it++) {
+    for (int i = 0; i < 2 * nv; i++) res[i] = 0, dx[i] = 0;
+    for (int e = 0; e < t->ne; e++) {
+      const int i = t->E[2 * e], j = t->E[2 * e + 1];
+      for (int c = 0; c < 2; c++) {
+        const long double d = (long double)w[e] * (xx[c * nv + i] - xx[c * nv + j]);
+        res[c * nv + i] -= d, res[c * nv + j] += d;
+      }
+    }
+    for (int i = 0; i < 2 * nv; i++) b[i] = (double)res[i];
+    st = au_solver_solve(solver, 2, b, dx, msg);
+    for (int i = 0; st == AU_OK && i < nv; i++)
+      if (!fixed[i]) xx[i] += dx[i], xx[nv + i] += dx[nv + i];
+  }
+  if (st != AU_OK) goto done;
+  int n = 0;
+  for (int i = 0; i < nv; i++) rad[n++] = (double)sqrtl(xx[i] * xx[i] + xx[nv + i] * xx[nv + i]);
+  qsort(rad, (size_t)n, sizeof(double), cmp_double);
+  const double s0 = rad[n / 2] > 1e-3 ? 1 / rad[n / 2] : 1;
+  int folds = m->nf;
+  for (int k = 0; k < AU_ML_TUTTE_SCALES && folds > 0; k++) {
+    /* Scales 2^0, 2^1, 2^-1, 2^2, ... times s0. */
+    const long double s = (long double)s0 * powl(2, (k + 1) / 2 * (k % 2 ? 1 : -1));
+    for (int i = 0; i < nv; i++) {
+      /* v is reflected: the projection turns the plane's counter-clockwise over on the outward sphere. */
+      const long double u = s * xx[i], v = -s * xx[nv + i], r2 = u * u + v * v;
+      P[3 * i] = (double)(2 * u / (1 + r2)), P[3 * i + 1] = (double)(2 * v / (1 + r2));
+      P[3 * i + 2] = (double)((r2 - 1) / (r2 + 1));
+    }
+    folds = 0;
+    for (int f = 0; f < m->nf; f++)
+      folds += !(au_dec_sphere_orient(P + 3 * m->F[3 * f], P + 3 * m->F[3 * f + 1], P + 3 * m->F[3 * f + 2]) > 0);
+  }
+  if (folds > 0) st = au_msg_set(msg, AU_E_FOLD, "sphere: the coarse Tutte map has %d folded triangles", folds);
+done:
+  au_solver_free(&solver);
+  free(w), free(x), free(b), free(dx), free(rad), free(xx), free(res), free(fixed);
+  return st;
+}
+
+/* The vertex mean |log r| of the live part of s in P: each vertex's third of its spherical triangles' area
+ * over its third of their surface area (times weight[i], the per-vertex density, where not NULL), both as
+ * shares of their totals. */
+static double live_error(const ml_state *s, const double *weight, const double *P) {
+  double *cell = calloc(2 * (size_t)s->nv, sizeof(double)), sd = 0, sx = 0, e = 0, wt = 0;
+  if (!cell) return INFINITY;
+  for (int f = 0; f < s->nf; f++) {
+    if (s->fdead[f]) continue;
+    const int *c = s->F + 3 * f;
+    double n[3];
+    face_normal(s->X, c[0], c[1], c[2], n);
+    const double ax = 0.5 * sqrt(dot3(n, n)), ad = au_dec_sphere_area(P + 3 * c[0], P + 3 * c[1], P + 3 * c[2], NULL);
+    for (int k = 0; k < 3; k++) cell[2 * c[k]] += ad / 3, cell[2 * c[k] + 1] += ax / 3;
+    sd += ad, sx += ax;
+  }
+  if (weight) {
+    sx = 0;
+    for (int i = 0; i < s->nv; i++) cell[2 * i + 1] *= weight[i], sx += s->vdead[i] ? 0 : cell[2 * i + 1];
+  }
+  for (int i = 0; i < s->nv; i++)
+    if (!s->vdead[i] && cell[2 * i] > 0 && cell[2 * i + 1] > 0)
+      e += fabs(log((cell[2 * i] / sd) / (cell[2 * i + 1] / sx))), wt++;
+  free(cell);
+  return wt > 0 ? e / wt : INFINITY;
+}
+
+/* On the live part of s: its map by coarse_tutte into P (the other vertices at (0, 0, 1)), or, with
+ * polish > 0, at most that many sweeps of the vertex polish of its spherical triangles on P (in, out). */
+static au_status live_map(const ml_state *s, int polish, double tol, double *P, au_msg *msg) {
+  au_mesh sub = {0};
+  au_topo *tc = NULL;
+  int *vmap = malloc(sizeof(int) * (size_t)s->nv), *vold = malloc(sizeof(int) * (size_t)s->nv);
+  double *Pc = NULL;
+  au_status st = AU_OK;
+  if (!vmap || !vold || extract(s, &sub, vmap, vold) < 0 || !(Pc = malloc(sizeof(double) * 3 * (size_t)sub.nv)))
+    st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+  if (st == AU_OK) st = au_mesh_topology(&sub, &tc, msg);
+  if (st == AU_OK && polish > 0) {
+    for (int i = 0; i < sub.nv; i++) memcpy(Pc + 3 * i, P + 3 * vold[i], sizeof(double) * 3);
+    au_polish_opts po = {polish, 1, tol, NULL, 1};
+    st = au_sphere_vertex_polish(&sub, tc, NULL, Pc, &po, NULL, msg);
+  } else if (st == AU_OK) {
+    st = coarse_tutte(&sub, tc, Pc, msg);
+    if (st == AU_OK)
+      for (int i = 0; i < s->nv; i++) P[3 * i] = 0, P[3 * i + 1] = 0, P[3 * i + 2] = 1;
+  }
+  if (st == AU_OK)
+    for (int i = 0; i < sub.nv; i++) memcpy(P + 3 * vold[i], Pc + 3 * i, sizeof(double) * 3);
+  au_topo_free(&tc);
+  free(sub.X), free(sub.F), free(vmap), free(vold), free(Pc);
+  return st;
+}
+
+/* The coarse mesh's map (the live part of s) into P (the other vertices at (0, 0, 1)) from the conformal
+ * start: the sphere pipeline, as a start only: the spherical areas (a coarse triangle's chord runs far
  * beneath it), no lantern or staged retry nor polish, and a shear floor that keeps the triangles' shapes. */
-static au_status coarse_map(const ml_state *s, const au_sphere_opts *o, double *P, int *steps, au_msg *msg) {
+static au_status coarse_conformal(const ml_state *s, const au_sphere_opts *o, double *P, int *steps, au_msg *msg) {
   au_mesh sub = {0};
   au_topo *tc = NULL;
   int *vmap = malloc(sizeof(int) * (size_t)s->nv), *vold = malloc(sizeof(int) * (size_t)s->nv);
@@ -576,6 +763,74 @@ static au_status coarse_map(const ml_state *s, const au_sphere_opts *o, double *
   }
   au_topo_free(&tc);
   free(sub.X), free(sub.F), free(vmap), free(vold), free(Pc), free(cr);
+  return st;
+}
+
+/* The coarse mesh's map (the live part of s) into P (the other vertices at (0, 0, 1)) where its conformal
+ * start folds. The coarse mesh is simplified further, keeping its topology only, to a base of a few
+ * vertices (a tetrahedron where the collapses allow), which coarse_tutte maps without a squeeze worth the
+ * name (no limb is left to squeeze); the collapses are then undone as the fine ones are (split), with
+ * AU_ML_BASE_STEPS flow steps after each level, and the coarse mesh's map is flowed (at most
+ * AU_ML_COARSE_STEPS), then polished vertex by vertex (not with a density, which the polish ignores).
+ * The flows are of the spherical areas, with a shear floor that keeps the triangles' shapes. The collapses
+ * below the coarse mesh are dropped from s at the end. Returns AU_OK, AU_W_NOT_CONVERGED (the coarse map
+ * missed AU_ML_COARSE_GATE), AU_E_FOLD (no room for a vertex, or the base's Tutte map folded),
+ * AU_E_NOMEM, or the flow's error. */
+static au_status coarse_progressive(ml_state *s, const au_sphere_opts *o, double *P, int *steps, au_msg *msg) {
+  const int n0 = s->nrec;
+  int nlive = 0, level[64], nlevel = 0;
+  for (int i = 0; i < s->nv; i++) nlive += !s->vdead[i];
+  s->topo_only = 1;
+  const int e = simplify(s, nlive, AU_ML_BASE_VERTICES, level, &nlevel);
+  s->topo_only = 0;
+  if (e < 0) return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+  *steps = 0;
+  au_status st = live_map(s, 0, 0, P, msg);
+  if (st == AU_OK) st = level_flow(s, o, AU_ML_BASE_STEPS, P, steps, msg);
+  for (int L = nlevel - 2; st == AU_OK && L >= 0; L--) {
+    for (int i = s->nrec - 1; i >= level[L]; i--) {
+      const int r = split(s, &s->rec[i], P);
+      if (r < 0) {
+        st = r == -1 ? au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory")
+                     : au_msg_set(msg, AU_E_FOLD, "sphere: the coarse map found no room for vertex %d", s->rec[i].u);
+        break;
+      }
+    }
+    if (st != AU_OK) break;
+    s->nrec = level[L];
+    /* The flow is restarted where it stops short of its budget while a run gains (an undone step ends
+     * it on these small meshes long before it has converged); each run starts where the last one ended. */
+    double err = live_error(s, o->flow.weight, P);
+    for (int run = 0, used = 0; st == AU_OK && run < AU_ML_FLOW_RUNS; run++) {
+      const int before = *steps;
+      st = level_flow(s, o, L > 0 ? AU_ML_BASE_STEPS : AU_ML_COARSE_STEPS - used, P, steps, msg);
+      used += *steps - before;
+      const double e1 = live_error(s, o->flow.weight, P);
+      if (!(e1 < (1 - AU_ML_RUN_GAIN) * err) || e1 <= o->flow.tol || used >= AU_ML_COARSE_STEPS - 1) break;
+      err = e1;
+    }
+  }
+  /* The flow stalls on the coarse mesh's few, long limbs (limbs4 at 0.027, limbs8 at 0.091); the vertex
+   * polish takes the coarse map on from there (0.010, 0.060) for a fraction of a second. */
+  if (st == AU_OK && !o->flow.weight) st = live_map(s, AU_ML_COARSE_POLISH, o->flow.tol, P, msg);
+  if (st == AU_OK) {
+    const double err = live_error(s, o->flow.weight, P);
+    if (!(err <= AU_ML_COARSE_GATE))
+      st = au_msg_set(msg, AU_W_NOT_CONVERGED, "sphere: the coarse map stayed at a vertex error of %.3f", err);
+  }
+  /* On failure, the coarse mesh is restored for the caller's next try. */
+  for (int i = s->nrec - 1; i >= n0; i--)
+    if (unsplit(s, &s->rec[i]) < 0) return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+  s->nrec = n0;
+  return st;
+}
+
+/* The coarse mesh's map (the live part of s) into P: from the conformal start (coarse_conformal), or where
+ * that folds (a limb squeezed below a double's rounding: the squeeze depends on the shape, not on the
+ * resolution), coarse_progressive's. */
+static au_status coarse_map(ml_state *s, const au_sphere_opts *o, double *P, int *steps, au_msg *msg) {
+  au_status st = coarse_conformal(s, o, P, steps, msg);
+  if (st == AU_E_FOLD) st = coarse_progressive(s, o, P, steps, msg);
   return st;
 }
 
@@ -607,7 +862,7 @@ au_status au_sphere_multilevel(const au_mesh *m, const au_topo *t, const au_sphe
   int top = nlevel - 1;
   for (int tries = 0;; tries++) {
     st = coarse_map(&s, o, P, &rep->coarse_steps, msg);
-    if (st != AU_E_FOLD || tries + 1 >= AU_ML_COARSE_TRIES || top <= 1) break;
+    if ((st != AU_E_FOLD && st != AU_W_NOT_CONVERGED) || tries + 1 >= AU_ML_COARSE_TRIES || top <= 1) break;
     top--;
     for (int i = s.nrec - 1; i >= level[top]; i--)
       if (unsplit(&s, &s.rec[i]) < 0) goto nomem;
