@@ -195,47 +195,108 @@ static void turn_footprint(const footprint *a, int k, footprint *b) {
     }
 }
 
+/* A footprint in one quarter turn as runs of cells: row j (of h) holds the runs run[2r], run[2r+1]
+ * (first and last cell) for r in rs[j] .. rs[j+1]-1. */
+typedef struct runs {
+  int w, h;
+  int *rs, *run;
+  int *longest; /* longest [0..h-1]: the longest run of each row */
+} runs;
+
+/* The runs of b (rs: b->h + 1 entries, run: two per run; both large enough). Returns the number of runs. */
+static int footprint_runs(const footprint *b, runs *r) {
+  int n = 0;
+  r->w = b->w, r->h = b->h;
+  for (int j = 0; j < b->h; j++) {
+    r->rs[j] = n, r->longest[j] = 0;
+    const unsigned char *row = b->bit + (size_t)j * b->w;
+    for (int i = 0; i < b->w; i++) {
+      if (!row[i] || (i > 0 && row[i - 1])) continue;
+      int e = i;
+      while (e + 1 < b->w && row[e + 1]) e++;
+      r->run[2 * n] = i, r->run[2 * n + 1] = e, n++;
+      if (e - i + 1 > r->longest[j]) r->longest[j] = e - i + 1;
+    }
+  }
+  r->rs[b->h] = n;
+  return n;
+}
+
+/* The first occupied cell of an occupancy row (nw words) in [lo, hi], or -1. */
+static int first_set(const uint64_t *row, int lo, int hi) {
+  for (int q = lo >> 6; q <= hi >> 6; q++) {
+    uint64_t wd = row[q];
+    if (q == lo >> 6) wd &= ~(uint64_t)0 << (lo & 63);
+    if (q == hi >> 6 && (hi & 63) != 63) wd &= ((uint64_t)1 << ((hi & 63) + 1)) - 1;
+    if (wd) return 64 * q + __builtin_ctzll(wd);
+  }
+  return -1;
+}
+
 /* Bottom-left packing of the charts' footprints on a G x G grid of occupied cells (occ: G rows of nw
  * 64-bit words), in the order ord: each chart goes, in the quarter turn that leaves its top lowest, to the
  * lowest, then leftmost, cells where its footprint meets no occupied cell, so a chart may nest in the
- * hollows of the ones below it. tmp holds a turned footprint, rows its rows as words. Returns 1 if all fit,
- * with each chart's turn and lower-left cell in (turn, px, py) when they are given. */
-static int grid_pack(int nch, const int *ord, const footprint *fp, int G, uint64_t *occ, unsigned char *tmp,
-                     uint64_t *rows, int *turn, int *px, int *py) {
+ * hollows of the ones below it. rt[4 ch + k]: chart ch's footprint in k quarter turns, as runs. A row of
+ * the grid is scanned left to right by runs: when a run of the footprint meets an occupied cell p, every
+ * position up to the one that puts the run just right of p meets it too, so the scan jumps there. Returns
+ * 1 if all fit, with each chart's turn and lower-left cell in (turn, px, py). */
+static int grid_pack(int nch, const int *ord, const runs *rt, int G, uint64_t *occ, int *freerun, int *turn, int *px,
+                     int *py) {
   const int nw = (G + 63) / 64;
   memset(occ, 0, (size_t)G * nw * sizeof *occ);
+  for (int j = 0; j < G; j++) freerun[j] = G;
   for (int n = 0; n < nch; n++) {
     int ch = ord[n], bestk = -1, bestx = 0, besty = 0, besttop = INT_MAX;
     for (int k = 0; k < 4; k++) {
-      footprint b = {0, 0, tmp};
-      turn_footprint(&fp[ch], k, &b);
-      if (b.w > G || b.h > G) continue;
-      int rw = (b.w + 63) / 64;
-      memset(rows, 0, (size_t)b.h * rw * sizeof *rows);
-      for (int j = 0; j < b.h; j++)
-        for (int i = 0; i < b.w; i++)
-          if (b.bit[(size_t)j * b.w + i]) rows[(size_t)j * rw + i / 64] |= (uint64_t)1 << (i % 64);
-      int found = 0;
-      for (int y = 0; y + b.h <= G && y + b.h < besttop && !found; y++)
-        for (int x = 0; x + b.w <= G && !found; x++) {
-          int sh = x & 63, o = x >> 6, hit = 0;
-          for (int j = 0; j < b.h && !hit; j++) {
-            const uint64_t *r = rows + (size_t)j * rw, *g = occ + (size_t)(y + j) * nw + o;
-            for (int q = 0; q < rw && !hit; q++) {
-              if (g[q] & (r[q] << sh)) hit = 1;
-              else if (sh && o + q + 1 < nw && (g[q + 1] & (r[q] >> (64 - sh)))) hit = 1;
+      const runs *b = &rt[4 * ch + k];
+      if (b->w > G || b->h > G) continue;
+      int found = 0, jhit = 0;
+      for (int y = 0; y + b->h <= G && y + b->h < besttop && !found; y++) {
+        /* A row of the grid whose longest free run is shorter than the footprint's longest run in that row
+         * rules the position out at once. */
+        int x = 0, jr = jhit;
+        if (freerun[y + jr] < b->longest[jr]) continue;
+        for (jr = 0; jr < b->h && freerun[y + jr] >= b->longest[jr]; jr++) {
+        }
+        if (jr < b->h) {
+          jhit = jr;
+          continue;
+        }
+        while (x + b->w <= G) {
+          /* The row that stopped the last position first: it is the likeliest to stop this one too. */
+          int hit = 0;
+          for (int jj = 0; jj < b->h && !hit; jj++) {
+            int j = (jj + jhit) % b->h;
+            const uint64_t *g = occ + (size_t)(y + j) * nw;
+            for (int r = b->rs[j]; r < b->rs[j + 1]; r++) {
+              int p = first_set(g, x + b->run[2 * r], x + b->run[2 * r + 1]);
+              if (p >= 0) {
+                x = p - b->run[2 * r] + 1, hit = 1, jhit = j;
+                break;
+              }
             }
           }
-          if (!hit) found = 1, besttop = y + b.h, bestk = k, bestx = x, besty = y;
+          if (!hit) {
+            found = 1, besttop = y + b->h, bestk = k, bestx = x, besty = y;
+            break;
+          }
         }
+      }
     }
     if (bestk < 0) return 0;
-    footprint b = {0, 0, tmp};
-    turn_footprint(&fp[ch], bestk, &b);
-    for (int j = 0; j < b.h; j++)
-      for (int i = 0; i < b.w; i++)
-        if (b.bit[(size_t)j * b.w + i]) occ[(size_t)(besty + j) * nw + (bestx + i) / 64] |= (uint64_t)1 << ((bestx + i) % 64);
-    if (turn) turn[ch] = bestk, px[ch] = bestx, py[ch] = besty;
+    const runs *b = &rt[4 * ch + bestk];
+    for (int j = 0; j < b->h; j++) {
+      uint64_t *g = occ + (size_t)(besty + j) * nw;
+      for (int r = b->rs[j]; r < b->rs[j + 1]; r++)
+        for (int i = bestx + b->run[2 * r]; i <= bestx + b->run[2 * r + 1]; i++) g[i >> 6] |= (uint64_t)1 << (i & 63);
+      int longest = 0, len = 0;
+      for (int i = 0; i < G; i++) {
+        len = g[i >> 6] >> (i & 63) & 1 ? 0 : len + 1;
+        if (len > longest) longest = len;
+      }
+      freerun[besty + j] = longest;
+    }
+    turn[ch] = bestk, px[ch] = bestx, py[ch] = besty;
   }
   return 1;
 }
@@ -260,12 +321,15 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
   if (nch <= 0 || G < 8) return AU_OK;
   int *fstart = calloc((size_t)nch + 1, sizeof *fstart), *flist = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *flist);
   int *ord = malloc((size_t)nch * sizeof *ord);
-  uint64_t *occ = malloc((size_t)G * ((G + 63) / 64) * sizeof *occ), *rows = NULL;
+  uint64_t *occ = malloc((size_t)G * ((G + 63) / 64) * sizeof *occ);
   double *area = calloc((size_t)nch, sizeof *area);
   footprint *fp = calloc((size_t)nch, sizeof *fp);
+  runs *rt = calloc(4 * (size_t)nch, sizeof *rt);
+  int *tturn = malloc(3 * (size_t)nch * sizeof *tturn), *tpx = tturn ? tturn + nch : NULL, *tpy = tturn ? tturn + 2 * nch : NULL;
+  int *freerun = malloc((size_t)G * sizeof *freerun);
   au_status st = AU_OK;
   unsigned char *tmp = NULL;
-  if (!fstart || !flist || !ord || !occ || !area || !fp) {
+  if (!fstart || !flist || !ord || !occ || !area || !fp || !rt || !tturn || !freerun) {
     st = AU_E_NOMEM;
     goto done;
   }
@@ -316,9 +380,12 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
           int i0 = (int)floor(fmin(x[0], fmin(x[1], x[2]))), i1 = (int)floor(fmax(x[0], fmax(x[1], x[2])));
           int j0 = (int)floor(fmin(y[0], fmin(y[1], y[2]))), j1 = (int)floor(fmax(y[0], fmax(y[1], y[2])));
           i0 = i0 < 0 ? 0 : i0, j0 = j0 < 0 ? 0 : j0, i1 = i1 > p->w - 2 ? p->w - 2 : i1, j1 = j1 > p->h - 2 ? p->h - 2 : j1;
+          /* A face within one row or column of cells touches every cell of its box (it is connected and
+           * spans the box); only a larger box needs the cell test. */
+          int thin = i0 == i1 || j0 == j1;
           for (int j = j0; j <= j1; j++)
             for (int i = i0; i <= i1; i++)
-              if (!p->bit[(size_t)j * p->w + i] && tri_cell(x, y, i, j)) p->bit[(size_t)j * p->w + i] = 1;
+              if (!p->bit[(size_t)j * p->w + i] && (thin || tri_cell(x, y, i, j))) p->bit[(size_t)j * p->w + i] = 1;
         }
         /* Grown by one cell up and to the right (top rows first, so a grown cell does not grow again). */
         for (int j = p->h - 1; j >= 0; j--)
@@ -329,16 +396,34 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
               if (l || d || ld) p->bit[(size_t)j * p->w + i] = 2;
             }
       }
-      free(tmp), free(rows);
-      tmp = malloc(maxcells), rows = malloc((maxcells / 64 + 2 * (size_t)G + 2) * sizeof *rows);
-      if (!tmp || !rows) {
+      /* Each footprint in its four quarter turns, as runs of cells. */
+      free(tmp);
+      if (!(tmp = malloc(maxcells))) {
         st = AU_E_NOMEM;
         goto done;
       }
-      fits = grid_pack(nch, ord, fp, G, occ, tmp, rows, NULL, NULL, NULL);
+      for (int ch = 0; ch < nch && st == AU_OK; ch++)
+        for (int k = 0; k < 4; k++) {
+          runs *r = &rt[4 * ch + k];
+          footprint b = {0, 0, tmp};
+          turn_footprint(&fp[ch], k, &b);
+          free(r->rs), free(r->run);
+          r->rs = malloc((2 * (size_t)b.h + 1) * sizeof *r->rs), r->run = malloc((2 * maxcells + 2) * sizeof *r->run);
+          if (!r->rs || !r->run) {
+            st = AU_E_NOMEM;
+            break;
+          }
+          r->longest = r->rs + b.h + 1;
+          int nr = footprint_runs(&b, r);
+          int *shrunk = realloc(r->run, (2 * (size_t)nr + 1) * sizeof *r->run);
+          if (shrunk) r->run = shrunk;
+        }
+      if (st != AU_OK) goto done;
+      fits = grid_pack(nch, ord, rt, G, occ, freerun, tturn, tpx, tpy);
     }
     if (fits) {
-      grid_pack(nch, ord, fp, G, occ, tmp, rows, turn, px, py);
+      memcpy(turn, tturn, (size_t)nch * sizeof *turn), memcpy(px, tpx, (size_t)nch * sizeof *px);
+      memcpy(py, tpy, (size_t)nch * sizeof *py);
       lo = sc, *s = sc;
     } else {
       hi = sc;
@@ -347,7 +432,9 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
 done:
   if (fp)
     for (int ch = 0; ch < nch; ch++) free(fp[ch].bit);
-  free(fstart), free(flist), free(ord), free(occ), free(area), free(fp), free(tmp), free(rows);
+  if (rt)
+    for (int i = 0; i < 4 * nch; i++) free(rt[i].rs), free(rt[i].run);
+  free(fstart), free(flist), free(ord), free(occ), free(area), free(fp), free(tmp), free(rt), free(tturn), free(freerun);
   return st;
 }
 
@@ -375,7 +462,10 @@ static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt,
     for (int q = 0; q < nvt; q++) {
       int ch = vchart[q];
       double x = ca * vt[2 * q] - sa * vt[2 * q + 1], y = sa * vt[2 * q] + ca * vt[2 * q + 1];
-      lox[ch] = fmin(lox[ch], x), hix[ch] = fmax(hix[ch], x), loy[ch] = fmin(loy[ch], y), hiy[ch] = fmax(hiy[ch], y);
+      if (x < lox[ch]) lox[ch] = x;
+      if (x > hix[ch]) hix[ch] = x;
+      if (y < loy[ch]) loy[ch] = y;
+      if (y > hiy[ch]) hiy[ch] = y;
     }
     for (int ch = 0; ch < nch; ch++) {
       double ar = (hix[ch] - lox[ch]) * (hiy[ch] - loy[ch]);
@@ -605,20 +695,24 @@ static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, c
   }
 }
 
-/* When a chart's longer side exceeds AU_ATLAS_LONG times the square root of the atlas's area (at the scale
- * that covers half of the square it would span more than 0.35 of its side: long ragged charts leave space
- * that no other chart fills), cut the
- * longest such chart in two between the faces at the two ends of that side (race_cut). Returns 1 if a chart
- * was cut, 0 if none, -1 when out of memory. */
+/* Every chart whose longer side exceeds AU_ATLAS_LONG times the square root of the atlas's area (at the
+ * scale that covers half of the square it would span more than 0.35 of its side: long ragged charts leave
+ * space that no other chart fills) is cut in two between the faces at the two ends of that side
+ * (race_cut), the longest first, at most maxn of them. A chart's cut depends on that chart alone, so
+ * cutting them all in one round cuts the same edges as one at a time, in fewer rounds of packing. Returns
+ * the number of charts cut, -1 when out of memory. */
 #define AU_ATLAS_LONG 0.5
-static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L) {
+static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int maxn) {
   const int nch = L->ncharts;
   double cover = 0, *box = malloc(4 * (size_t)(nch > 0 ? nch : 1) * sizeof *box);
-  int *lab = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *lab);
-  if (!box || !lab) {
-    free(box), free(lab);
+  int *lab = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *lab), *fa = malloc(3 * (size_t)(nch > 0 ? nch : 1) * sizeof *fa);
+  double *span = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *span), *lo = malloc(2 * (size_t)(nch > 0 ? nch : 1) * sizeof *lo);
+  if (!box || !lab || !fa || !span || !lo) {
+    free(box), free(lab), free(fa), free(span), free(lo);
     return -1;
   }
+  int *fb = fa + nch, *axis = fa + 2 * nch;
+  double *hi = lo + nch;
   for (int ch = 0; ch < nch; ch++) box[4 * ch] = box[4 * ch + 1] = INFINITY, box[4 * ch + 2] = box[4 * ch + 3] = -INFINITY;
   for (int f = 0; f < nf; f++) {
     const double *a = L->vt + 2 * L->Ft[3 * f], *b = L->vt + 2 * L->Ft[3 * f + 1], *c = L->vt + 2 * L->Ft[3 * f + 2];
@@ -629,24 +723,29 @@ static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, 
       bx[0] = fmin(bx[0], p[0]), bx[1] = fmin(bx[1], p[1]), bx[2] = fmax(bx[2], p[0]), bx[3] = fmax(bx[3], p[1]);
     }
   }
-  int best = -1, axis = 0;
-  double span = AU_ATLAS_LONG * sqrt(cover > 0 ? cover : 0);
-  for (int ch = 0; ch < nch; ch++)
+  const double limit = AU_ATLAS_LONG * sqrt(cover > 0 ? cover : 0);
+  for (int ch = 0; ch < nch; ch++) {
+    span[ch] = 0, axis[ch] = 0, fa[ch] = fb[ch] = -1, lo[ch] = INFINITY, hi[ch] = -INFINITY;
     for (int d = 0; d < 2; d++)
-      if (box[4 * ch + 2 + d] - box[4 * ch + d] > span) span = box[4 * ch + 2 + d] - box[4 * ch + d], best = ch, axis = d;
-  int done = 0;
-  if (best >= 0) {
-    int fa = -1, fb = -1;
-    double lo = INFINITY, hi = -INFINITY;
-    for (int f = 0; f < nf; f++) {
-      if (L->chart[f] != best) continue;
-      double c = (L->vt[2 * L->Ft[3 * f] + axis] + L->vt[2 * L->Ft[3 * f + 1] + axis] + L->vt[2 * L->Ft[3 * f + 2] + axis]) / 3;
-      if (c < lo) lo = c, fa = f;
-      if (c > hi) hi = c, fb = f;
-    }
-    if (fa >= 0 && fb >= 0 && fa != fb) race_cut(t, nf, cut, queue, L, best, fa, fb, lab), done = 1;
+      if (box[4 * ch + 2 + d] - box[4 * ch + d] > span[ch]) span[ch] = box[4 * ch + 2 + d] - box[4 * ch + d], axis[ch] = d;
   }
-  free(box), free(lab);
+  for (int f = 0; f < nf; f++) {
+    int ch = L->chart[f], d = axis[ch];
+    if (!(span[ch] > limit)) continue;
+    double c = (L->vt[2 * L->Ft[3 * f] + d] + L->vt[2 * L->Ft[3 * f + 1] + d] + L->vt[2 * L->Ft[3 * f + 2] + d]) / 3;
+    if (c < lo[ch]) lo[ch] = c, fa[ch] = f;
+    if (c > hi[ch]) hi[ch] = c, fb[ch] = f;
+  }
+  int done = 0;
+  while (done < maxn) {
+    int best = -1;
+    for (int ch = 0; ch < nch; ch++)
+      if (span[ch] > limit && fa[ch] >= 0 && fb[ch] >= 0 && fa[ch] != fb[ch] && (best < 0 || span[ch] > span[best])) best = ch;
+    if (best < 0) break;
+    race_cut(t, nf, cut, queue, L, best, fa[best], fb[best], lab);
+    span[best] = 0, done++;
+  }
+  free(box), free(lab), free(fa), free(span), free(lo);
   return done;
 }
 
@@ -669,7 +768,7 @@ au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout 
     int split = 0;
     if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK) break;
     if (!split && nlong < 32) {
-      if ((split = split_long(t, nf, L->cut, queue, L)) < 0) {
+      if ((split = split_long(t, nf, L->cut, queue, L, 32 - nlong)) < 0) {
         st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
         goto done;
       }
