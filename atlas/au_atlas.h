@@ -109,10 +109,12 @@ typedef struct au_atlas_layout {
  * common frame (the surface developed along a dual tree), turn each chart to its smallest bounding box
  * (with quarter: by a multiple of 90 degrees only, so that seam rotations stay the holonomy's), split a
  * chart that covers a texel of a 1024 x 1024 raster twice (a breadth-first race from the two faces), and
- * pack the charts into [0, 1]^2 at one scale with a gap of gap (atlas units) around each (au_atlas_pack). On success *L owns its arrays (au_atlas_layout_free).
+ * pack the charts into [0, 1]^2 at one scale with a gap of gap (atlas units) around each: by their shapes
+ * when shapes is 1 (au_atlas_pack), on shelves only when 0 (for a layout that the flow moves and
+ * au_atlas_separate packs again). On success *L owns its arrays (au_atlas_layout_free).
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_INTERNAL (a dual tree that does not span). */
 au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
-                               int quarter, au_atlas_layout *L, au_msg *msg);
+                               int quarter, int shapes, au_atlas_layout *L, au_msg *msg);
 /* Free the arrays of L and zero it; NULL-safe. */
 void au_atlas_layout_free(au_atlas_layout *L);
 

@@ -160,11 +160,9 @@ static int tri_cell(const double *x, const double *y, int i, int j) {
   double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
   double sg = area < 0 ? -1 : 1;
   for (int k = 0; k < 3; k++) {
-    double ax = x[k], ay = y[k], dx = x[(k + 1) % 3] - ax, dy = y[(k + 1) % 3] - ay, best = -INFINITY;
-    for (int c = 0; c < 4; c++) {
-      double px = i + (c & 1), py = j + (c >> 1);
-      best = fmax(best, sg * (dx * (py - ay) - dy * (px - ax)));
-    }
+    double ax = x[k], ay = y[k], dx = x[(k + 1) % 3] - ax, dy = y[(k + 1) % 3] - ay;
+    /* The cell's corner farthest to the left of the edge. */
+    double px = i + (sg * dy < 0), py = j + (sg * dx > 0), best = sg * (dx * (py - ay) - dy * (px - ax));
     if (best < -1e-9 * (fabs(dx) + fabs(dy))) return 0;
   }
   return 1;
@@ -184,13 +182,8 @@ static void turn_footprint(const footprint *a, int k, footprint *b) {
   b->w = k & 1 ? h : w, b->h = k & 1 ? w : h;
   for (int j = 0; j < h; j++)
     for (int i = 0; i < w; i++) {
-      int x = i, y = j, cw = w, chh = h;
-      for (int r = 0; r < k; r++) {
-        int nx = chh - 1 - y, ny = x;
-        x = nx, y = ny;
-        int t = cw;
-        cw = chh, chh = t;
-      }
+      int x = k == 0 ? i : k == 1 ? h - 1 - j : k == 2 ? w - 1 - i : j;
+      int y = k == 0 ? j : k == 1 ? i : k == 2 ? h - 1 - j : w - 1 - i;
       b->bit[(size_t)y * b->w + x] = a->bit[(size_t)j * w + i];
     }
 }
@@ -611,19 +604,21 @@ static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, c
                      int fb, int *lab);
 
 /* Rasterize the atlas at 1024 x 1024 with the face that first covers each pixel centre; for every chart
- * with a pixel covered twice by two of its faces, race a breadth-first search from both faces over the
- * chart's uncut edges and cut the edges between the two territories. *nsplit: the charts split. */
+ * with pixels covered twice by two of its faces, race a breadth-first search from both faces over the
+ * chart's uncut edges and cut the edges between the two territories, for up to AU_ATLAS_PAIRS distinct
+ * pairs of faces per chart in one round (a pair that an earlier race of the round already separated adds
+ * no cut; one that it did not still overlaps and needs its own). *nsplit: the charts split. */
+#define AU_ATLAS_PAIRS 8
 static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned char *cut, int *queue, au_atlas_layout *L,
                                 int *nsplit, au_msg *msg) {
-  const int R = 1024, nf = m->nf, nch = L->ncharts;
-  int *owner = malloc((size_t)R * R * sizeof *owner), *pa = malloc((size_t)nch * sizeof *pa);
-  int *pb = malloc((size_t)nch * sizeof *pb), *lab = malloc((size_t)nf * sizeof *lab);
-  if (!owner || !pa || !pb || !lab) {
-    free(owner), free(pa), free(pb), free(lab);
+  const int R = 1024, nf = m->nf, nch = L->ncharts, K = AU_ATLAS_PAIRS;
+  int *owner = malloc((size_t)R * R * sizeof *owner), *pairs = malloc(2 * (size_t)K * nch * sizeof *pairs);
+  int *np = calloc((size_t)nch, sizeof *np), *lab = malloc((size_t)nf * sizeof *lab);
+  if (!owner || !pairs || !np || !lab) {
+    free(owner), free(pairs), free(np), free(lab);
     return au_msg_set(msg, AU_E_NOMEM, "out of memory checking the atlas for overlaps");
   }
   for (size_t i = 0; i < (size_t)R * R; i++) owner[i] = -1;
-  for (int ch = 0; ch < nch; ch++) pa[ch] = pb[ch] = -1;
   const double *vt = L->vt;
   for (int f = 0; f < nf; f++) {
     double x[3], y[3];
@@ -652,18 +647,20 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
         if (*o < 0) {
           *o = f;
         } else {
-          int ch = L->chart[f];
-          if (L->chart[*o] == ch && pa[ch] < 0) pa[ch] = *o, pb[ch] = f;
+          int ch = L->chart[f], *pr = pairs + 2 * (size_t)K * ch, known = 0;
+          if (L->chart[*o] != ch || np[ch] == K) continue;
+          for (int k = 0; k < np[ch] && !known; k++) known = pr[2 * k] == *o && pr[2 * k + 1] == f;
+          if (!known) pr[2 * np[ch]] = *o, pr[2 * np[ch] + 1] = f, np[ch]++;
         }
       }
   }
   int n = 0;
   for (int ch = 0; ch < nch; ch++) {
-    if (pa[ch] < 0) continue;
-    race_cut(t, nf, cut, queue, L, ch, pa[ch], pb[ch], lab);
-    n++;
+    for (int k = 0; k < np[ch]; k++)
+      race_cut(t, nf, cut, queue, L, ch, pairs[2 * ((size_t)K * ch + k)], pairs[2 * ((size_t)K * ch + k) + 1], lab);
+    n += np[ch] > 0;
   }
-  free(owner), free(pa), free(pb), free(lab);
+  free(owner), free(pairs), free(np), free(lab);
   *nsplit = n;
   return AU_OK;
 }
@@ -932,7 +929,7 @@ au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_co
 }
 
 au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
-                               int quarter, au_atlas_layout *L, au_msg *msg) {
+                               int quarter, int shapes, au_atlas_layout *L, au_msg *msg) {
   if (!m || !t || !u || !L || t->nv != m->nv || t->nf != m->nf || !(gap >= 0) || gap >= 0.25)
     return au_msg_set(msg, AU_E_ARG, "au_atlas_layout_make: bad arguments");
   memset(L, 0, sizeof *L);
@@ -1113,8 +1110,10 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
     if ((st = split_overlaps(m, t, cut, queue, L, &split, msg)) != AU_OK) goto done;
     if (!split || round == 40) break;
   }
-  /* On shelves while splitting, by the charts' shapes at the end. */
-  if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg)) != AU_OK) goto done;
+  /* On shelves while splitting, by the charts' shapes at the end (when asked: a layout that the flow
+   * moves is packed again after it). */
+  if (shapes && (st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg)) != AU_OK)
+    goto done;
   /* 9., 10. Folds, coverage and the seams (splits added cut edges). */
   st = au_atlas_measure(m, t, c, L, msg);
 
