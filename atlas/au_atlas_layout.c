@@ -307,15 +307,15 @@ static int by_key_desc(const void *a, const void *b) {
  * (bw, bh). *s: the scale found (0 when none beats s0), with each chart's quarter turns and lower-left grid
  * cell in turn, px, py. Returns AU_OK, AU_E_NOMEM. */
 static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, const double *vt, const double *lox,
-                             const double *loy, const double *bw, const double *bh, double gap, double s0, double *s,
-                             int *turn, int *px, int *py) {
+                             const double *loy, const double *bw, const double *bh, double gap, double s0, double probe,
+                             double *s, int *turn, int *px, int *py) {
   const int G = (int)floor(1 / gap);
   *s = 0;
   if (nch <= 0 || G < 8) return AU_OK;
   int *fstart = calloc((size_t)nch + 1, sizeof *fstart), *flist = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *flist);
-  int *ord = malloc((size_t)nch * sizeof *ord);
+  int *ord = malloc(3 * (size_t)nch * sizeof *ord);
   uint64_t *occ = malloc((size_t)G * ((G + 63) / 64) * sizeof *occ);
-  double *area = calloc((size_t)nch, sizeof *area);
+  double *area = calloc(2 * (size_t)nch, sizeof *area), *key = area ? area + nch : NULL;
   footprint *fp = calloc((size_t)nch, sizeof *fp);
   runs *rt = calloc(4 * (size_t)nch, sizeof *rt);
   int *tturn = malloc(3 * (size_t)nch * sizeof *tturn), *tpx = tturn ? tturn + nch : NULL, *tpy = tturn ? tturn + 2 * nch : NULL;
@@ -343,11 +343,21 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
     for (int f = 0; f < nf; f++) flist[fstart[chart[f]] + fill[chart[f]]++] = f;
     free(fill);
   }
-  sort_key = area;
-  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
+  /* Three orders: by area, by longer side, by bounding box, each largest first; a scale packs when one
+   * of them packs at it. */
+  for (int o = 0; o < 3; o++) {
+    int *od = ord + (size_t)o * nch;
+    for (int ch = 0; ch < nch; ch++) {
+      od[ch] = ch;
+      key[ch] = o == 0 ? area[ch] : o == 1 ? fmax(bw[ch], bh[ch]) : bw[ch] * bh[ch];
+    }
+    sort_key = key;
+    qsort(od, (size_t)nch, sizeof *od, by_key_desc);
+  }
   double lo = s0, hi = 1 / sqrt(total > 0 ? total : 1);
-  for (int it = 0; it < 14 && hi > lo * (1 + 1e-3); it++) {
-    double sc = it == 0 ? hi * 0.999 : 0.5 * (lo + hi);
+  if (probe > 0) lo = 0; /* one scale only: the one that covers probe of the square */
+  for (int it = 0; it < (probe > 0 ? 1 : 14) && hi > lo * (1 + 1e-3); it++) {
+    double sc = probe > 0 ? hi * sqrt(probe) : it == 0 ? hi * 0.999 : 0.5 * (lo + hi);
     /* The footprints at scale sc. */
     size_t maxcells = 0;
     int fits = 1;
@@ -412,7 +422,8 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
           if (shrunk) r->run = shrunk;
         }
       if (st != AU_OK) goto done;
-      fits = grid_pack(nch, ord, rt, G, occ, freerun, tturn, tpx, tpy);
+      fits = 0;
+      for (int o = 0; o < 3 && !fits; o++) fits = grid_pack(nch, ord + (size_t)o * nch, rt, G, occ, freerun, tturn, tpx, tpy);
     }
     if (fits) {
       memcpy(turn, tturn, (size_t)nch * sizeof *turn), memcpy(px, tpx, (size_t)nch * sizeof *px);
@@ -433,7 +444,7 @@ done:
 
 /* au_atlas_pack, by the charts' shapes too when shapes is 1, on shelves only when 0. */
 static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
-                      int shapes, double *scale, au_msg *msg) {
+                      int shapes, double probe, double *scale, au_msg *msg) {
   /* 7. Each chart turned to its smallest bounding box (1 degree steps), lying flat, moved to the origin. */
   double *bw = calloc((size_t)nch, sizeof *bw), *bh = calloc((size_t)nch, sizeof *bh);
   double *bx = calloc((size_t)nch, sizeof *bx), *by = calloc((size_t)nch, sizeof *by);
@@ -496,7 +507,7 @@ static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt,
   int *px = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *px), *py = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *py);
   au_status st = AU_OK;
   if (!turn || !px || !py) st = AU_E_NOMEM;
-  else if (shapes) st = raster_pack(nf, Ft, chart, nch, vt, lox, loy, bw, bh, gap, lo, &rs, turn, px, py);
+  else if (shapes) st = raster_pack(nf, Ft, chart, nch, vt, lox, loy, bw, bh, gap, lo, probe, &rs, turn, px, py);
   if (st != AU_OK) {
     free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
         free(bestang), free(turn), free(px), free(py);
@@ -531,7 +542,7 @@ static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt,
 
 au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
                         double *scale, au_msg *msg) {
-  return pack(nf, Ft, chart, nch, nvt, vt, quarter, gap, 1, scale, msg);
+  return pack(nf, Ft, chart, nch, nvt, vt, quarter, gap, 1, 0, scale, msg);
 }
 
 /* Steps 5 to 8 for the cut as it stands: texture coordinates shared across uncut edges, the charts laid
@@ -595,13 +606,13 @@ static au_status lay_out(const au_mesh *m, const au_topo *t, const unsigned char
   }
   L->ncharts = nch;
 
-  au_status st = pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, 0, &L->scale, msg);
+  au_status st = pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, 0, 0, &L->scale, msg);
   free(placed);
   return st;
 }
 
-static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int ch, int fa,
-                     int fb, int *lab);
+static int race_cut(const au_topo *t, int nf, unsigned char *cut, const au_atlas_layout *L, int ch, int fa, int fb,
+                    int *lab);
 
 /* Rasterize the atlas at 1024 x 1024 with the face that first covers each pixel centre; for every chart
  * with pixels covered twice by two of its faces, race a breadth-first search from both faces over the
@@ -609,8 +620,8 @@ static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, c
  * pairs of faces per chart in one round (a pair that an earlier race of the round already separated adds
  * no cut; one that it did not still overlaps and needs its own). *nsplit: the charts split. */
 #define AU_ATLAS_PAIRS 8
-static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned char *cut, int *queue, au_atlas_layout *L,
-                                int *nsplit, au_msg *msg) {
+static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned char *cut, au_atlas_layout *L, int *nsplit,
+                                au_msg *msg) {
   const int R = 1024, nf = m->nf, nch = L->ncharts, K = AU_ATLAS_PAIRS;
   int *owner = malloc((size_t)R * R * sizeof *owner), *pairs = malloc(2 * (size_t)K * nch * sizeof *pairs);
   int *np = calloc((size_t)nch, sizeof *np), *lab = malloc((size_t)nf * sizeof *lab);
@@ -654,52 +665,81 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
         }
       }
   }
-  int n = 0;
+  int n = 0, bad = 0;
   for (int ch = 0; ch < nch; ch++) {
-    for (int k = 0; k < np[ch]; k++)
-      race_cut(t, nf, cut, queue, L, ch, pairs[2 * ((size_t)K * ch + k)], pairs[2 * ((size_t)K * ch + k) + 1], lab);
+    for (int k = 0; k < np[ch] && !bad; k++)
+      bad = race_cut(t, nf, cut, L, ch, pairs[2 * ((size_t)K * ch + k)], pairs[2 * ((size_t)K * ch + k) + 1], lab);
     n += np[ch] > 0;
   }
   free(owner), free(pairs), free(np), free(lab);
+  if (bad) return au_msg_set(msg, AU_E_NOMEM, "out of memory checking the atlas for overlaps");
   *nsplit = n;
   return AU_OK;
 }
 
-/* Cut chart ch of L between faces fa and fb: a breadth-first race from both over the chart's uncut edges,
- * and the edges between the two territories cut. lab [0..nf-1]: scratch. */
-static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int ch, int fa,
-                     int fb, int *lab) {
-  {
-    for (int f = 0; f < nf; f++) lab[f] = -1;
-    int head = 0, tail = 0;
-    lab[fa] = 0, lab[fb] = 1;
-    queue[tail++] = fa, queue[tail++] = fb;
-    while (head < tail) {
-      int f = queue[head++];
-      for (int k = 0; k < 3; k++) {
-        int e = t->FE[3 * f + k];
-        if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
-        int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
-        if (lab[g] >= 0) continue;
-        lab[g] = lab[f], queue[tail++] = g;
-      }
-    }
-    for (int e = 0; e < t->ne; e++) {
+/* Cut chart ch of L between faces fa and fb: a race from both over the chart's uncut edges, by the
+ * distance between face centroids in vt (Dijkstra on the dual graph; the chart is flat, so this follows
+ * the metric, and the two territories meet near the straight bisector of a convex stretch, where a race by
+ * steps follows the triangulation's zigzags), and the edges between the two territories cut. Each
+ * territory is connected (a shortest-path tree). lab [0..nf-1]: scratch. Returns 0, -1 when out of memory. */
+static int race_cut(const au_topo *t, int nf, unsigned char *cut, const au_atlas_layout *L, int ch, int fa, int fb,
+                    int *lab) {
+  double *dist = malloc((size_t)nf * sizeof *dist);
+  heap h = {0, malloc((3 * (size_t)nf + 2) * sizeof(double)), malloc((3 * (size_t)nf + 2) * sizeof(int))};
+  if (!dist || !h.key || !h.v) {
+    free(dist), free(h.key), free(h.v);
+    return -1;
+  }
+  for (int f = 0; f < nf; f++) lab[f] = -1, dist[f] = INFINITY;
+  lab[fa] = 0, lab[fb] = 1, dist[fa] = dist[fb] = 0;
+  heap_push(&h, 0, fa), heap_push(&h, 0, fb);
+  while (h.n > 0) {
+    double d;
+    int f;
+    heap_pop(&h, &d, &f);
+    if (d > dist[f]) continue;
+    const double *a = L->vt + 2 * L->Ft[3 * f], *b = L->vt + 2 * L->Ft[3 * f + 1], *c = L->vt + 2 * L->Ft[3 * f + 2];
+    double cx = (a[0] + b[0] + c[0]) / 3, cy = (a[1] + b[1] + c[1]) / 3;
+    for (int k = 0; k < 3; k++) {
+      int e = t->FE[3 * f + k];
       if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
-      int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
-      if (L->chart[f0] == ch && lab[f0] >= 0 && lab[f1] >= 0 && lab[f0] != lab[f1]) cut[e] = 1;
+      int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+      const double *p = L->vt + 2 * L->Ft[3 * g], *q = L->vt + 2 * L->Ft[3 * g + 1], *r = L->vt + 2 * L->Ft[3 * g + 2];
+      double dg = d + hypot((p[0] + q[0] + r[0]) / 3 - cx, (p[1] + q[1] + r[1]) / 3 - cy);
+      if (dg < dist[g]) dist[g] = dg, lab[g] = lab[f], heap_push(&h, dg, g);
     }
   }
+  for (int e = 0; e < t->ne; e++) {
+    if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
+    int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+    if (L->chart[f0] == ch && lab[f0] >= 0 && lab[f1] >= 0 && lab[f0] != lab[f1]) cut[e] = 1;
+  }
+  free(dist), free(h.key), free(h.v);
+  return 0;
 }
 
-/* Every chart whose longer side exceeds AU_ATLAS_LONG times the square root of the atlas's area (at the
- * scale that covers half of the square it would span more than 0.35 of its side: long ragged charts leave
- * space that no other chart fills) is cut in two between the faces at the two ends of that side
- * (race_cut), the longest first, at most maxn of them. A chart's cut depends on that chart alone, so
+/* The factors of the square root of the atlas's area above which charts are cut for length, in turn (0:
+ * none), until the packed charts cover AU_ATLAS_COVER of the square (au_atlas_separate). */
+#define AU_ATLAS_LONG {0, 1.0, 0.8, 0.65, 0.5}
+#define AU_ATLAS_COVER 0.55
+
+/* The area of L's charts in vt (their coverage of the unit square). */
+static double atlas_area(int nf, const au_atlas_layout *L) {
+  double a = 0;
+  for (int f = 0; f < nf; f++) {
+    const double *p = L->vt + 2 * L->Ft[3 * f], *q = L->vt + 2 * L->Ft[3 * f + 1], *r = L->vt + 2 * L->Ft[3 * f + 2];
+    a += 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (r[0] - p[0]) * (q[1] - p[1]));
+  }
+  return a;
+}
+
+/* Every chart whose longer side exceeds factor times the square root of the atlas's area (at the scale
+ * that covers half of the square, factor 0.5 is a side of more than 0.35 of the square's: long ragged
+ * charts leave space that no other chart fills) is cut in two between the faces at the two ends of that
+ * side (race_cut), the longest first, at most maxn of them. A chart's cut depends on that chart alone, so
  * cutting them all in one round cuts the same edges as one at a time, in fewer rounds of packing. Returns
  * the number of charts cut, -1 when out of memory. */
-#define AU_ATLAS_LONG 0.5
-static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int maxn) {
+static int split_long(const au_topo *t, int nf, unsigned char *cut, const au_atlas_layout *L, double factor, int maxn) {
   const int nch = L->ncharts;
   double cover = 0, *box = malloc(4 * (size_t)(nch > 0 ? nch : 1) * sizeof *box);
   int *lab = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *lab), *fa = malloc(3 * (size_t)(nch > 0 ? nch : 1) * sizeof *fa);
@@ -720,7 +760,7 @@ static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, 
       bx[0] = fmin(bx[0], p[0]), bx[1] = fmin(bx[1], p[1]), bx[2] = fmax(bx[2], p[0]), bx[3] = fmax(bx[3], p[1]);
     }
   }
-  const double limit = AU_ATLAS_LONG * sqrt(cover > 0 ? cover : 0);
+  const double limit = factor * sqrt(cover > 0 ? cover : 0);
   for (int ch = 0; ch < nch; ch++) {
     span[ch] = 0, axis[ch] = 0, fa[ch] = fb[ch] = -1, lo[ch] = INFINITY, hi[ch] = -INFINITY;
     for (int d = 0; d < 2; d++)
@@ -739,7 +779,10 @@ static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, 
     for (int ch = 0; ch < nch; ch++)
       if (span[ch] > limit && fa[ch] >= 0 && fb[ch] >= 0 && fa[ch] != fb[ch] && (best < 0 || span[ch] > span[best])) best = ch;
     if (best < 0) break;
-    race_cut(t, nf, cut, queue, L, best, fa[best], fb[best], lab);
+    if (race_cut(t, nf, cut, L, best, fa[best], fb[best], lab)) {
+      done = -1;
+      break;
+    }
     span[best] = 0, done++;
   }
   free(box), free(lab), free(fa), free(span), free(lo);
@@ -758,55 +801,76 @@ au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout 
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
     goto done;
   }
+  /* Long charts are cut only as far as the packing needs: with no cut first, then above each of the
+   * factors of AU_ATLAS_LONG in turn, until the charts, packed by their shapes, cover AU_ATLAS_COVER of
+   * the square. */
+  static const double longf[] = AU_ATLAS_LONG;
+  const int nlevels = (int)(sizeof longf / sizeof longf[0]);
   int nlong = 0;
-  for (int round = 0;; round++) {
-    /* Shelves while charts are split (where they overlap themselves or are too long), then the shapes. */
-    if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 0, &L->scale, msg)) != AU_OK) goto done;
-    int split = 0;
-    if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK) break;
-    if (!split && nlong < 32) {
-      if ((split = split_long(t, nf, L->cut, queue, L, 32 - nlong)) < 0) {
+  for (int level = 0; level < nlevels && st == AU_OK; level++) {
+    int nlevel = 0; /* splits at this level */
+    for (int round = 0;; round++) {
+      /* Shelves while charts are split (where they overlap themselves or are too long), then the shapes. */
+      if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 0, 0, &L->scale, msg)) != AU_OK) goto done;
+      int split = 0;
+      if (round == 40 || (st = split_overlaps(m, t, L->cut, L, &split, msg)) != AU_OK) break;
+      if (!split && nlong < 32 && longf[level] > 0) {
+        if ((split = split_long(t, nf, L->cut, L, longf[level], 32 - nlong)) < 0) {
+          st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
+          goto done;
+        }
+        nlong += split;
+      }
+      if (!split) break;
+      if (nsplit) *nsplit += split;
+      nlevel += split;
+      /* The corners separated by the new cut edges get their own rows of vt, where they were. */
+      int nvt = corner_rows(t, F, nf, L->cut, uf, cls);
+      double *vt = malloc(2 * (size_t)nvt * sizeof *vt);
+      if (!vt) {
         st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
         goto done;
       }
-      nlong += split;
-    }
-    if (!split) break;
-    if (nsplit) *nsplit += split;
-    /* The corners separated by the new cut edges get their own rows of vt, where they were. */
-    int nvt = corner_rows(t, F, nf, L->cut, uf, cls);
-    double *vt = malloc(2 * (size_t)nvt * sizeof *vt);
-    if (!vt) {
-      st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
-      goto done;
-    }
-    for (int i = 0; i < 3 * nf; i++) {
-      int q = cls[uf_find(uf, i)];
-      vt[2 * q] = L->vt[2 * L->Ft[i]], vt[2 * q + 1] = L->vt[2 * L->Ft[i] + 1];
-    }
-    for (int i = 0; i < 3 * nf; i++) L->Ft[i] = cls[uf_find(uf, i)];
-    free(L->vt);
-    L->vt = vt, L->nvt = nvt;
-    int nch = 0;
-    for (int f = 0; f < nf; f++) L->chart[f] = -1;
-    for (int f0 = 0; f0 < nf; f0++) {
-      if (L->chart[f0] >= 0) continue;
-      int head = 0, tail = 0;
-      queue[tail++] = f0, L->chart[f0] = nch;
-      while (head < tail) {
-        int f = queue[head++];
-        for (int k = 0; k < 3; k++) {
-          int e = t->FE[3 * f + k];
-          if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
-          int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
-          if (L->chart[g] < 0) L->chart[g] = nch, queue[tail++] = g;
-        }
+      for (int i = 0; i < 3 * nf; i++) {
+        int q = cls[uf_find(uf, i)];
+        vt[2 * q] = L->vt[2 * L->Ft[i]], vt[2 * q + 1] = L->vt[2 * L->Ft[i] + 1];
       }
-      nch++;
+      for (int i = 0; i < 3 * nf; i++) L->Ft[i] = cls[uf_find(uf, i)];
+      free(L->vt);
+      L->vt = vt, L->nvt = nvt;
+      int nch = 0;
+      for (int f = 0; f < nf; f++) L->chart[f] = -1;
+      for (int f0 = 0; f0 < nf; f0++) {
+        if (L->chart[f0] >= 0) continue;
+        int head = 0, tail = 0;
+        queue[tail++] = f0, L->chart[f0] = nch;
+        while (head < tail) {
+          int f = queue[head++];
+          for (int k = 0; k < 3; k++) {
+            int e = t->FE[3 * f + k];
+            if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
+            int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+            if (L->chart[g] < 0) L->chart[g] = nch, queue[tail++] = g;
+          }
+        }
+        nch++;
+      }
+      L->ncharts = nch;
     }
-    L->ncharts = nch;
+    if (st != AU_OK) break;
+    /* Before the last level, one packing at the scale that covers AU_ATLAS_COVER tells whether the charts
+     * as they are reach it (a level that cut nothing packs as the one before it did); then the largest
+     * scale, by bisection. */
+    if (level < nlevels - 1) {
+      if (level > 0 && nlevel == 0) continue;
+      if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, AU_ATLAS_COVER, &L->scale, msg)) !=
+          AU_OK)
+        break;
+      if (atlas_area(nf, L) < AU_ATLAS_COVER * (1 - 1e-9)) continue;
+    }
+    st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, 0, &L->scale, msg);
+    break;
   }
-  if (st == AU_OK) st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg);
 done:
   free(queue), free(uf), free(cls);
   return st;
@@ -1107,12 +1171,12 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
   for (int round = 0;; round++) {
     if ((st = lay_out(m, t, cut, flen, frame, quarter, gap, uf, cls, queue, L, msg)) != AU_OK) goto done;
     int split = 0;
-    if ((st = split_overlaps(m, t, cut, queue, L, &split, msg)) != AU_OK) goto done;
+    if ((st = split_overlaps(m, t, cut, L, &split, msg)) != AU_OK) goto done;
     if (!split || round == 40) break;
   }
   /* On shelves while splitting, by the charts' shapes at the end (when asked: a layout that the flow
    * moves is packed again after it). */
-  if (shapes && (st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg)) != AU_OK)
+  if (shapes && (st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, 0, &L->scale, msg)) != AU_OK)
     goto done;
   /* 9., 10. Folds, coverage and the seams (splits added cut edges). */
   st = au_atlas_measure(m, t, c, L, msg);
