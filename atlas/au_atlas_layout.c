@@ -1167,7 +1167,7 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
   }
   /* 5.-8. Lay out and pack; where a chart covers a texel of the 1024 x 1024 raster twice (it overlaps
    * itself in the plane: a cone of large angle, a long arm that comes round), the chart is split between
-   * the two faces found there, by a breadth-first race from both, and the whole is packed again. */
+   * the two faces found there, by a race from both (race_cut), and the whole is packed again. */
   for (int round = 0;; round++) {
     if ((st = lay_out(m, t, cut, flen, frame, quarter, gap, uf, cls, queue, L, msg)) != AU_OK) goto done;
     int split = 0;
