@@ -162,7 +162,9 @@ typedef struct au_atlas_flow_info {
  * fixed rigid motion (the seams' rotations met round the vertex), so both sides of every seam move
  * together. Damped Gauss-Newton steps on the logs of the faces' area shares (a squeezed face is pulled as
  * hard as a stretched one is pushed) with a Dirichlet term on the corners' displacements, each step
- * shortened until no face turns over and the squared logs fall. The charts are not
+ * shortened until no face turns over and the squared logs fall. Where no step lowers them any more (a
+ * stationary point, as a symmetric map of a symmetric mesh can be), every free home position moves once
+ * by a fixed pseudo-random 1% of its faces' size and the flow goes on. The charts are not
  * packed again. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_FOLD. */
 au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                         const au_atlas_flow_opts *o, au_atlas_flow_info *info, au_msg *msg);
