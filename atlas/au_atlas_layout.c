@@ -294,10 +294,19 @@ static int grid_pack(int nch, const int *ord, const runs *rt, int G, uint64_t *o
   return 1;
 }
 
-static const double *sort_key;
-static int by_key_desc(const void *a, const void *b) {
-  double x = sort_key[*(const int *)a], y = sort_key[*(const int *)b];
-  return x < y ? 1 : x > y ? -1 : *(const int *)a - *(const int *)b;
+/* ord [0..n-1] = 0..n-1 sorted by key, largest first, ties by index (a merge sort, stable; tmp holds n
+ * entries): no global for a qsort comparator to read. */
+static void sort_desc(int *ord, int *tmp, const double *key, int n) {
+  for (int i = 0; i < n; i++) ord[i] = i;
+  for (int w = 1; w < n; w *= 2) {
+    for (int lo = 0; lo < n; lo += 2 * w) {
+      int mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n, i = lo, j = mid, k = lo;
+      while (i < mid && j < hi) tmp[k++] = key[ord[j]] > key[ord[i]] ? ord[j++] : ord[i++];
+      while (i < mid) tmp[k++] = ord[i++];
+      while (j < hi) tmp[k++] = ord[j++];
+    }
+    memcpy(ord, tmp, (size_t)n * sizeof *ord);
+  }
 }
 
 /* Packing by the charts' shapes: footprints (the grid cells of side gap that the chart's faces touch at
@@ -347,12 +356,8 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
    * of them packs at it. */
   for (int o = 0; o < 3; o++) {
     int *od = ord + (size_t)o * nch;
-    for (int ch = 0; ch < nch; ch++) {
-      od[ch] = ch;
-      key[ch] = o == 0 ? area[ch] : o == 1 ? fmax(bw[ch], bh[ch]) : bw[ch] * bh[ch];
-    }
-    sort_key = key;
-    qsort(od, (size_t)nch, sizeof *od, by_key_desc);
+    for (int ch = 0; ch < nch; ch++) key[ch] = o == 0 ? area[ch] : o == 1 ? fmax(bw[ch], bh[ch]) : bw[ch] * bh[ch];
+    sort_desc(od, tturn, key, nch);
   }
   double lo = s0, hi = 1 / sqrt(total > 0 ? total : 1);
   if (probe > 0) lo = 0; /* one scale only: the one that covers probe of the square */
@@ -491,8 +496,16 @@ static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt,
     bw[ch] = hix[ch] - lox[ch], bh[ch] = hiy[ch] - loy[ch], ord[ch] = ch;
     maxside = fmax(maxside, fmax(bw[ch], bh[ch]));
   }
-  sort_key = bh;
-  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
+  {
+    int *tmp = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *tmp);
+    if (!tmp) {
+      free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
+          free(bestang);
+      return au_msg_set(msg, AU_E_NOMEM, "out of memory packing the atlas");
+    }
+    sort_desc(ord, tmp, bh, nch);
+    free(tmp);
+  }
   /* 8. The largest scale at which the shelves fit, by bisection. */
   double lo = 0, hi = (1 - 2 * gap) / maxside;
   for (int it = 0; it < 60; it++) {
