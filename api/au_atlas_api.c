@@ -123,7 +123,9 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
       quarter &= fabs(q - round(q)) <= 1e-9;
     }
   }
-  if ((st = au_atlas_layout_make(m, t, &c, u, 2.0 / o.raster, quarter, &L, msg)) != AU_OK) goto fail;
+  /* The conformal atlas is packed by the charts' shapes only when it is the output: the flow's is packed
+   * again after the flow (the flow does not depend on where the charts lie). */
+  if ((st = au_atlas_layout_make(m, t, &c, u, 2.0 / o.raster, quarter, o.conformal_only != 0, &L, msg)) != AU_OK) goto fail;
   r->t_layout = now_s() - t0;
   if (!o.conformal_only) {
     t0 = now_s();

@@ -108,19 +108,25 @@ typedef struct au_atlas_layout {
  * in two), lay out each chart by integrating the metric of u face by face, every chart starting in one
  * common frame (the surface developed along a dual tree), turn each chart to its smallest bounding box
  * (with quarter: by a multiple of 90 degrees only, so that seam rotations stay the holonomy's), split a
- * chart that covers a texel of a 1024 x 1024 raster twice (a breadth-first race from the two faces), and
- * pack the charts into [0, 1]^2 at one scale with a gap of gap (atlas units) around each (au_atlas_pack). On success *L owns its arrays (au_atlas_layout_free).
+ * chart that covers a texel of a 1024 x 1024 raster twice (a race from the two faces by centroid distance), and
+ * pack the charts into [0, 1]^2 at one scale with a gap of gap (atlas units) around each: by their shapes
+ * when shapes is 1 (au_atlas_pack), on shelves only when 0 (for a layout that the flow moves and
+ * au_atlas_separate packs again). On success *L owns its arrays (au_atlas_layout_free).
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_INTERNAL (a dual tree that does not span). */
 au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
-                               int quarter, au_atlas_layout *L, au_msg *msg);
+                               int quarter, int shapes, au_atlas_layout *L, au_msg *msg);
 /* Free the arrays of L and zero it; NULL-safe. */
 void au_atlas_layout_free(au_atlas_layout *L);
 
-/* Pack L and, while a chart covers a texel of the 1024 x 1024 raster twice, split it between the two faces
- * found there (new cut edges; the separated corners keep their coordinates in new rows of vt), and while a
- * chart's longer side exceeds 0.5 sqrt(atlas area) (at most 32 times), split it between the faces at the
- * two ends of that side; pack again, at most 40 rounds (on shelves), then by the charts' shapes
- * (au_atlas_pack). *nsplit (may be NULL): the splits made. Returns AU_OK, AU_E_NOMEM. */
+/* Pack L and, while a chart covers a texel of the 1024 x 1024 raster twice, split it between two faces
+ * found there (up to 8 pairs per chart and round; new cut edges; the separated corners keep their
+ * coordinates in new rows of vt; a split is a race from both faces by centroid distance, so the two pieces
+ * meet near their bisector). Long charts are cut only as far as the packing needs: with none cut, then
+ * every chart whose longer side exceeds 1.0, 0.8, 0.65 and finally 0.5 sqrt(atlas area) (at most 32 cuts
+ * in all) is split between the faces at the two ends of that side, until one packing by the charts'
+ * shapes at the scale that covers 0.55 of the square fits. Rounds on shelves (at most 40 per step), then
+ * by the charts' shapes (au_atlas_pack). *nsplit (may be NULL): the splits made. Returns AU_OK,
+ * AU_E_NOMEM. */
 au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout *L, int quarter, double gap, int *nsplit,
                             au_msg *msg);
 
@@ -133,8 +139,9 @@ au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_co
 /* Turn each of the nch charts (chart [0..nf-1] of each face; faces Ft into vt [0..2*nvt-1], every row of vt
  * used by faces of one chart only) to its smallest bounding box (quarter: by quarter turns only), lay it
  * flat and pack all into [0, 1]^2 at the largest common scale with gap around each, in place: on shelves, and
- * by their rasterized footprints (grid cells of side gap, bottom-left fill, quarter turns), whichever packs
- * at the larger scale; *scale (may be NULL) receives the scale. Returns AU_OK, AU_E_NOMEM. */
+ * by their rasterized footprints (grid cells of side gap, bottom-left fill, quarter turns, the charts in
+ * three orders: by area, longer side, bounding box), whichever packs at the larger scale; *scale (may be
+ * NULL) receives the scale. Returns AU_OK, AU_E_NOMEM. */
 au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
                         double *scale, au_msg *msg);
 
@@ -155,7 +162,9 @@ typedef struct au_atlas_flow_info {
  * fixed rigid motion (the seams' rotations met round the vertex), so both sides of every seam move
  * together. Damped Gauss-Newton steps on the logs of the faces' area shares (a squeezed face is pulled as
  * hard as a stretched one is pushed) with a Dirichlet term on the corners' displacements, each step
- * shortened until no face turns over and the squared logs fall. The charts are not
+ * shortened until no face turns over and the squared logs fall. Where no step lowers them any more (a
+ * stationary point, as a symmetric map of a symmetric mesh can be), every free home position moves once
+ * by a fixed pseudo-random 1% of its faces' size and the flow goes on. The charts are not
  * packed again. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_FOLD. */
 au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                         const au_atlas_flow_opts *o, au_atlas_flow_info *info, au_msg *msg);

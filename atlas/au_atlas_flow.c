@@ -62,6 +62,39 @@ static int entry(const int *colstart, const int *rows, int i, int j) {
   return -1;
 }
 
+/* Move every free vertex's home position p by a fixed pseudo-random offset of 1% of the square root of the
+ * smallest area among its faces (A: the faces' current areas; q, q2: corner positions, q updated; pmin:
+ * scratch of 3 nv), halved until no face loses half its area (at most 8 times).
+ * Why: a mesh and start with a symmetry (the torus of revolution's rotations) keep it under the flow,
+ * whose steps are equivariant; a symmetric map can be a stationary point that is not equal area (there,
+ * every quad stays a parallelogram, whose two triangles are equal, while on the surface they differ by the
+ * ratio of the quad's parallel sides). The offsets break the symmetry. Returns 1 if p moved, 0 if not. */
+static int jitter(int nv, int nf, const int *F, const unsigned char *pin, double *p, const double *rot,
+                  const double *tr, double *q, double *q2, const double *A, double *pmin) {
+  for (int v = 0; v < nv; v++) pmin[v] = INFINITY;
+  for (int f = 0; f < nf; f++)
+    for (int k = 0; k < 3; k++) pmin[F[3 * f + k]] = fmin(pmin[F[3 * f + k]], A[f]);
+  double *p0 = pmin + nv;
+  for (double amp = 0.01; amp > 0.01 / 256; amp *= 0.5) {
+    unsigned long long x = 88172645463325252ULL; /* xorshift64: the same offsets on every run */
+    for (int v = 0; v < nv; v++)
+      for (int a = 0; a < 2; a++) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        p0[2 * v + a] = p[2 * v + a];
+        if (!pin[v] && isfinite(pmin[v])) p0[2 * v + a] += amp * sqrt(pmin[v]) * ((double)(x % 2001) / 1000 - 1);
+      }
+    corners(nf, F, p0, rot, tr, q2);
+    int ok = 1;
+    for (int f = 0; f < nf && ok; f++) ok = face_area(q2, f) > 0.5 * A[f];
+    if (ok) {
+      memcpy(p, p0, 2 * (size_t)nv * sizeof *p);
+      memcpy(q, q2, 6 * (size_t)nf * sizeof *q);
+      return 1;
+    }
+  }
+  return 0;
+}
+
 au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                         const au_atlas_flow_opts *opts, au_atlas_flow_info *info, au_msg *msg) {
   if (!m || !t || !L || !L->vt) return au_msg_set(msg, AU_E_ARG, "au_atlas_flow: bad arguments");
@@ -76,9 +109,10 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
   double *q2 = malloc(6 * (size_t)nf * sizeof *q2), *S = malloc((size_t)nf * sizeof *S);
   double *A = malloc((size_t)nf * sizeof *A), *b = malloc((size_t)n * sizeof *b), *d = malloc((size_t)n * sizeof *d);
   double *p2 = malloc((size_t)n * sizeof *p2), *A2 = malloc((size_t)nf * sizeof *A2);
+  double *pmin = malloc(3 * (size_t)(nv > 0 ? nv : 1) * sizeof *pmin);
   unsigned char *pin = calloc((size_t)nv, 1), *known = calloc(3 * (size_t)nf, 1);
   au_spd *spd = NULL;
-  if (!home || !p || !rot || !tr || !q || !q2 || !S || !A || !b || !d || !p2 || !A2 || !pin || !known) {
+  if (!home || !p || !rot || !tr || !q || !q2 || !S || !A || !b || !d || !p2 || !A2 || !pmin || !pin || !known) {
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory for the atlas flow");
     goto done;
   }
@@ -203,7 +237,7 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
     goto done;
   }
   double lambda = o.shear;
-  int steps = 0;
+  int steps = 0, jittered = 0;
   while (steps < o.max_steps && err > o.face_tol) {
     double *val = au_spd_values(spd);
     memset(val, 0, (size_t)colstart[n] * sizeof *val);
@@ -252,7 +286,13 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
        * the largest weight the flow stops where it is (the map so far is valid). */
       st = AU_OK;
       if (msg) msg->text[0] = '\0';
-      if (lambda > 1e8 * o.shear) break;
+      if (lambda > 1e8 * o.shear) {
+        /* Stalled: once, the symmetry is broken (jitter) and the flow goes on from there. */
+        if (jittered || !jitter(nv, nf, F, pin, p, rot, tr, q, q2, A, pmin)) break;
+        jittered = 1, lambda = o.shear;
+        err = face_error(nf, q, S, Stot, A, &Atot, &sq);
+        continue;
+      }
       lambda *= 4;
       continue;
     }
@@ -274,9 +314,14 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
       err2 = -1;
     }
     if (!(err2 >= 0)) {
-      if (lambda > 1e8 * o.shear) break;
-      lambda *= 4;
       face_error(nf, q, S, Stot, A, &Atot, NULL);
+      if (lambda > 1e8 * o.shear) {
+        if (jittered || !jitter(nv, nf, F, pin, p, rot, tr, q, q2, A, pmin)) break;
+        jittered = 1, lambda = o.shear;
+        err = face_error(nf, q, S, Stot, A, &Atot, &sq);
+        continue;
+      }
+      lambda *= 4;
       continue;
     }
     memcpy(p, p2, (size_t)n * sizeof *p);
@@ -291,7 +336,7 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
 done:
   au_spd_free(&spd);
   free(home), free(colstart), free(rows), free(p), free(rot), free(tr), free(q), free(q2), free(S), free(A), free(b), free(d),
-      free(p2), free(A2), free(pin), free(known);
+      free(p2), free(A2), free(pmin), free(pin), free(known);
   return st;
 }
 

@@ -160,11 +160,9 @@ static int tri_cell(const double *x, const double *y, int i, int j) {
   double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
   double sg = area < 0 ? -1 : 1;
   for (int k = 0; k < 3; k++) {
-    double ax = x[k], ay = y[k], dx = x[(k + 1) % 3] - ax, dy = y[(k + 1) % 3] - ay, best = -INFINITY;
-    for (int c = 0; c < 4; c++) {
-      double px = i + (c & 1), py = j + (c >> 1);
-      best = fmax(best, sg * (dx * (py - ay) - dy * (px - ax)));
-    }
+    double ax = x[k], ay = y[k], dx = x[(k + 1) % 3] - ax, dy = y[(k + 1) % 3] - ay;
+    /* The cell's corner farthest to the left of the edge. */
+    double px = i + (sg * dy < 0), py = j + (sg * dx > 0), best = sg * (dx * (py - ay) - dy * (px - ax));
     if (best < -1e-9 * (fabs(dx) + fabs(dy))) return 0;
   }
   return 1;
@@ -184,66 +182,131 @@ static void turn_footprint(const footprint *a, int k, footprint *b) {
   b->w = k & 1 ? h : w, b->h = k & 1 ? w : h;
   for (int j = 0; j < h; j++)
     for (int i = 0; i < w; i++) {
-      int x = i, y = j, cw = w, chh = h;
-      for (int r = 0; r < k; r++) {
-        int nx = chh - 1 - y, ny = x;
-        x = nx, y = ny;
-        int t = cw;
-        cw = chh, chh = t;
-      }
+      int x = k == 0 ? i : k == 1 ? h - 1 - j : k == 2 ? w - 1 - i : j;
+      int y = k == 0 ? j : k == 1 ? i : k == 2 ? h - 1 - j : w - 1 - i;
       b->bit[(size_t)y * b->w + x] = a->bit[(size_t)j * w + i];
     }
+}
+
+/* A footprint in one quarter turn as runs of cells: row j (of h) holds the runs run[2r], run[2r+1]
+ * (first and last cell) for r in rs[j] .. rs[j+1]-1. */
+typedef struct runs {
+  int w, h;
+  int *rs, *run;
+  int *longest; /* longest [0..h-1]: the longest run of each row */
+} runs;
+
+/* The runs of b (rs: b->h + 1 entries, run: two per run; both large enough). Returns the number of runs. */
+static int footprint_runs(const footprint *b, runs *r) {
+  int n = 0;
+  r->w = b->w, r->h = b->h;
+  for (int j = 0; j < b->h; j++) {
+    r->rs[j] = n, r->longest[j] = 0;
+    const unsigned char *row = b->bit + (size_t)j * b->w;
+    for (int i = 0; i < b->w; i++) {
+      if (!row[i] || (i > 0 && row[i - 1])) continue;
+      int e = i;
+      while (e + 1 < b->w && row[e + 1]) e++;
+      r->run[2 * n] = i, r->run[2 * n + 1] = e, n++;
+      if (e - i + 1 > r->longest[j]) r->longest[j] = e - i + 1;
+    }
+  }
+  r->rs[b->h] = n;
+  return n;
+}
+
+/* The first occupied cell of an occupancy row (nw words) in [lo, hi], or -1. */
+static int first_set(const uint64_t *row, int lo, int hi) {
+  for (int q = lo >> 6; q <= hi >> 6; q++) {
+    uint64_t wd = row[q];
+    if (q == lo >> 6) wd &= ~(uint64_t)0 << (lo & 63);
+    if (q == hi >> 6 && (hi & 63) != 63) wd &= ((uint64_t)1 << ((hi & 63) + 1)) - 1;
+    if (wd) return 64 * q + __builtin_ctzll(wd);
+  }
+  return -1;
 }
 
 /* Bottom-left packing of the charts' footprints on a G x G grid of occupied cells (occ: G rows of nw
  * 64-bit words), in the order ord: each chart goes, in the quarter turn that leaves its top lowest, to the
  * lowest, then leftmost, cells where its footprint meets no occupied cell, so a chart may nest in the
- * hollows of the ones below it. tmp holds a turned footprint, rows its rows as words. Returns 1 if all fit,
- * with each chart's turn and lower-left cell in (turn, px, py) when they are given. */
-static int grid_pack(int nch, const int *ord, const footprint *fp, int G, uint64_t *occ, unsigned char *tmp,
-                     uint64_t *rows, int *turn, int *px, int *py) {
+ * hollows of the ones below it. rt[4 ch + k]: chart ch's footprint in k quarter turns, as runs. A row of
+ * the grid is scanned left to right by runs: when a run of the footprint meets an occupied cell p, every
+ * position up to the one that puts the run just right of p meets it too, so the scan jumps there. Returns
+ * 1 if all fit, with each chart's turn and lower-left cell in (turn, px, py). */
+static int grid_pack(int nch, const int *ord, const runs *rt, int G, uint64_t *occ, int *freerun, int *turn, int *px,
+                     int *py) {
   const int nw = (G + 63) / 64;
   memset(occ, 0, (size_t)G * nw * sizeof *occ);
+  for (int j = 0; j < G; j++) freerun[j] = G;
   for (int n = 0; n < nch; n++) {
     int ch = ord[n], bestk = -1, bestx = 0, besty = 0, besttop = INT_MAX;
     for (int k = 0; k < 4; k++) {
-      footprint b = {0, 0, tmp};
-      turn_footprint(&fp[ch], k, &b);
-      if (b.w > G || b.h > G) continue;
-      int rw = (b.w + 63) / 64;
-      memset(rows, 0, (size_t)b.h * rw * sizeof *rows);
-      for (int j = 0; j < b.h; j++)
-        for (int i = 0; i < b.w; i++)
-          if (b.bit[(size_t)j * b.w + i]) rows[(size_t)j * rw + i / 64] |= (uint64_t)1 << (i % 64);
-      int found = 0;
-      for (int y = 0; y + b.h <= G && y + b.h < besttop && !found; y++)
-        for (int x = 0; x + b.w <= G && !found; x++) {
-          int sh = x & 63, o = x >> 6, hit = 0;
-          for (int j = 0; j < b.h && !hit; j++) {
-            const uint64_t *r = rows + (size_t)j * rw, *g = occ + (size_t)(y + j) * nw + o;
-            for (int q = 0; q < rw && !hit; q++) {
-              if (g[q] & (r[q] << sh)) hit = 1;
-              else if (sh && o + q + 1 < nw && (g[q + 1] & (r[q] >> (64 - sh)))) hit = 1;
+      const runs *b = &rt[4 * ch + k];
+      if (b->w > G || b->h > G) continue;
+      int found = 0, jhit = 0;
+      for (int y = 0; y + b->h <= G && y + b->h < besttop && !found; y++) {
+        /* A row of the grid whose longest free run is shorter than the footprint's longest run in that row
+         * rules the position out at once. */
+        int x = 0, jr = jhit;
+        if (freerun[y + jr] < b->longest[jr]) continue;
+        for (jr = 0; jr < b->h && freerun[y + jr] >= b->longest[jr]; jr++) {
+        }
+        if (jr < b->h) {
+          jhit = jr;
+          continue;
+        }
+        while (x + b->w <= G) {
+          /* The row that stopped the last position first: it is the likeliest to stop this one too. */
+          int hit = 0;
+          for (int jj = 0; jj < b->h && !hit; jj++) {
+            int j = (jj + jhit) % b->h;
+            const uint64_t *g = occ + (size_t)(y + j) * nw;
+            for (int r = b->rs[j]; r < b->rs[j + 1]; r++) {
+              int p = first_set(g, x + b->run[2 * r], x + b->run[2 * r + 1]);
+              if (p >= 0) {
+                x = p - b->run[2 * r] + 1, hit = 1, jhit = j;
+                break;
+              }
             }
           }
-          if (!hit) found = 1, besttop = y + b.h, bestk = k, bestx = x, besty = y;
+          if (!hit) {
+            found = 1, besttop = y + b->h, bestk = k, bestx = x, besty = y;
+            break;
+          }
         }
+      }
     }
     if (bestk < 0) return 0;
-    footprint b = {0, 0, tmp};
-    turn_footprint(&fp[ch], bestk, &b);
-    for (int j = 0; j < b.h; j++)
-      for (int i = 0; i < b.w; i++)
-        if (b.bit[(size_t)j * b.w + i]) occ[(size_t)(besty + j) * nw + (bestx + i) / 64] |= (uint64_t)1 << ((bestx + i) % 64);
-    if (turn) turn[ch] = bestk, px[ch] = bestx, py[ch] = besty;
+    const runs *b = &rt[4 * ch + bestk];
+    for (int j = 0; j < b->h; j++) {
+      uint64_t *g = occ + (size_t)(besty + j) * nw;
+      for (int r = b->rs[j]; r < b->rs[j + 1]; r++)
+        for (int i = bestx + b->run[2 * r]; i <= bestx + b->run[2 * r + 1]; i++) g[i >> 6] |= (uint64_t)1 << (i & 63);
+      int longest = 0, len = 0;
+      for (int i = 0; i < G; i++) {
+        len = g[i >> 6] >> (i & 63) & 1 ? 0 : len + 1;
+        if (len > longest) longest = len;
+      }
+      freerun[besty + j] = longest;
+    }
+    turn[ch] = bestk, px[ch] = bestx, py[ch] = besty;
   }
   return 1;
 }
 
-static const double *sort_key;
-static int by_key_desc(const void *a, const void *b) {
-  double x = sort_key[*(const int *)a], y = sort_key[*(const int *)b];
-  return x < y ? 1 : x > y ? -1 : *(const int *)a - *(const int *)b;
+/* ord [0..n-1] = 0..n-1 sorted by key, largest first, ties by index (a merge sort, stable; tmp holds n
+ * entries): no global for a qsort comparator to read. */
+static void sort_desc(int *ord, int *tmp, const double *key, int n) {
+  for (int i = 0; i < n; i++) ord[i] = i;
+  for (int w = 1; w < n; w *= 2) {
+    for (int lo = 0; lo < n; lo += 2 * w) {
+      int mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n, i = lo, j = mid, k = lo;
+      while (i < mid && j < hi) tmp[k++] = key[ord[j]] > key[ord[i]] ? ord[j++] : ord[i++];
+      while (i < mid) tmp[k++] = ord[i++];
+      while (j < hi) tmp[k++] = ord[j++];
+    }
+    memcpy(ord, tmp, (size_t)n * sizeof *ord);
+  }
 }
 
 /* Packing by the charts' shapes: footprints (the grid cells of side gap that the chart's faces touch at
@@ -253,19 +316,22 @@ static int by_key_desc(const void *a, const void *b) {
  * (bw, bh). *s: the scale found (0 when none beats s0), with each chart's quarter turns and lower-left grid
  * cell in turn, px, py. Returns AU_OK, AU_E_NOMEM. */
 static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, const double *vt, const double *lox,
-                             const double *loy, const double *bw, const double *bh, double gap, double s0, double *s,
-                             int *turn, int *px, int *py) {
+                             const double *loy, const double *bw, const double *bh, double gap, double s0, double probe,
+                             double *s, int *turn, int *px, int *py) {
   const int G = (int)floor(1 / gap);
   *s = 0;
   if (nch <= 0 || G < 8) return AU_OK;
   int *fstart = calloc((size_t)nch + 1, sizeof *fstart), *flist = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *flist);
-  int *ord = malloc((size_t)nch * sizeof *ord);
-  uint64_t *occ = malloc((size_t)G * ((G + 63) / 64) * sizeof *occ), *rows = NULL;
-  double *area = calloc((size_t)nch, sizeof *area);
+  int *ord = malloc(3 * (size_t)nch * sizeof *ord);
+  uint64_t *occ = malloc((size_t)G * ((G + 63) / 64) * sizeof *occ);
+  double *area = calloc(2 * (size_t)nch, sizeof *area), *key = area ? area + nch : NULL;
   footprint *fp = calloc((size_t)nch, sizeof *fp);
+  runs *rt = calloc(4 * (size_t)nch, sizeof *rt);
+  int *tturn = malloc(3 * (size_t)nch * sizeof *tturn), *tpx = tturn ? tturn + nch : NULL, *tpy = tturn ? tturn + 2 * nch : NULL;
+  int *freerun = malloc((size_t)G * sizeof *freerun);
   au_status st = AU_OK;
   unsigned char *tmp = NULL;
-  if (!fstart || !flist || !ord || !occ || !area || !fp) {
+  if (!fstart || !flist || !ord || !occ || !area || !fp || !rt || !tturn || !freerun) {
     st = AU_E_NOMEM;
     goto done;
   }
@@ -286,11 +352,17 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
     for (int f = 0; f < nf; f++) flist[fstart[chart[f]] + fill[chart[f]]++] = f;
     free(fill);
   }
-  sort_key = area;
-  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
+  /* Three orders: by area, by longer side, by bounding box, each largest first; a scale packs when one
+   * of them packs at it. */
+  for (int o = 0; o < 3; o++) {
+    int *od = ord + (size_t)o * nch;
+    for (int ch = 0; ch < nch; ch++) key[ch] = o == 0 ? area[ch] : o == 1 ? fmax(bw[ch], bh[ch]) : bw[ch] * bh[ch];
+    sort_desc(od, tturn, key, nch);
+  }
   double lo = s0, hi = 1 / sqrt(total > 0 ? total : 1);
-  for (int it = 0; it < 14 && hi > lo * (1 + 1e-3); it++) {
-    double sc = it == 0 ? hi * 0.999 : 0.5 * (lo + hi);
+  if (probe > 0) lo = 0; /* one scale only: the one that covers probe of the square */
+  for (int it = 0; it < (probe > 0 ? 1 : 14) && hi > lo * (1 + 1e-3); it++) {
+    double sc = probe > 0 ? hi * sqrt(probe) : it == 0 ? hi * 0.999 : 0.5 * (lo + hi);
     /* The footprints at scale sc. */
     size_t maxcells = 0;
     int fits = 1;
@@ -316,9 +388,12 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
           int i0 = (int)floor(fmin(x[0], fmin(x[1], x[2]))), i1 = (int)floor(fmax(x[0], fmax(x[1], x[2])));
           int j0 = (int)floor(fmin(y[0], fmin(y[1], y[2]))), j1 = (int)floor(fmax(y[0], fmax(y[1], y[2])));
           i0 = i0 < 0 ? 0 : i0, j0 = j0 < 0 ? 0 : j0, i1 = i1 > p->w - 2 ? p->w - 2 : i1, j1 = j1 > p->h - 2 ? p->h - 2 : j1;
+          /* A face within one row or column of cells touches every cell of its box (it is connected and
+           * spans the box); only a larger box needs the cell test. */
+          int thin = i0 == i1 || j0 == j1;
           for (int j = j0; j <= j1; j++)
             for (int i = i0; i <= i1; i++)
-              if (!p->bit[(size_t)j * p->w + i] && tri_cell(x, y, i, j)) p->bit[(size_t)j * p->w + i] = 1;
+              if (!p->bit[(size_t)j * p->w + i] && (thin || tri_cell(x, y, i, j))) p->bit[(size_t)j * p->w + i] = 1;
         }
         /* Grown by one cell up and to the right (top rows first, so a grown cell does not grow again). */
         for (int j = p->h - 1; j >= 0; j--)
@@ -329,16 +404,35 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
               if (l || d || ld) p->bit[(size_t)j * p->w + i] = 2;
             }
       }
-      free(tmp), free(rows);
-      tmp = malloc(maxcells), rows = malloc((maxcells / 64 + 2 * (size_t)G + 2) * sizeof *rows);
-      if (!tmp || !rows) {
+      /* Each footprint in its four quarter turns, as runs of cells. */
+      free(tmp);
+      if (!(tmp = malloc(maxcells))) {
         st = AU_E_NOMEM;
         goto done;
       }
-      fits = grid_pack(nch, ord, fp, G, occ, tmp, rows, NULL, NULL, NULL);
+      for (int ch = 0; ch < nch && st == AU_OK; ch++)
+        for (int k = 0; k < 4; k++) {
+          runs *r = &rt[4 * ch + k];
+          footprint b = {0, 0, tmp};
+          turn_footprint(&fp[ch], k, &b);
+          free(r->rs), free(r->run);
+          r->rs = malloc((2 * (size_t)b.h + 1) * sizeof *r->rs), r->run = malloc((2 * maxcells + 2) * sizeof *r->run);
+          if (!r->rs || !r->run) {
+            st = AU_E_NOMEM;
+            break;
+          }
+          r->longest = r->rs + b.h + 1;
+          int nr = footprint_runs(&b, r);
+          int *shrunk = realloc(r->run, (2 * (size_t)nr + 1) * sizeof *r->run);
+          if (shrunk) r->run = shrunk;
+        }
+      if (st != AU_OK) goto done;
+      fits = 0;
+      for (int o = 0; o < 3 && !fits; o++) fits = grid_pack(nch, ord + (size_t)o * nch, rt, G, occ, freerun, tturn, tpx, tpy);
     }
     if (fits) {
-      grid_pack(nch, ord, fp, G, occ, tmp, rows, turn, px, py);
+      memcpy(turn, tturn, (size_t)nch * sizeof *turn), memcpy(px, tpx, (size_t)nch * sizeof *px);
+      memcpy(py, tpy, (size_t)nch * sizeof *py);
       lo = sc, *s = sc;
     } else {
       hi = sc;
@@ -347,13 +441,15 @@ static au_status raster_pack(int nf, const int *Ft, const int *chart, int nch, c
 done:
   if (fp)
     for (int ch = 0; ch < nch; ch++) free(fp[ch].bit);
-  free(fstart), free(flist), free(ord), free(occ), free(area), free(fp), free(tmp), free(rows);
+  if (rt)
+    for (int i = 0; i < 4 * nch; i++) free(rt[i].rs), free(rt[i].run);
+  free(fstart), free(flist), free(ord), free(occ), free(area), free(fp), free(tmp), free(rt), free(tturn), free(freerun);
   return st;
 }
 
 /* au_atlas_pack, by the charts' shapes too when shapes is 1, on shelves only when 0. */
 static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
-                      int shapes, double *scale, au_msg *msg) {
+                      int shapes, double probe, double *scale, au_msg *msg) {
   /* 7. Each chart turned to its smallest bounding box (1 degree steps), lying flat, moved to the origin. */
   double *bw = calloc((size_t)nch, sizeof *bw), *bh = calloc((size_t)nch, sizeof *bh);
   double *bx = calloc((size_t)nch, sizeof *bx), *by = calloc((size_t)nch, sizeof *by);
@@ -375,7 +471,10 @@ static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt,
     for (int q = 0; q < nvt; q++) {
       int ch = vchart[q];
       double x = ca * vt[2 * q] - sa * vt[2 * q + 1], y = sa * vt[2 * q] + ca * vt[2 * q + 1];
-      lox[ch] = fmin(lox[ch], x), hix[ch] = fmax(hix[ch], x), loy[ch] = fmin(loy[ch], y), hiy[ch] = fmax(hiy[ch], y);
+      if (x < lox[ch]) lox[ch] = x;
+      if (x > hix[ch]) hix[ch] = x;
+      if (y < loy[ch]) loy[ch] = y;
+      if (y > hiy[ch]) hiy[ch] = y;
     }
     for (int ch = 0; ch < nch; ch++) {
       double ar = (hix[ch] - lox[ch]) * (hiy[ch] - loy[ch]);
@@ -397,8 +496,16 @@ static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt,
     bw[ch] = hix[ch] - lox[ch], bh[ch] = hiy[ch] - loy[ch], ord[ch] = ch;
     maxside = fmax(maxside, fmax(bw[ch], bh[ch]));
   }
-  sort_key = bh;
-  qsort(ord, (size_t)nch, sizeof *ord, by_key_desc);
+  {
+    int *tmp = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *tmp);
+    if (!tmp) {
+      free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
+          free(bestang);
+      return au_msg_set(msg, AU_E_NOMEM, "out of memory packing the atlas");
+    }
+    sort_desc(ord, tmp, bh, nch);
+    free(tmp);
+  }
   /* 8. The largest scale at which the shelves fit, by bisection. */
   double lo = 0, hi = (1 - 2 * gap) / maxside;
   for (int it = 0; it < 60; it++) {
@@ -413,7 +520,7 @@ static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt,
   int *px = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *px), *py = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *py);
   au_status st = AU_OK;
   if (!turn || !px || !py) st = AU_E_NOMEM;
-  else if (shapes) st = raster_pack(nf, Ft, chart, nch, vt, lox, loy, bw, bh, gap, lo, &rs, turn, px, py);
+  else if (shapes) st = raster_pack(nf, Ft, chart, nch, vt, lox, loy, bw, bh, gap, lo, probe, &rs, turn, px, py);
   if (st != AU_OK) {
     free(bw), free(bh), free(bx), free(by), free(lox), free(loy), free(hix), free(hiy), free(vchart), free(ord), free(best),
         free(bestang), free(turn), free(px), free(py);
@@ -448,7 +555,7 @@ static au_status pack(int nf, const int *Ft, const int *chart, int nch, int nvt,
 
 au_status au_atlas_pack(int nf, const int *Ft, const int *chart, int nch, int nvt, double *vt, int quarter, double gap,
                         double *scale, au_msg *msg) {
-  return pack(nf, Ft, chart, nch, nvt, vt, quarter, gap, 1, scale, msg);
+  return pack(nf, Ft, chart, nch, nvt, vt, quarter, gap, 1, 0, scale, msg);
 }
 
 /* Steps 5 to 8 for the cut as it stands: texture coordinates shared across uncut edges, the charts laid
@@ -512,28 +619,30 @@ static au_status lay_out(const au_mesh *m, const au_topo *t, const unsigned char
   }
   L->ncharts = nch;
 
-  au_status st = pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, 0, &L->scale, msg);
+  au_status st = pack(nf, Ft, L->chart, nch, nvt, vt, quarter, gap, 0, 0, &L->scale, msg);
   free(placed);
   return st;
 }
 
-static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int ch, int fa,
-                     int fb, int *lab);
+static int race_cut(const au_topo *t, int nf, unsigned char *cut, const au_atlas_layout *L, int ch, int fa, int fb,
+                    int *lab);
 
 /* Rasterize the atlas at 1024 x 1024 with the face that first covers each pixel centre; for every chart
- * with a pixel covered twice by two of its faces, race a breadth-first search from both faces over the
- * chart's uncut edges and cut the edges between the two territories. *nsplit: the charts split. */
-static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned char *cut, int *queue, au_atlas_layout *L,
-                                int *nsplit, au_msg *msg) {
-  const int R = 1024, nf = m->nf, nch = L->ncharts;
-  int *owner = malloc((size_t)R * R * sizeof *owner), *pa = malloc((size_t)nch * sizeof *pa);
-  int *pb = malloc((size_t)nch * sizeof *pb), *lab = malloc((size_t)nf * sizeof *lab);
-  if (!owner || !pa || !pb || !lab) {
-    free(owner), free(pa), free(pb), free(lab);
+ * with pixels covered twice by two of its faces, race a breadth-first search from both faces over the
+ * chart's uncut edges and cut the edges between the two territories, for up to AU_ATLAS_PAIRS distinct
+ * pairs of faces per chart in one round (a pair that an earlier race of the round already separated adds
+ * no cut; one that it did not still overlaps and needs its own). *nsplit: the charts split. */
+#define AU_ATLAS_PAIRS 8
+static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned char *cut, au_atlas_layout *L, int *nsplit,
+                                au_msg *msg) {
+  const int R = 1024, nf = m->nf, nch = L->ncharts, K = AU_ATLAS_PAIRS;
+  int *owner = malloc((size_t)R * R * sizeof *owner), *pairs = malloc(2 * (size_t)K * nch * sizeof *pairs);
+  int *np = calloc((size_t)nch, sizeof *np), *lab = malloc((size_t)nf * sizeof *lab);
+  if (!owner || !pairs || !np || !lab) {
+    free(owner), free(pairs), free(np), free(lab);
     return au_msg_set(msg, AU_E_NOMEM, "out of memory checking the atlas for overlaps");
   }
   for (size_t i = 0; i < (size_t)R * R; i++) owner[i] = -1;
-  for (int ch = 0; ch < nch; ch++) pa[ch] = pb[ch] = -1;
   const double *vt = L->vt;
   for (int f = 0; f < nf; f++) {
     double x[3], y[3];
@@ -562,63 +671,98 @@ static au_status split_overlaps(const au_mesh *m, const au_topo *t, unsigned cha
         if (*o < 0) {
           *o = f;
         } else {
-          int ch = L->chart[f];
-          if (L->chart[*o] == ch && pa[ch] < 0) pa[ch] = *o, pb[ch] = f;
+          int ch = L->chart[f], *pr = pairs + 2 * (size_t)K * ch, known = 0;
+          if (L->chart[*o] != ch || np[ch] == K) continue;
+          for (int k = 0; k < np[ch] && !known; k++) known = pr[2 * k] == *o && pr[2 * k + 1] == f;
+          if (!known) pr[2 * np[ch]] = *o, pr[2 * np[ch] + 1] = f, np[ch]++;
         }
       }
   }
-  int n = 0;
+  int n = 0, bad = 0;
   for (int ch = 0; ch < nch; ch++) {
-    if (pa[ch] < 0) continue;
-    race_cut(t, nf, cut, queue, L, ch, pa[ch], pb[ch], lab);
-    n++;
+    for (int k = 0; k < np[ch] && !bad; k++)
+      bad = race_cut(t, nf, cut, L, ch, pairs[2 * ((size_t)K * ch + k)], pairs[2 * ((size_t)K * ch + k) + 1], lab);
+    n += np[ch] > 0;
   }
-  free(owner), free(pa), free(pb), free(lab);
+  free(owner), free(pairs), free(np), free(lab);
+  if (bad) return au_msg_set(msg, AU_E_NOMEM, "out of memory checking the atlas for overlaps");
   *nsplit = n;
   return AU_OK;
 }
 
-/* Cut chart ch of L between faces fa and fb: a breadth-first race from both over the chart's uncut edges,
- * and the edges between the two territories cut. lab [0..nf-1]: scratch. */
-static void race_cut(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L, int ch, int fa,
-                     int fb, int *lab) {
-  {
-    for (int f = 0; f < nf; f++) lab[f] = -1;
-    int head = 0, tail = 0;
-    lab[fa] = 0, lab[fb] = 1;
-    queue[tail++] = fa, queue[tail++] = fb;
-    while (head < tail) {
-      int f = queue[head++];
-      for (int k = 0; k < 3; k++) {
-        int e = t->FE[3 * f + k];
-        if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
-        int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
-        if (lab[g] >= 0) continue;
-        lab[g] = lab[f], queue[tail++] = g;
-      }
-    }
-    for (int e = 0; e < t->ne; e++) {
-      if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
-      int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
-      if (L->chart[f0] == ch && lab[f0] >= 0 && lab[f1] >= 0 && lab[f0] != lab[f1]) cut[e] = 1;
-    }
-  }
-}
-
-/* When a chart's longer side exceeds AU_ATLAS_LONG times the square root of the atlas's area (at the scale
- * that covers half of the square it would span more than 0.35 of its side: long ragged charts leave space
- * that no other chart fills), cut the
- * longest such chart in two between the faces at the two ends of that side (race_cut). Returns 1 if a chart
- * was cut, 0 if none, -1 when out of memory. */
-#define AU_ATLAS_LONG 0.5
-static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, const au_atlas_layout *L) {
-  const int nch = L->ncharts;
-  double cover = 0, *box = malloc(4 * (size_t)(nch > 0 ? nch : 1) * sizeof *box);
-  int *lab = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *lab);
-  if (!box || !lab) {
-    free(box), free(lab);
+/* Cut chart ch of L between faces fa and fb: a race from both over the chart's uncut edges, by the
+ * distance between face centroids in vt (Dijkstra on the dual graph; the chart is flat, so this follows
+ * the metric, and the two territories meet near the straight bisector of a convex stretch, where a race by
+ * steps follows the triangulation's zigzags), and the edges between the two territories cut. Each
+ * territory is connected (a shortest-path tree). lab [0..nf-1]: scratch. Returns 0, -1 when out of memory. */
+static int race_cut(const au_topo *t, int nf, unsigned char *cut, const au_atlas_layout *L, int ch, int fa, int fb,
+                    int *lab) {
+  double *dist = malloc((size_t)nf * sizeof *dist);
+  heap h = {0, malloc((3 * (size_t)nf + 2) * sizeof(double)), malloc((3 * (size_t)nf + 2) * sizeof(int))};
+  if (!dist || !h.key || !h.v) {
+    free(dist), free(h.key), free(h.v);
     return -1;
   }
+  for (int f = 0; f < nf; f++) lab[f] = -1, dist[f] = INFINITY;
+  lab[fa] = 0, lab[fb] = 1, dist[fa] = dist[fb] = 0;
+  heap_push(&h, 0, fa), heap_push(&h, 0, fb);
+  while (h.n > 0) {
+    double d;
+    int f;
+    heap_pop(&h, &d, &f);
+    if (d > dist[f]) continue;
+    const double *a = L->vt + 2 * L->Ft[3 * f], *b = L->vt + 2 * L->Ft[3 * f + 1], *c = L->vt + 2 * L->Ft[3 * f + 2];
+    double cx = (a[0] + b[0] + c[0]) / 3, cy = (a[1] + b[1] + c[1]) / 3;
+    for (int k = 0; k < 3; k++) {
+      int e = t->FE[3 * f + k];
+      if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
+      int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+      const double *p = L->vt + 2 * L->Ft[3 * g], *q = L->vt + 2 * L->Ft[3 * g + 1], *r = L->vt + 2 * L->Ft[3 * g + 2];
+      double dg = d + hypot((p[0] + q[0] + r[0]) / 3 - cx, (p[1] + q[1] + r[1]) / 3 - cy);
+      if (dg < dist[g]) dist[g] = dg, lab[g] = lab[f], heap_push(&h, dg, g);
+    }
+  }
+  for (int e = 0; e < t->ne; e++) {
+    if (t->EF[2 * e + 1] < 0 || cut[e]) continue;
+    int f0 = t->EF[2 * e], f1 = t->EF[2 * e + 1];
+    if (L->chart[f0] == ch && lab[f0] >= 0 && lab[f1] >= 0 && lab[f0] != lab[f1]) cut[e] = 1;
+  }
+  free(dist), free(h.key), free(h.v);
+  return 0;
+}
+
+/* The factors of the square root of the atlas's area above which charts are cut for length, in turn (0:
+ * none), until the packed charts cover AU_ATLAS_COVER of the square (au_atlas_separate). */
+#define AU_ATLAS_LONG {0, 1.0, 0.8, 0.65, 0.5}
+#define AU_ATLAS_COVER 0.55
+
+/* The area of L's charts in vt (their coverage of the unit square). */
+static double atlas_area(int nf, const au_atlas_layout *L) {
+  double a = 0;
+  for (int f = 0; f < nf; f++) {
+    const double *p = L->vt + 2 * L->Ft[3 * f], *q = L->vt + 2 * L->Ft[3 * f + 1], *r = L->vt + 2 * L->Ft[3 * f + 2];
+    a += 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (r[0] - p[0]) * (q[1] - p[1]));
+  }
+  return a;
+}
+
+/* Every chart whose longer side exceeds factor times the square root of the atlas's area (at the scale
+ * that covers half of the square, factor 0.5 is a side of more than 0.35 of the square's: long ragged
+ * charts leave space that no other chart fills) is cut in two between the faces at the two ends of that
+ * side (race_cut), the longest first, at most maxn of them. A chart's cut depends on that chart alone, so
+ * cutting them all in one round cuts the same edges as one at a time, in fewer rounds of packing. Returns
+ * the number of charts cut, -1 when out of memory. */
+static int split_long(const au_topo *t, int nf, unsigned char *cut, const au_atlas_layout *L, double factor, int maxn) {
+  const int nch = L->ncharts;
+  double cover = 0, *box = malloc(4 * (size_t)(nch > 0 ? nch : 1) * sizeof *box);
+  int *lab = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *lab), *fa = malloc(3 * (size_t)(nch > 0 ? nch : 1) * sizeof *fa);
+  double *span = malloc((size_t)(nch > 0 ? nch : 1) * sizeof *span), *lo = malloc(2 * (size_t)(nch > 0 ? nch : 1) * sizeof *lo);
+  if (!box || !lab || !fa || !span || !lo) {
+    free(box), free(lab), free(fa), free(span), free(lo);
+    return -1;
+  }
+  int *fb = fa + nch, *axis = fa + 2 * nch;
+  double *hi = lo + nch;
   for (int ch = 0; ch < nch; ch++) box[4 * ch] = box[4 * ch + 1] = INFINITY, box[4 * ch + 2] = box[4 * ch + 3] = -INFINITY;
   for (int f = 0; f < nf; f++) {
     const double *a = L->vt + 2 * L->Ft[3 * f], *b = L->vt + 2 * L->Ft[3 * f + 1], *c = L->vt + 2 * L->Ft[3 * f + 2];
@@ -629,24 +773,32 @@ static int split_long(const au_topo *t, int nf, unsigned char *cut, int *queue, 
       bx[0] = fmin(bx[0], p[0]), bx[1] = fmin(bx[1], p[1]), bx[2] = fmax(bx[2], p[0]), bx[3] = fmax(bx[3], p[1]);
     }
   }
-  int best = -1, axis = 0;
-  double span = AU_ATLAS_LONG * sqrt(cover > 0 ? cover : 0);
-  for (int ch = 0; ch < nch; ch++)
+  const double limit = factor * sqrt(cover > 0 ? cover : 0);
+  for (int ch = 0; ch < nch; ch++) {
+    span[ch] = 0, axis[ch] = 0, fa[ch] = fb[ch] = -1, lo[ch] = INFINITY, hi[ch] = -INFINITY;
     for (int d = 0; d < 2; d++)
-      if (box[4 * ch + 2 + d] - box[4 * ch + d] > span) span = box[4 * ch + 2 + d] - box[4 * ch + d], best = ch, axis = d;
-  int done = 0;
-  if (best >= 0) {
-    int fa = -1, fb = -1;
-    double lo = INFINITY, hi = -INFINITY;
-    for (int f = 0; f < nf; f++) {
-      if (L->chart[f] != best) continue;
-      double c = (L->vt[2 * L->Ft[3 * f] + axis] + L->vt[2 * L->Ft[3 * f + 1] + axis] + L->vt[2 * L->Ft[3 * f + 2] + axis]) / 3;
-      if (c < lo) lo = c, fa = f;
-      if (c > hi) hi = c, fb = f;
-    }
-    if (fa >= 0 && fb >= 0 && fa != fb) race_cut(t, nf, cut, queue, L, best, fa, fb, lab), done = 1;
+      if (box[4 * ch + 2 + d] - box[4 * ch + d] > span[ch]) span[ch] = box[4 * ch + 2 + d] - box[4 * ch + d], axis[ch] = d;
   }
-  free(box), free(lab);
+  for (int f = 0; f < nf; f++) {
+    int ch = L->chart[f], d = axis[ch];
+    if (!(span[ch] > limit)) continue;
+    double c = (L->vt[2 * L->Ft[3 * f] + d] + L->vt[2 * L->Ft[3 * f + 1] + d] + L->vt[2 * L->Ft[3 * f + 2] + d]) / 3;
+    if (c < lo[ch]) lo[ch] = c, fa[ch] = f;
+    if (c > hi[ch]) hi[ch] = c, fb[ch] = f;
+  }
+  int done = 0;
+  while (done < maxn) {
+    int best = -1;
+    for (int ch = 0; ch < nch; ch++)
+      if (span[ch] > limit && fa[ch] >= 0 && fb[ch] >= 0 && fa[ch] != fb[ch] && (best < 0 || span[ch] > span[best])) best = ch;
+    if (best < 0) break;
+    if (race_cut(t, nf, cut, L, best, fa[best], fb[best], lab)) {
+      done = -1;
+      break;
+    }
+    span[best] = 0, done++;
+  }
+  free(box), free(lab), free(fa), free(span), free(lo);
   return done;
 }
 
@@ -662,55 +814,76 @@ au_status au_atlas_separate(const au_mesh *m, const au_topo *t, au_atlas_layout 
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
     goto done;
   }
+  /* Long charts are cut only as far as the packing needs: with no cut first, then above each of the
+   * factors of AU_ATLAS_LONG in turn, until the charts, packed by their shapes, cover AU_ATLAS_COVER of
+   * the square. */
+  static const double longf[] = AU_ATLAS_LONG;
+  const int nlevels = (int)(sizeof longf / sizeof longf[0]);
   int nlong = 0;
-  for (int round = 0;; round++) {
-    /* Shelves while charts are split (where they overlap themselves or are too long), then the shapes. */
-    if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 0, &L->scale, msg)) != AU_OK) goto done;
-    int split = 0;
-    if (round == 40 || (st = split_overlaps(m, t, L->cut, queue, L, &split, msg)) != AU_OK) break;
-    if (!split && nlong < 32) {
-      if ((split = split_long(t, nf, L->cut, queue, L)) < 0) {
+  for (int level = 0; level < nlevels && st == AU_OK; level++) {
+    int nlevel = 0; /* splits at this level */
+    for (int round = 0;; round++) {
+      /* Shelves while charts are split (where they overlap themselves or are too long), then the shapes. */
+      if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 0, 0, &L->scale, msg)) != AU_OK) goto done;
+      int split = 0;
+      if (round == 40 || (st = split_overlaps(m, t, L->cut, L, &split, msg)) != AU_OK) break;
+      if (!split && nlong < 32 && longf[level] > 0) {
+        if ((split = split_long(t, nf, L->cut, L, longf[level], 32 - nlong)) < 0) {
+          st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
+          goto done;
+        }
+        nlong += split;
+      }
+      if (!split) break;
+      if (nsplit) *nsplit += split;
+      nlevel += split;
+      /* The corners separated by the new cut edges get their own rows of vt, where they were. */
+      int nvt = corner_rows(t, F, nf, L->cut, uf, cls);
+      double *vt = malloc(2 * (size_t)nvt * sizeof *vt);
+      if (!vt) {
         st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
         goto done;
       }
-      nlong += split;
-    }
-    if (!split) break;
-    if (nsplit) *nsplit += split;
-    /* The corners separated by the new cut edges get their own rows of vt, where they were. */
-    int nvt = corner_rows(t, F, nf, L->cut, uf, cls);
-    double *vt = malloc(2 * (size_t)nvt * sizeof *vt);
-    if (!vt) {
-      st = au_msg_set(msg, AU_E_NOMEM, "out of memory separating the charts");
-      goto done;
-    }
-    for (int i = 0; i < 3 * nf; i++) {
-      int q = cls[uf_find(uf, i)];
-      vt[2 * q] = L->vt[2 * L->Ft[i]], vt[2 * q + 1] = L->vt[2 * L->Ft[i] + 1];
-    }
-    for (int i = 0; i < 3 * nf; i++) L->Ft[i] = cls[uf_find(uf, i)];
-    free(L->vt);
-    L->vt = vt, L->nvt = nvt;
-    int nch = 0;
-    for (int f = 0; f < nf; f++) L->chart[f] = -1;
-    for (int f0 = 0; f0 < nf; f0++) {
-      if (L->chart[f0] >= 0) continue;
-      int head = 0, tail = 0;
-      queue[tail++] = f0, L->chart[f0] = nch;
-      while (head < tail) {
-        int f = queue[head++];
-        for (int k = 0; k < 3; k++) {
-          int e = t->FE[3 * f + k];
-          if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
-          int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
-          if (L->chart[g] < 0) L->chart[g] = nch, queue[tail++] = g;
-        }
+      for (int i = 0; i < 3 * nf; i++) {
+        int q = cls[uf_find(uf, i)];
+        vt[2 * q] = L->vt[2 * L->Ft[i]], vt[2 * q + 1] = L->vt[2 * L->Ft[i] + 1];
       }
-      nch++;
+      for (int i = 0; i < 3 * nf; i++) L->Ft[i] = cls[uf_find(uf, i)];
+      free(L->vt);
+      L->vt = vt, L->nvt = nvt;
+      int nch = 0;
+      for (int f = 0; f < nf; f++) L->chart[f] = -1;
+      for (int f0 = 0; f0 < nf; f0++) {
+        if (L->chart[f0] >= 0) continue;
+        int head = 0, tail = 0;
+        queue[tail++] = f0, L->chart[f0] = nch;
+        while (head < tail) {
+          int f = queue[head++];
+          for (int k = 0; k < 3; k++) {
+            int e = t->FE[3 * f + k];
+            if (t->EF[2 * e + 1] < 0 || L->cut[e]) continue;
+            int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
+            if (L->chart[g] < 0) L->chart[g] = nch, queue[tail++] = g;
+          }
+        }
+        nch++;
+      }
+      L->ncharts = nch;
     }
-    L->ncharts = nch;
+    if (st != AU_OK) break;
+    /* Before the last level, one packing at the scale that covers AU_ATLAS_COVER tells whether the charts
+     * as they are reach it (a level that cut nothing packs as the one before it did); then the largest
+     * scale, by bisection. */
+    if (level < nlevels - 1) {
+      if (level > 0 && nlevel == 0) continue;
+      if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, AU_ATLAS_COVER, &L->scale, msg)) !=
+          AU_OK)
+        break;
+      if (atlas_area(nf, L) < AU_ATLAS_COVER * (1 - 1e-9)) continue;
+    }
+    st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, 0, &L->scale, msg);
+    break;
   }
-  if (st == AU_OK) st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg);
 done:
   free(queue), free(uf), free(cls);
   return st;
@@ -833,7 +1006,7 @@ au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_co
 }
 
 au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
-                               int quarter, au_atlas_layout *L, au_msg *msg) {
+                               int quarter, int shapes, au_atlas_layout *L, au_msg *msg) {
   if (!m || !t || !u || !L || t->nv != m->nv || t->nf != m->nf || !(gap >= 0) || gap >= 0.25)
     return au_msg_set(msg, AU_E_ARG, "au_atlas_layout_make: bad arguments");
   memset(L, 0, sizeof *L);
@@ -1007,15 +1180,17 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
   }
   /* 5.-8. Lay out and pack; where a chart covers a texel of the 1024 x 1024 raster twice (it overlaps
    * itself in the plane: a cone of large angle, a long arm that comes round), the chart is split between
-   * the two faces found there, by a breadth-first race from both, and the whole is packed again. */
+   * the two faces found there, by a race from both (race_cut), and the whole is packed again. */
   for (int round = 0;; round++) {
     if ((st = lay_out(m, t, cut, flen, frame, quarter, gap, uf, cls, queue, L, msg)) != AU_OK) goto done;
     int split = 0;
-    if ((st = split_overlaps(m, t, cut, queue, L, &split, msg)) != AU_OK) goto done;
+    if ((st = split_overlaps(m, t, cut, L, &split, msg)) != AU_OK) goto done;
     if (!split || round == 40) break;
   }
-  /* On shelves while splitting, by the charts' shapes at the end. */
-  if ((st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, &L->scale, msg)) != AU_OK) goto done;
+  /* On shelves while splitting, by the charts' shapes at the end (when asked: a layout that the flow
+   * moves is packed again after it). */
+  if (shapes && (st = pack(nf, L->Ft, L->chart, L->ncharts, L->nvt, L->vt, quarter, gap, 1, 0, &L->scale, msg)) != AU_OK)
+    goto done;
   /* 9., 10. Folds, coverage and the seams (splits added cut edges). */
   st = au_atlas_measure(m, t, c, L, msg);
 

@@ -219,7 +219,7 @@ static int check_layout(au_mesh *m, int genus, int loops, int quarter, double mi
   AU_CHECK(u);
   AU_CHECK_STATUS(au_atlas_cetm(m, t, &c, &o, u, NULL, &msg), AU_OK, &msg);
   au_atlas_layout L;
-  AU_CHECK_STATUS(au_atlas_layout_make(m, t, &c, u, 2.0 / 1024, quarter, &L, &msg), AU_OK, &msg);
+  AU_CHECK_STATUS(au_atlas_layout_make(m, t, &c, u, 2.0 / 1024, quarter, 1, &L, &msg), AU_OK, &msg);
   for (int i = 0; i < 2 * L.nvt; i++) AU_CHECK(L.vt[i] >= 0 && L.vt[i] <= 1);
   AU_CHECK_INT(L.folds, ==, 0);
   long covered = 0, twice = au_atlas_overlap_texels(m->nf, L.vt, L.Ft, 1024, &covered);
