@@ -36,6 +36,10 @@
  * for the flow's steps and the next vertices. 0.3 let edges grow (bunny: 298 edges over 4x the surface's),
  * 0.8 and 0.95 squeezed faces further (bunny's worst start face e^-5.1, e^-10.1 against e^-4.5). */
 #define AU_ML_KERNEL_KEEP 0.5
+/* Sweeps of the placement over every vertex once the last is back (Gauss-Seidel, each vertex towards its
+ * shape's point inside its kernel): spiky_ico's map per-face 0.0220 -> 0.0192, cow's 0.0178 -> 0.0167,
+ * spot_lowres's 0.0122 -> 0.0117, bunny's 0.0067 -> 0.0069; five: spiky_ico 0.0181, cow 0.0168. */
+#define AU_ML_FINE_SWEEPS 2
 /* The shear weight's floor in the coarse map's and the levels' flows (the flow's own default is 0.01):
  * triangles kept near their surface shapes leave every re-inserted vertex room in its ring. */
 #define AU_ML_SHEAR_TAIL 0.3
@@ -589,6 +593,10 @@ au_status au_sphere_multilevel(const au_mesh *m, const au_topo *t, const au_sphe
     }
     if (L > 0) st = level_flow(&s, o, mo.level_steps, P, &rep->level_steps, msg);
   }
+  /* The finest level gets no flow of its own: sweeps of the same placement over every vertex smooth it. */
+  for (int it = 0; st == AU_OK && it < AU_ML_FINE_SWEEPS; it++)
+    for (int w = 0; w < s.nv; w++)
+      if (!s.vdead[w]) place(&s, w, w, s.vf[w].a, s.vf[w].n, 0, P);
   goto out;
 nomem:
   st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
