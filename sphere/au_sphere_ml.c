@@ -389,8 +389,8 @@ static int place(const ml_state *s, int w, int v, const int *faces, int nstar, i
     double go = 1;
     for (int i = 0; i < nstar; i++) {
       const double h = H[3 * i] * px + H[3 * i + 1] * py + H[3 * i + 2], dh = H[3 * i] * qx + H[3 * i + 1] * qy;
-      const double hg = H[3 * i] * gx + H[3 * i + 1] * gy + H[3 * i + 2], floor = fmin((1 - AU_ML_KERNEL_KEEP) * hg, h);
-      if (dh < 0) go = fmin(go, fmax(0, (h - floor) / -dh));
+      const double hg = H[3 * i] * gx + H[3 * i + 1] * gy + H[3 * i + 2], low = fmin((1 - AU_ML_KERNEL_KEEP) * hg, h);
+      if (dh < 0) go = fmin(go, fmax(0, (h - low) / -dh));
     }
     px += go * qx, py += go * qy;
   } else if (!fresh)
