@@ -77,7 +77,9 @@ typedef struct au_sphere_ml_report {
  * o->ml.coarse_vertices vertices, mapped by au_sphere_map (conformal start, o's flow and rescues; where that
  * start folds, from a Tutte embedding of a further simplification to a tetrahedron, re-inserted), then
  * the collapses undone in reverse order, each vertex placed strictly inside the kernel of its ring on
- * the sphere, with o->ml.level_steps flow steps after each level but the finest (sphere/au_sphere_ml.c).
+ * the sphere where the ring keeps the surface's shape (mean-value coordinates), with o->ml.level_steps
+ * flow steps after each level but the finest and two sweeps of the placement after it
+ * (sphere/au_sphere_ml.c, docs/coarse-to-fine-placement.md).
  * P: out, nv x 3 unit vectors, fold-free. rep may be NULL. Not with flow.face_weight (AU_E_ARG); a
  * flow.weight is followed from the first level on. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED,
  * AU_E_FOLD (a ring's kernel was empty to rounding), AU_W_NOT_CONVERGED (the coarse map stayed far from
