@@ -46,6 +46,14 @@
 #define AU_ML_SHEAR_TAIL 0.3
 /* Coarse meshes tried, from the coarsest level up, until one's conformal map does not fold. */
 #define AU_ML_COARSE_TRIES 3
+/* The area placement's start: at most this part of the way from the kernel's centroid to its edge. */
+#define AU_ML_AREA_KEEP 0.7
+/* Gauss-Newton steps of a vertex's area placement (place_opt; coarse_progressive's levels). */
+#define AU_ML_PLACE_STEPS 8
+/* The weight of a placed vertex's triangles' shapes (log of the sum of squared edges over the area, against
+ * the surface triangle's) beside their areas in the area placement: areas alone make needles, whose rings
+ * later leave a vertex no room. */
+#define AU_ML_SHAPE 0.5
 /* The placement leaves a vertex with more faces than this where it is (and a re-inserted one makes the
  * start fall back to the conformal one). */
 #define AU_ML_STAR_MAX 64
@@ -90,6 +98,9 @@ typedef struct ml_state {
   int nrec, caprec;
   ivec mods;
   int topo_only;       /* 1: collapses keep the topology only (coarse_map's levels below the coarse mesh) */
+  int area_place;      /* 1: vertices are placed by their stars' areas (place_opt), not by their rings'
+                        * surface shapes: below the coarse mesh, where topology-only collapses leave rings
+                        * whose surface shapes mean nothing */
 } ml_state;
 
 static void sub3(const double *a, const double *b, double *d) { d[0] = a[0] - b[0], d[1] = a[1] - b[1], d[2] = a[2] - b[2]; }
@@ -97,6 +108,11 @@ static void cross3(const double *a, const double *b, double *c) {
   c[0] = a[1] * b[2] - a[2] * b[1], c[1] = a[2] * b[0] - a[0] * b[2], c[2] = a[0] * b[1] - a[1] * b[0];
 }
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double det3(const double *a, const double *b, const double *c) {
+  double n[3];
+  cross3(b, c, n);
+  return dot3(a, n);
+}
 
 static void face_normal(const double *X, int a, int b, int c, double *n) {
   double e1[3], e2[3];
@@ -291,6 +307,83 @@ static void clip(double *poly, int *n, double *tmp, double a, double b, double d
   *n = m;
 }
 
+/* The placement of a vertex w in the chart of the plane tangent at c (p = c + x e1 + y e2; the kernel's
+ * constraints n . p > 0 are homogeneous in p, so the chart needs no normalization). */
+typedef struct place_ctx {
+  const ml_state *s;
+  const int *faces;   /* w's star */
+  int nstar, w;
+  const double *P, *c, *e1, *e2;
+  const double *H;    /* per star face: the kernel's half-plane H0 x + H1 y + H2 > 0 */
+} place_ctx;
+
+/* The residuals log(A_i / (share_i x sum A)) of the star's chord areas A_i at (x, y), share_i the face's
+ * part of the star's surface area; res may be NULL. Returns their sum of squares, or INFINITY outside the
+ * kernel. */
+static double place_cost(const place_ctx *pc, double x, double y, double *res) {
+  double A[AU_ML_STAR_MAX], S[AU_ML_STAR_MAX], Q[AU_ML_STAR_MAX], QS[AU_ML_STAR_MAX], sa = 0, ss = 0, p[3];
+  for (int i = 0; i < pc->nstar; i++)
+    if (pc->H[3 * i] * x + pc->H[3 * i + 1] * y + pc->H[3 * i + 2] <= 0) return INFINITY;
+  for (int k = 0; k < 3; k++) p[k] = pc->c[k] + x * pc->e1[k] + y * pc->e2[k];
+  const double l = sqrt(dot3(p, p));
+  p[0] /= l, p[1] /= l, p[2] /= l;
+  for (int i = 0; i < pc->nstar; i++) {
+    const int *fc = pc->s->F + 3 * pc->faces[i];
+    const int k = fc[0] == pc->w ? 0 : fc[1] == pc->w ? 1 : 2;
+    const int a = fc[(k + 1) % 3], b = fc[(k + 2) % 3];
+    double da[3], db[3], n[3];
+    sub3(pc->P + 3 * a, p, da), sub3(pc->P + 3 * b, p, db), cross3(da, db, n);
+    const double chord = sqrt(dot3(n, n));
+    /* The spherical triangle's area, which vanishes where the chord one need not: on a great circle. */
+    A[i] = 2 * atan2(det3(p, pc->P + 3 * a, pc->P + 3 * b), 1 + dot3(p, pc->P + 3 * a) + dot3(pc->P + 3 * a, pc->P + 3 * b) +
+                                                           dot3(pc->P + 3 * b, p));
+    if (!(A[i] > 0)) return INFINITY;
+    double ab[3];
+    sub3(pc->P + 3 * b, pc->P + 3 * a, ab);
+    Q[i] = (dot3(da, da) + dot3(db, db) + dot3(ab, ab)) / chord;
+    face_normal(pc->s->X, pc->w, a, b, n);
+    S[i] = sqrt(dot3(n, n));
+    double xa[3], xb[3];
+    sub3(pc->s->X + 3 * a, pc->s->X + 3 * pc->w, xa), sub3(pc->s->X + 3 * b, pc->s->X + 3 * pc->w, xb), sub3(xb, xa, ab);
+    QS[i] = (dot3(xa, xa) + dot3(xb, xb) + dot3(ab, ab)) / S[i];
+    sa += A[i], ss += S[i];
+  }
+  double e = 0;
+  for (int i = 0; i < pc->nstar; i++) {
+    const double q = A[i] > 0 && S[i] > 0 ? log((A[i] / sa) / (S[i] / ss)) : INFINITY;
+    const double qs = A[i] > 0 && S[i] > 0 ? AU_ML_SHAPE * log(Q[i] / QS[i]) : INFINITY;
+    if (res) res[2 * i] = q, res[2 * i + 1] = qs;
+    e += q * q + qs * qs;
+  }
+  return e;
+}
+
+/* A few Gauss-Newton steps on place_cost from (*x, *y), each halved until the cost falls; h: the
+ * kernel's size, for the finite differences. */
+static void place_opt(const place_ctx *pc, double *x, double *y, double h) {
+  if (!(h > 0)) return;
+  double r0[2 * AU_ML_STAR_MAX], rx[2 * AU_ML_STAR_MAX], ry[2 * AU_ML_STAR_MAX];
+  const double d = 1e-5 * h;
+  double e = place_cost(pc, *x, *y, r0);
+  for (int it = 0; it < AU_ML_PLACE_STEPS && isfinite(e) && e > 1e-8; it++) {
+    if (!isfinite(place_cost(pc, *x + d, *y, rx)) || !isfinite(place_cost(pc, *x, *y + d, ry))) return;
+    double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;
+    for (int i = 0; i < 2 * pc->nstar; i++) {
+      const double jx = (rx[i] - r0[i]) / d, jy = (ry[i] - r0[i]) / d;
+      a11 += jx * jx, a12 += jx * jy, a22 += jy * jy, b1 -= jx * r0[i], b2 -= jy * r0[i];
+    }
+    const double damp = 1e-6 * (a11 + a22), det = (a11 + damp) * (a22 + damp) - a12 * a12;
+    if (!(det > 0)) return;
+    double sx = (b1 * (a22 + damp) - b2 * a12) / det, sy = ((a11 + damp) * b2 - a12 * b1) / det, t = 1;
+    int moved = 0;
+    for (int k = 0; k < 20 && !moved; k++, t *= 0.5) {
+      const double e2 = place_cost(pc, *x + t * sx, *y + t * sy, rx);
+      if (e2 < e) *x += t * sx, *y += t * sy, e = e2, memcpy(r0, rx, sizeof(double) * 2 * (size_t)pc->nstar), moved = 1;
+    }
+    if (!moved) return;
+  }
+}
+
 /* The point of w's chart (c; e1, e2) that keeps the surface's shape of w's ring: the ring flattened about
  * w (the angles at w scaled to 2 pi, the lengths kept), w's mean-value coordinates in it (Floater 2003),
  * and that combination of the ring's chart positions (Praun & Hoppe 2003 place by shape and leave the
@@ -331,7 +424,8 @@ static int shape_target(const ml_state *s, int w, const int *faces, int nstar, c
 }
 
 /* Place vertex w (star: its faces, nstar of them) inside the kernel of its ring on the sphere, at its shape's
- * point (shape_target) as far as the shrunk kernel allows (AU_ML_KERNEL_KEEP). fresh: w was just re-inserted
+ * point (shape_target) as far as the shrunk kernel allows (AU_ML_KERNEL_KEEP), or with s->area_place by
+ * its star's areas (place_opt). fresh: w was just re-inserted
  * beside v (the chart is v's, whose closure touches the kernel; w starts at the kernel's centroid); else w
  * starts where it is, inside its kernel, and stays where its ring has no shape's point. Returns 0, or < 0
  * where the kernel is empty to rounding (P[w] unchanged unless fresh). */
@@ -345,7 +439,7 @@ static int place(const ml_state *s, int w, int v, const int *faces, int nstar, i
   double l = sqrt(dot3(e1, e1));
   e1[0] /= l, e1[1] /= l, e1[2] /= l;
   cross3(c, e1, e2);
-  double reach = 0;
+  double reach = 0, q[3] = {0, 0, 0}, wsum = 0;
   for (int i = 0; i < nstar; i++) {
     const int *fc = s->F + 3 * faces[i];
     const int k = fc[0] == w ? 0 : fc[1] == w ? 1 : 2;
@@ -360,6 +454,12 @@ static int place(const ml_state *s, int w, int v, const int *faces, int nstar, i
       const double xa = dot3(P + 3 * a, e1) / ca, ya = dot3(P + 3 * a, e2) / ca;
       reach = fmax(reach, sqrt(xa * xa + ya * ya));
     } else reach = 1e3;
+    if (s->area_place) {
+      double d[3];
+      sub3(s->X + 3 * a, s->X + 3 * w, d);
+      const double wt = 1 / fmax(sqrt(dot3(d, d)), 1e-300);
+      q[0] += wt * P[3 * a], q[1] += wt * P[3 * a + 1], q[2] += wt * P[3 * a + 2], wsum += wt;
+    }
   }
   const double R = fmin(fmax(2 * reach, 1e-6), 1e3);
   double sq[8] = {-R, -R, R, -R, R, R, -R, R};
@@ -382,21 +482,40 @@ static int place(const ml_state *s, int w, int v, const int *faces, int nstar, i
     if (!(hmin > 0)) return -4;
     px = gx, py = gy;
   }
-  double tx, ty;
-  if (shape_target(s, w, faces, nstar, P, c, e1, e2, &tx, &ty) == 0) {
-    /* Along the segment towards the shape's point, each half-plane keeps at least (1 - keep) of its value at
-     * the centroid, or its value at the start where that is less: the shrunk kernel, never left nearer an
-     * edge than before. */
-    const double qx = tx - px, qy = ty - py;
-    double go = 1;
-    for (int i = 0; i < nstar; i++) {
-      const double h = H[3 * i] * px + H[3 * i + 1] * py + H[3 * i + 2], dh = H[3 * i] * qx + H[3 * i + 1] * qy;
-      const double hg = H[3 * i] * gx + H[3 * i + 1] * gy + H[3 * i + 2], low = fmin((1 - AU_ML_KERNEL_KEEP) * hg, h);
-      if (dh < 0) go = fmin(go, fmax(0, (h - low) / -dh));
+  if (s->area_place) {
+    /* A fresh vertex starts towards its ring's corners weighted by their inverse surface distance, at most
+     * AU_ML_AREA_KEEP of the way to the kernel's edge; then Gauss-Newton on its star's areas and shapes. */
+    const double qc = fresh && wsum > 0 ? dot3(q, c) : 0;
+    if (qc > 0) {
+      const double qx = dot3(q, e1) / qc - gx, qy = dot3(q, e2) / qc - gy;
+      double smax = INFINITY;
+      for (int i = 0; i < nstar; i++) {
+        const double h = H[3 * i] * gx + H[3 * i + 1] * gy + H[3 * i + 2], dh = H[3 * i] * qx + H[3 * i + 1] * qy;
+        if (dh < 0) smax = fmin(smax, -h / dh);
+      }
+      const double sgo = fmin(1, AU_ML_AREA_KEEP * smax);
+      px += sgo * qx, py += sgo * qy;
     }
-    px += go * qx, py += go * qy;
-  } else if (!fresh)
-    return 0;
+    place_ctx pc = {s, faces, nstar, w, P, c, e1, e2, H};
+    if (!fresh && !isfinite(place_cost(&pc, 0, 0, NULL))) return 0;
+    place_opt(&pc, &px, &py, sqrt(A / 2));
+  } else {
+    double tx, ty;
+    if (shape_target(s, w, faces, nstar, P, c, e1, e2, &tx, &ty) == 0) {
+      /* Along the segment towards the shape's point, each half-plane keeps at least (1 - keep) of its value at
+       * the centroid, or its value at the start where that is less: the shrunk kernel, never left nearer an
+       * edge than before. */
+      const double qx = tx - px, qy = ty - py;
+      double go = 1;
+      for (int i = 0; i < nstar; i++) {
+        const double h = H[3 * i] * px + H[3 * i + 1] * py + H[3 * i + 2], dh = H[3 * i] * qx + H[3 * i + 1] * qy;
+        const double hg = H[3 * i] * gx + H[3 * i + 1] * gy + H[3 * i + 2], low = fmin((1 - AU_ML_KERNEL_KEEP) * hg, h);
+        if (dh < 0) go = fmin(go, fmax(0, (h - low) / -dh));
+      }
+      px += go * qx, py += go * qy;
+    } else if (!fresh)
+      return 0;
+  }
   double old[3];
   memcpy(old, P + 3 * w, sizeof old);
   double *p = P + 3 * w;
@@ -743,6 +862,7 @@ static au_status coarse_progressive(ml_state *s, const au_sphere_opts *o, double
   s->topo_only = 1;
   const int e = simplify(s, nlive, AU_ML_BASE_VERTICES, level, &nlevel);
   s->topo_only = 0;
+  s->area_place = 1;
   if (e < 0) return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
   *steps = 0;
   au_status st = live_map(s, 0, 0, P, msg);
@@ -778,6 +898,7 @@ static au_status coarse_progressive(ml_state *s, const au_sphere_opts *o, double
     if (!(err <= AU_ML_COARSE_GATE))
       st = au_msg_set(msg, AU_W_NOT_CONVERGED, "sphere: the coarse map stayed at a vertex error of %.3f", err);
   }
+  s->area_place = 0;
   /* On failure, the coarse mesh is restored for the caller's next try. */
   for (int i = s->nrec - 1; i >= n0; i--)
     if (unsplit(s, &s->rec[i]) < 0) return au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
