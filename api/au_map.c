@@ -11,6 +11,7 @@
 #include "au_api_internal.h"
 #include "au_disk.h"
 #include "au_metrics.h"
+#include "au_solver.h"
 #include "au_report.h"
 #include "au_sphere.h"
 #include "au_torus.h"
@@ -682,6 +683,7 @@ au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, con
   flow_options(t, o, &x.pc, &x.flow, &x.sphere);
 
   au_status check = AU_OK;
+  const long factorizations = au__solver_factorizations();
   st = prepare(&x, V, nv, F, nf, &check, msg);
   if (st == AU_OK) st = alloc_result(&x, msg);
   if (st == AU_OK && cancelled(&x.pc)) st = au_msg_set(msg, AU_E_CANCELLED, "cancelled");
@@ -691,6 +693,7 @@ au_status au_map(const double *V, int nv, const int *F, int nf, au_target t, con
   if (st >= 0 && t == AU_TARGET_SQUARE && o->aspect > 0) stretch_rectangle(&x);
   if (st >= 0) {
     x.r->t_init += x.t_split;
+    x.r->factorizations = au__solver_factorizations() - factorizations;
     st = measure(&x, st, msg) == AU_OK ? st : AU_E_FOLD;
   }
   if (st >= 0 && st == AU_OK && check > 0) st = check;
@@ -751,6 +754,7 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.angle_from = flow ? r->conv.angle_from : 0;
   if (r->target == AU_TARGET_TORUS)
     info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;
+  info.factorizations = r->factorizations;
   info.start = r->target == AU_TARGET_TORUS || r->target == AU_TARGET_SPHERE ? r->init_method : NULL;
   info.ncircles = r->ncircles, info.circles = r->circles, info.circle_vertex = r->circle_vertex;
   info.circle_outer = r->circle_outer;

@@ -15,3 +15,7 @@ target_link_libraries(au_sphere_areas_map PRIVATE authalic_core)
 # au_texture_split_diag: a texture's per-face area error split into the map's and the projection's.
 add_executable(au_texture_split_diag ${CMAKE_CURRENT_LIST_DIR}/texture_split_diag.c)
 target_link_libraries(au_texture_split_diag PRIVATE authalic_core)
+
+# au_cotan_factor: one factorization of a mesh's cotan Laplacian, the unit of bench/factor_units.sh.
+add_executable(au_cotan_factor ${CMAKE_CURRENT_LIST_DIR}/cotan_factor.c)
+target_link_libraries(au_cotan_factor PRIVATE authalic_core)

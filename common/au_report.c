@@ -161,6 +161,7 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
     ok = put(root, lat_key[q], a) && put(a, NULL, num_array(lat[q][0], 2)) && put(a, NULL, num_array(lat[q][1], 2));
   }
   if (info->start) ok = ok && put(root, "start", str(info->start));
+  if (info->factorizations > 0) ok = ok && put(root, "factorizations", cJSON_CreateNumber((double)info->factorizations));
   if (ok && info->ncircles > 0) {
     cJSON *a = cJSON_CreateArray();
     ok = put(root, "circles", a);

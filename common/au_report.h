@@ -21,6 +21,7 @@ typedef struct au_report_info {
   const char *input, *output; /* paths as given */
   int nv, nf;
   int steps;                  /* advection steps taken */
+  long factorizations;        /* sparse numeric factorizations of the whole map (0: not reported) */
   int converged;              /* 1 if the tolerance was met */
   const au_metrics *init;     /* metrics of the initial (conformal) map; may be NULL */
   const au_metrics *final;    /* metrics of the result; required */

@@ -178,6 +178,12 @@ au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fix
   return AU_OK;
 }
 
+/* Numeric factorizations made by au_solver_factor and au_spd_factor in this process, for the reports
+ * (au_result.factorizations): a measurement, the one mutable global, updated atomically. */
+static long factor_count;
+
+long au__solver_factorizations(void) { return __atomic_load_n(&factor_count, __ATOMIC_RELAXED); }
+
 au_status au_solver_factor(au_solver *s, const double *w, const double *d, au_msg *msg) {
   if (!s || (s->ne > 0 && !w)) return au_msg_set(msg, AU_E_ARG, "solver: bad arguments");
   double *Ax = s->A->x;
@@ -193,6 +199,7 @@ au_status au_solver_factor(au_solver *s, const double *w, const double *d, au_ms
     for (int i = 0; i < s->n; i++)
       if (s->idx[i] >= 0) Ax[s->diag_pos[s->idx[i]]] += d[i];
   s->factored = 0;
+  __atomic_add_fetch(&factor_count, 1, __ATOMIC_RELAXED);
   au_status st = factorize(s->A, s->L, &s->c, msg);
   s->factored = st == AU_OK;
   return st;
@@ -831,6 +838,7 @@ au_status au_spd_factor(au_spd *s, au_msg *msg) {
   double *bx = s->B->x;
   const int nnz = ((const int *)s->A->p)[s->n];
   for (int p = 0; p < nnz; p++) bx[s->map[p]] = ax[p];
+  __atomic_add_fetch(&factor_count, 1, __ATOMIC_RELAXED);
   au_status st = s->split ? split_factor(s, msg) : factorize(s->B, s->L, &s->c, msg);
   s->factored = st == AU_OK;
   return st;

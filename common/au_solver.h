@@ -70,6 +70,9 @@ void au_spd_free(au_spd **s);
  * elimination tree allows it (au_solver.c, spd_split); au__spd_split_size gives the size of the
  * separator that joins the halves (0: factored whole). For tests and measurements. */
 extern int au__spd_split_min;
+/* Numeric factorizations (au_solver_factor, au_spd_factor; a split one counts once) made so far in this
+ * process, by every thread: a map's count is the difference across it (au_result.factorizations). */
+long au__solver_factorizations(void);
 /* The qsort/bsearch comparator of ints that the sparse-pattern builders share. */
 int au__cmp_int(const void *a, const void *b);
 int au__spd_split_size(const au_spd *s);

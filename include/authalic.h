@@ -630,6 +630,9 @@ typedef struct au_result {
   int init_only;           /* 1 if the flow was not run */
   double t_check, t_init, t_flow, t_metrics; /* seconds in the mesh check, the initial map, the flow,
                                                 the metrics */
+  long factorizations;     /* sparse numeric factorizations (CHOLMOD) the map made, every stage counted;
+                              counted process-wide, so maps made at the same time in other threads add
+                              theirs */
   double boundary_dev;     /* planar: the boundary's largest distance from the domain's boundary */
   const char *init_method; /* planar and torus: "cotan" or "meanvalue" (how the harmonic start was made),
                               torus also "compressed" (docs/torus-hard-shapes.md);

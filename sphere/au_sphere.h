@@ -169,8 +169,8 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
  * less than 2 x barrier x its face's share of the chord total above its least value (min_orient of the
  * share, or where it started if lower); a step that takes a triple product below its least is halved,
  * or tried with 4x the damping. Steps are taken while they lower that cost, at most
- * max_iter, until five in a row gain less than 0.01% each or the vertex cells' mean |log ratio| is at
- * most tol (a map already there is left alone). face_w: per-face target density (NULL:
+ * max_iter, until five in a row gain less than 0.01% each, the vertex cells' mean |log ratio| is at
+ * most tol, or (min_gain) ten steps have gained too little of what a user measures (a map already there is left alone). face_w: per-face target density (NULL:
  * equal area). P: in/out, nv x 3 unit vectors, fold-free; stays so. A vertex with more than 64 faces
  * leaves P unchanged. *iters (may be NULL): steps taken.
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED (P as after the last step, fold-free). */
@@ -185,6 +185,9 @@ typedef struct au_gpolish_opts {
                           * with d this (>= 0; 0: squares) */
   double tol;            /* stop once the vertex cells' mean |log ratio| is at most this */
   const int *cancel;     /* when *cancel is nonzero at the start of a step (read atomically): AU_E_CANCELLED */
+  double min_gain;       /* > 0: also stop once the last 20 steps together have lowered neither the vertex cells' mean
+                          * |log ratio| nor the faces' mean |r - 1| (against the surface's shares) by this
+                          * part of its value (0..1; 0: off, as au_sphere_gpolish_settings leaves it) */
 } au_gpolish_opts;
 au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
                                   const au_gpolish_opts *o, int *iters, au_msg *msg);

@@ -528,6 +528,11 @@ static int global_polish(void) {
   AU_CHECK_DBL(a->metrics.r_mean_abs_dev, <=, b->metrics.r_mean_abs_dev);
   AU_CHECK_INT(b->conv.global_polish, ==, 0);
   AU_CHECK_INT(b->conv.vertex_polish, ==, 2);
+  /* The factorizations counted (au_result.factorizations): the start's and one per solved step at least,
+   * and the two maps are made alike up to the global polish, which factors once per step at least. */
+  printf("factorizations: %ld with the global polish, %ld without\n", a->factorizations, b->factorizations);
+  AU_CHECK_INT(b->factorizations, >=, (long)b->conv.steps + b->conv.undone + 1);
+  AU_CHECK_INT(a->factorizations, >=, b->factorizations + a->conv.global_polish_steps);
   au_result_free(&a), au_result_free(&b);
   au_mesh_free(&m);
   return 0;
