@@ -830,7 +830,8 @@ _COMMON_DOC = """
 _RETURNS_DOC = """
     info is the dict of the program's --report JSON (au_result_json): "tool", "version", "command",
     "input" and "output" (None), "V", "F", "steps", "converged", "folds", "time" (seconds per stage:
-    validate, init, flow, metrics, total; the program adds read and write), "metrics" and
+    validate, init, flow, metrics, total; the program adds read and write), "factorizations" (sparse
+    factorizations the map made), "metrics" and
     "initial_metrics" (param-eval's keys: upsilon_*, lambda_*, r_mean_abs_dev = mean |r - 1|, r_cv,
     vertex_logr_mean_abs, angle_diff_mean_deg, folds, ...; see metrics()), "convergence" (per-step
     "err", "face_err", "frac", ...) and "warnings".
