@@ -942,9 +942,8 @@ au_status au_sphere_multilevel(const au_mesh *m, const au_topo *t, const au_sphe
    * triangles), the next finer level is the coarse mesh, up to AU_ML_COARSE_TRIES times. */
   int top = nlevel - 1;
   for (int tries = 0;; tries++) {
-    const int last = tries + 1 >= AU_ML_COARSE_TRIES || top <= 1;
-    st = last ? coarse_map(&s, o, P, &rep->coarse_steps, msg) : coarse_conformal(&s, o, P, &rep->coarse_steps, msg);
-    if ((st != AU_E_FOLD && st != AU_W_NOT_CONVERGED) || last) break;
+    st = coarse_map(&s, o, P, &rep->coarse_steps, msg);
+    if ((st != AU_E_FOLD && st != AU_W_NOT_CONVERGED) || tries + 1 >= AU_ML_COARSE_TRIES || top <= 1) break;
     top--;
     for (int i = s.nrec - 1; i >= level[top]; i--)
       if (unsplit(&s, &s.rec[i]) < 0) goto nomem;
