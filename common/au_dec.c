@@ -191,3 +191,42 @@ double au_dec_sphere_chord_floor(const double *a, const double *b, const double 
   double depth = 1 - sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
   return depth > 0 ? 0.5 * sqrt(l2) * depth : 0;
 }
+
+void au_dec_tri_compress(double x[3][3], const double *g, double gn, double beta) {
+  for (int k = 0; k < 3; k++) {
+    const double s = (x[k][0] * g[0] + x[k][1] * g[1] + x[k][2] * g[2]) / (gn * gn);
+    for (int d = 0; d < 3; d++) x[k][d] -= (1 - beta) * s * g[d];
+  }
+}
+
+int au_dec_tri_twist(double x[3][3], const double *n, double nn, const double *g, double gn) {
+  /* Frame: gy along g, gx = n x gy (the girth); X, Y the corners' coordinates in it. */
+  const double gy[3] = {g[0] / gn, g[1] / gn, g[2] / gn};
+  const double gx[3] = {(n[1] * gy[2] - n[2] * gy[1]) / nn, (n[2] * gy[0] - n[0] * gy[2]) / nn,
+                        (n[0] * gy[1] - n[1] * gy[0]) / nn};
+  double X[3], Y[3];
+  for (int k = 0; k < 3; k++) {
+    X[k] = x[k][0] * gx[0] + x[k][1] * gx[1] + x[k][2] * gx[2];
+    Y[k] = x[k][0] * gy[0] + x[k][1] * gy[1] + x[k][2] * gy[2];
+  }
+  int a = 0;
+  for (int k = 1; k < 3; k++)
+    if (fabs(Y[(k + 1) % 3] - Y[(k + 2) % 3]) < fabs(Y[(a + 1) % 3] - Y[(a + 2) % 3])) a = k;
+  const int p = (a + 1) % 3, q = (a + 2) % 3;
+  const double xl = fmin(X[p], X[q]), xr = fmax(X[p], X[q]), ye = 0.5 * (Y[p] + Y[q]), dy = Y[a] - ye;
+  const double k = dy > 0 ? (xr - X[a]) / dy : dy < 0 ? (X[a] - xl) / -dy : 0;
+  if (!(k > 0)) return 0;
+  for (int j = 0; j < 3; j++)
+    for (int d = 0; d < 3; d++) x[j][d] += k * (Y[j] - ye) * gx[d];
+  return 1;
+}
+
+void au_dec_tri_cotans(const double x[3][3], double c[3]) {
+  for (int k = 0; k < 3; k++) {
+    const double *p = x[k], *q = x[(k + 1) % 3], *r = x[(k + 2) % 3];
+    const double a1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, a2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+    const double c2[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2], a1[0] * a2[1] - a1[1] * a2[0]};
+    const double sn = sqrt(c2[0] * c2[0] + c2[1] * c2[1] + c2[2] * c2[2]);
+    c[k] = sn > 0 ? 0.5 * (a1[0] * a2[0] + a1[1] * a2[1] + a1[2] * a2[2]) / sn : 0;
+  }
+}

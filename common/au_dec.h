@@ -65,6 +65,23 @@ double au_dec_sphere_floor_excess(size_t nf, const int *F, const double *P, cons
 /* au_dec_sphere_area of every face: area [0..nf-1]. */
 void au_dec_sphere_face_areas(int nf, const int *F, const double *V, double *area);
 
+/* The tube starts' triangle reshaping (sphere/au_sphere_init.c, torus/au_torus_init.c), on one triangle
+ * x (its three corners, changed in place), g the gradient of the log scale across it (|g| = gn > 0).
+ * au_dec_tri_compress scales each corner's component along g by beta: a protrusion shortened along its
+ * length, so the harmonic map squeezes it less. */
+void au_dec_tri_compress(double x[3][3], const double *g, double gn, double beta);
+
+/* Shears x along the girth n x g (n the surface triangle's normal, |n| = nn > 0) until the corner off the
+ * edge most across g stands over an end of that edge: the triangles of an antiprism band of a tube become
+ * a prism band's, a turn of each ring against the next that the flow, a gradient, cannot make. Corner
+ * above the edge: to its right end; below: to its left end (the same shear for both kinds of triangle of
+ * a band). Returns 1 if x was sheared, 0 if its corner stood over the edge already. */
+int au_dec_tri_twist(double x[3][3], const double *n, double nn, const double *g, double gn);
+
+/* The cotans of triangle x's corners: c[k] at corner k, the weight of the opposite edge; 0 for a
+ * degenerate triangle. */
+void au_dec_tri_cotans(const double x[3][3], double c[3]);
+
 #ifdef __cplusplus
 }
 #endif

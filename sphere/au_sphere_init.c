@@ -221,43 +221,11 @@ static int tube_weights(const au_mesh *m, const au_topo *t, const double *u, dou
     double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), h = sqrt(2 * cn / sqrt(3.0));
     double jump = gn * h;
     int squeezed = gn > 0 && cn > 0 && (both || u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid);
-    if (squeezed && compress > 0 && jump > compress) {
-      double beta = compress / jump;
-      for (int k = 0; k < 3; k++) {
-        double s = (x[k][0] * g[0] + x[k][1] * g[1] + x[k][2] * g[2]) / (gn * gn);
-        for (int d = 0; d < 3; d++) x[k][d] -= (1 - beta) * s * g[d];
-      }
-    }
-    if (gn > 0 && cn > 0 && twist > 0 && jump > twist) {
-      /* Frame: gy along grad u, gx = n x gy (the girth direction); X, Y the corners' coordinates. */
-      double gy[3] = {g[0] / gn, g[1] / gn, g[2] / gn}, gx[3], X[3], Y[3];
-      gx[0] = (cr[1] * gy[2] - cr[2] * gy[1]) / cn, gx[1] = (cr[2] * gy[0] - cr[0] * gy[2]) / cn;
-      gx[2] = (cr[0] * gy[1] - cr[1] * gy[0]) / cn;
-      for (int k = 0; k < 3; k++) {
-        X[k] = x[k][0] * gx[0] + x[k][1] * gx[1] + x[k][2] * gx[2];
-        Y[k] = x[k][0] * gy[0] + x[k][1] * gy[1] + x[k][2] * gy[2];
-      }
-      int a = 0;
-      for (int k = 1; k < 3; k++)
-        if (fabs(Y[(k + 1) % 3] - Y[(k + 2) % 3]) < fabs(Y[(a + 1) % 3] - Y[(a + 2) % 3])) a = k;
-      int p = (a + 1) % 3, q = (a + 2) % 3;
-      double xl = fmin(X[p], X[q]), xr = fmax(X[p], X[q]), ye = 0.5 * (Y[p] + Y[q]), dy = Y[a] - ye;
-      /* Corner above the edge: to its right end; below: to its left end (the same shear for both kinds
-       * of triangle of an antiprism band). */
-      double k = dy > 0 ? (xr - X[a]) / dy : dy < 0 ? (X[a] - xl) / -dy : 0;
-      if (k > 0) {
-        nsheared++;
-        for (int j = 0; j < 3; j++)
-          for (int d = 0; d < 3; d++) x[j][d] += k * (Y[j] - ye) * gx[d];
-      }
-    }
-    for (int k = 0; k < 3; k++) {
-      const double *p = x[k], *q = x[(k + 1) % 3], *r = x[(k + 2) % 3];
-      double a1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, a2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
-      double c2[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2], a1[0] * a2[1] - a1[1] * a2[0]};
-      double sn = sqrt(c2[0] * c2[0] + c2[1] * c2[1] + c2[2] * c2[2]);
-      if (sn > 0) w[t->FE[3 * f + k]] += 0.5 * (a1[0] * a2[0] + a1[1] * a2[1] + a1[2] * a2[2]) / sn;
-    }
+    if (squeezed && compress > 0 && jump > compress) au_dec_tri_compress(x, g, gn, compress / jump);
+    if (gn > 0 && cn > 0 && twist > 0 && jump > twist) nsheared += au_dec_tri_twist(x, cr, cn, g, gn);
+    double c[3];
+    au_dec_tri_cotans((const double(*)[3])x, c);
+    for (int k = 0; k < 3; k++) w[t->FE[3 * f + k]] += c[k];
   }
   return nsheared;
 }

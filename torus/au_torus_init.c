@@ -340,47 +340,18 @@ static int compressed_weights(const au_mesh *m, const au_topo *t, const double *
     double jump = gn * sqrt(2 * cn / sqrt(3.0));
     int squeeze = cn > 0 && gn > 0 && jump > AU_TORUS_JUMP && u[v[0]] + u[v[1]] + u[v[2]] < 3 * umid;
     if (squeeze) {
-      double beta = AU_TORUS_JUMP / jump;
       nc++;
-      for (int k = 0; k < 3; k++) {
-        double sp = (x[k][0] * g[0] + x[k][1] * g[1] + x[k][2] * g[2]) / (gn * gn);
-        for (int d = 0; d < 3; d++) x[k][d] -= (1 - beta) * sp * g[d];
-      }
-    }
-    if (squeeze) {
-      /* Sheared along the girth (n x grad u, one handedness everywhere) until the corner off the edge most
-       * across grad u stands over an end of that edge: an antiprism band becomes a prism band, as in the
-       * sphere's twisted start (sphere/au_sphere_init.c), since the flow, a gradient, cannot turn one ring
-       * against the next. */
+      au_dec_tri_compress(x, g, gn, AU_TORUS_JUMP / jump);
+      /* Sheared along the girth, as the sphere's twisted start (sphere/au_sphere_init.c), with the surface
+       * triangle's normal. */
       const double *p0 = m->X + 3 * (size_t)v[0], *p1 = m->X + 3 * (size_t)v[1], *p2 = m->X + 3 * (size_t)v[2];
       double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
       double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-      double gy[3] = {g[0] / gn, g[1] / gn, g[2] / gn}, gx[3], X[3], Y[3];
-      gx[0] = (nrm[1] * gy[2] - nrm[2] * gy[1]) / cn, gx[1] = (nrm[2] * gy[0] - nrm[0] * gy[2]) / cn;
-      gx[2] = (nrm[0] * gy[1] - nrm[1] * gy[0]) / cn;
-      for (int k = 0; k < 3; k++) {
-        X[k] = x[k][0] * gx[0] + x[k][1] * gx[1] + x[k][2] * gx[2];
-        Y[k] = x[k][0] * gy[0] + x[k][1] * gy[1] + x[k][2] * gy[2];
-      }
-      int a = 0;
-      for (int k = 1; k < 3; k++)
-        if (fabs(Y[(k + 1) % 3] - Y[(k + 2) % 3]) < fabs(Y[(a + 1) % 3] - Y[(a + 2) % 3])) a = k;
-      int pa = (a + 1) % 3, qa = (a + 2) % 3;
-      double xl = fmin(X[pa], X[qa]), xr = fmax(X[pa], X[qa]), ye = 0.5 * (Y[pa] + Y[qa]), dy = Y[a] - ye;
-      double k = dy > 0 ? (xr - X[a]) / dy : dy < 0 ? (X[a] - xl) / -dy : 0;
-      if (k > 0)
-        for (int j = 0; j < 3; j++)
-          for (int d = 0; d < 3; d++) x[j][d] += k * (Y[j] - ye) * gx[d];
+      au_dec_tri_twist(x, nrm, cn, g, gn);
     }
     double c[3], cmax = 0;
-    for (int k = 0; k < 3; k++) {
-      const double *p = x[k], *q = x[(k + 1) % 3], *r = x[(k + 2) % 3];
-      double a1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, a2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
-      double c2[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2], a1[0] * a2[1] - a1[1] * a2[0]};
-      double sn = sqrt(c2[0] * c2[0] + c2[1] * c2[1] + c2[2] * c2[2]);
-      c[k] = sn > 0 ? 0.5 * (a1[0] * a2[0] + a1[1] * a2[1] + a1[2] * a2[2]) / sn : 0;
-      cmax = fmax(cmax, c[k]);
-    }
+    au_dec_tri_cotans((const double(*)[3])x, c);
+    for (int k = 0; k < 3; k++) cmax = fmax(cmax, c[k]);
     /* c[k] is the cotan of corner k: the weight of the opposite edge, FE[3f + k]. */
     for (int k = 0; k < 3; k++) w[t->FE[3 * f + k]] += clamp && squeeze ? fmax(c[k], AU_TORUS_WEIGHT_FLOOR * cmax) : c[k];
   }
