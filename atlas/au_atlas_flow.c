@@ -281,40 +281,37 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
     }
     for (int v = 0; v < nv; v++)
       for (int a = 0; a < 2; a++) val[entry(colstart, rows, 2 * v + a, 2 * v + a)] += pin[v] || !t->vused[v] ? 1 : 1e-9 * (1 + lambda) / meanT;
-    if ((st = au_spd_factor(spd, msg)) == AU_E_NOT_SPD) {
-      /* The area rows alone are rank-deficient; more of the Dirichlet term makes the system definite. At
-       * the largest weight the flow stops where it is (the map so far is valid). */
+    int failed = (st = au_spd_factor(spd, msg)) == AU_E_NOT_SPD;
+    double alpha = 1, err2 = -1;
+    if (failed) {
+      /* The area rows alone are rank-deficient; more of the Dirichlet term makes the system definite. */
       st = AU_OK;
       if (msg) msg->text[0] = '\0';
-      if (lambda > 1e8 * o.shear) {
-        /* Stalled: once, the symmetry is broken (jitter) and the flow goes on from there. */
-        if (jittered || !jitter(nv, nf, F, pin, p, rot, tr, q, q2, A, pmin)) break;
-        jittered = 1, lambda = o.shear;
-        err = face_error(nf, q, S, Stot, A, &Atot, &sq);
-        continue;
+    } else {
+      if (st != AU_OK) goto done;
+      if ((st = au_spd_solve(spd, b, d, msg)) != AU_OK) goto done;
+      /* The step is halved until the error falls and no face loses more than 9/10 of its area (nor turns
+       * over): a face squeezed to nothing in one step is one rounding away from a fold. */
+      memcpy(A2, A, (size_t)nf * sizeof *A2);
+      for (int k = 0; k < 30; k++, alpha *= 0.5) {
+        for (int i = 0; i < n; i++) p2[i] = p[i] + alpha * d[i];
+        corners(nf, F, p2, rot, tr, q2);
+        double At2;
+        double sq2 = 0;
+        err2 = face_error(nf, q2, S, Stot, A, &At2, &sq2);
+        int shrunk = 0;
+        for (int f = 0; err2 >= 0 && f < nf && !shrunk; f++) shrunk = A[f] < 0.1 * A2[f];
+        if (err2 >= 0 && sq2 < sq && !shrunk) break;
+        err2 = -1;
       }
-      lambda *= 4;
-      continue;
+      if (!(err2 >= 0)) {
+        failed = 1;
+        face_error(nf, q, S, Stot, A, &Atot, NULL);
+      }
     }
-    if (st != AU_OK) goto done;
-    if ((st = au_spd_solve(spd, b, d, msg)) != AU_OK) goto done;
-    /* The step is halved until the error falls and no face loses more than 9/10 of its area (nor turns
-     * over): a face squeezed to nothing in one step is one rounding away from a fold. */
-    memcpy(A2, A, (size_t)nf * sizeof *A2);
-    double alpha = 1, err2 = -1;
-    for (int k = 0; k < 30; k++, alpha *= 0.5) {
-      for (int i = 0; i < n; i++) p2[i] = p[i] + alpha * d[i];
-      corners(nf, F, p2, rot, tr, q2);
-      double At2;
-      double sq2 = 0;
-      err2 = face_error(nf, q2, S, Stot, A, &At2, &sq2);
-      int shrunk = 0;
-      for (int f = 0; err2 >= 0 && f < nf && !shrunk; f++) shrunk = A[f] < 0.1 * A2[f];
-      if (err2 >= 0 && sq2 < sq && !shrunk) break;
-      err2 = -1;
-    }
-    if (!(err2 >= 0)) {
-      face_error(nf, q, S, Stot, A, &Atot, NULL);
+    if (failed) {
+      /* More damping; at its largest the flow is stalled: once, the symmetry is broken (jitter) and the
+       * flow goes on from there; then it stops where it is (the map so far is valid). */
       if (lambda > 1e8 * o.shear) {
         if (jittered || !jitter(nv, nf, F, pin, p, rot, tr, q, q2, A, pmin)) break;
         jittered = 1, lambda = o.shear;
