@@ -153,11 +153,12 @@ typedef struct au_atlas_flow_opts {
   double angles;   /* the first weight mu of the faces' mean squared shear (the anti-conformal part of the map
                       from the surface, per face 2 sinh(Lambda / 2) at its share of the area) against the mean
                       squared logs of the area ratios; 0: no shear term, the flow ends at face_tol (0.064) */
-  double angles_face_tol;   /* with angles: stop where the flow settles with the per-face mean |r - 1| at most
+  double angles_face_tol;   /* with angles: stop at the first step with the per-face mean |r - 1| at most
                                this (0.012) ... */
   double angles_vertex_tol; /* ... and the vertex cells' mean |log r| (cells cut along the seams, as
                                param-eval --coords vt) at most this (0.003) */
-  double settle;   /* settled: a step lowers the objective by less than this share of it (1e-3) */
+  double settle;   /* with angles: mu is quartered where a step lowers the objective by less than this share
+                      of it (1e-3) */
 } au_atlas_flow_opts;
 au_atlas_flow_opts au_atlas_flow_opts_default(void);
 typedef struct au_atlas_flow_info {

@@ -296,11 +296,11 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
   double lambda = o.shear;
   int steps = 0, jittered = 0;
   /* The angles (o.angles > 0): the steps lower the squared logs plus mu times the faces' mean squared shear
-   * (face_shear), whose minimum, for a fixed mu, is the least-shear map at its area error. Where the
-   * objective has settled (a step lowers it by less than o.settle of itself) the flow stops if the areas
-   * are within the angle bounds (per-face angles_face_tol, vertex cells angles_vertex_tol); if not, mu is
-   * quartered and the flow goes on from there, towards the equal-area maps from the side of the least
-   * shear. Below 1/200 of its first value mu stays: once, the symmetry is broken (jitter); then mu is
+   * (face_shear), whose minimum, for a fixed mu, is the least-shear map at its area error. The flow goes
+   * from the conformal start (large area error, no shear) towards the equal-area maps, the shear growing as
+   * the area error falls, so it stops at the first step whose areas are within the angle bounds (per-face
+   * angles_face_tol, vertex cells angles_vertex_tol). Where the objective has settled outside them (a step
+   * lowers it by less than o.settle of itself), mu is quartered and the flow goes on from there. Below 1/200 of its first value mu stays: once, the symmetry is broken (jitter); then mu is
    * dropped and the plain flow ends at face_tol. Why not the plain flow and a polish after it: its last
    * steps buy the per-face error below 0.006 with most of the shear (bob: Lambda 0.52 at per-face 0.0062,
    * 0.63 at 0.0046), and no step from there lowers the shear without first giving that back. */
@@ -406,11 +406,11 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
     err = face_error(nf, q, S, Stot, A, &Atot, &sq);
     if (mu > 0) sq += mu * shear_mean(nf, q, G, Atot, Stot);
     if (mu > 0) {
+      if (err <= o.angles_face_tol && vertex_error(L->nvt, nf, Ft, A, S, cell) <= o.angles_vertex_tol) {
+        steps++;
+        break;
+      }
       if (sq > (1 - o.settle) * sq_prev) {
-        if (err <= o.angles_face_tol && vertex_error(L->nvt, nf, Ft, A, S, cell) <= o.angles_vertex_tol) {
-          steps++;
-          break;
-        }
         if (mu > o.angles / 200) mu *= 0.25;
         else if (!jittered && jitter(nv, nf, F, pin, p, rot, tr, q, q2, A, pmin)) jittered = 1;
         else mu = 0;
