@@ -15,8 +15,9 @@ au_atlas_flow_opts au_atlas_flow_opts_default(void) {
   o.max_steps = 200;
   o.face_tol = 0.005;
   o.shear = 1.0;
-  /* docs/atlas-angles.md: a first weight of 0.064 or 0.016 ends within 0.05 of each other's Lambda; the
-   * bounds keep a margin below the issue's (per-face 0.02, vertex 0.005) for the splits after the flow. */
+  /* docs/atlas-angles.md: a first weight of 0.064 or 0.016 ends within 0.03 of each other's Lambda (0.25
+   * and 1 worse); the bounds keep a margin below the issue's (per-face 0.02, vertex 0.005), as the charts'
+   * splits after the flow add cells (vertex error up to 0.0005 higher in param-eval). */
   o.angles = 0.064;
   o.angles_face_tol = 0.012;
   o.angles_vertex_tol = 0.003;
@@ -301,9 +302,9 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
    * the area error falls, so it stops at the first step whose areas are within the angle bounds (per-face
    * angles_face_tol, vertex cells angles_vertex_tol). Where the objective has settled outside them (a step
    * lowers it by less than o.settle of itself), mu is quartered and the flow goes on from there. Below 1/200 of its first value mu stays: once, the symmetry is broken (jitter); then mu is
-   * dropped and the plain flow ends at face_tol. Why not the plain flow and a polish after it: its last
-   * steps buy the per-face error below 0.006 with most of the shear (bob: Lambda 0.52 at per-face 0.0062,
-   * 0.63 at 0.0046), and no step from there lowers the shear without first giving that back. */
+   * dropped and the plain flow ends at face_tol. Why the bounds are not the plain flow's 0.005: its last
+   * steps buy the per-face error below 0.006 with much of the shear (bob, mu held at 0.001: Lambda 0.524
+   * at per-face 0.0062; the plain flow: 0.627 at 0.0046). */
   while (steps < o.max_steps && (mu > 0 || err > o.face_tol)) {
     double *val = au_spd_values(spd);
     memset(val, 0, (size_t)colstart[n] * sizeof *val);
