@@ -150,6 +150,15 @@ typedef struct au_atlas_flow_opts {
   int max_steps;   /* (200) */
   double face_tol; /* stop when the per-face mean |r - 1| is below this (0.005) */
   double shear;    /* the first step's weight of the displacement's Dirichlet energy (1) */
+  double angles;   /* the first weight mu of the faces' mean squared shear (the anti-conformal part of the map
+                      from the surface, per face 2 sinh(Lambda / 2) at its share of the area) against the mean
+                      squared logs of the area ratios; 0: no shear term, the flow ends at face_tol (0.064) */
+  double angles_face_tol;   /* with angles: stop at the first step with the per-face mean |r - 1| at most
+                               this (0.012) ... */
+  double angles_vertex_tol; /* ... and the vertex cells' mean |log r| (cells cut along the seams, as
+                               param-eval --coords vt) at most this (0.003) */
+  double settle;   /* with angles: mu is quartered where a step lowers the objective by less than this share
+                      of it (1e-3) */
 } au_atlas_flow_opts;
 au_atlas_flow_opts au_atlas_flow_opts_default(void);
 typedef struct au_atlas_flow_info {
@@ -161,8 +170,10 @@ typedef struct au_atlas_flow_info {
  * L->vt: every vertex has a home position p and every corner of it lies at R p + t, R and t the corner's
  * fixed rigid motion (the seams' rotations met round the vertex), so both sides of every seam move
  * together. Damped Gauss-Newton steps on the logs of the faces' area shares (a squeezed face is pulled as
- * hard as a stretched one is pushed) with a Dirichlet term on the corners' displacements, each step
- * shortened until no face turns over and the squared logs fall. Where no step lowers them any more (a
+ * hard as a stretched one is pushed) and, with o->angles, the faces' shear against the surface (weighted
+ * by mu, lowered by continuation until the areas are within angles_face_tol and angles_vertex_tol:
+ * docs/atlas-angles.md), with a Dirichlet term on the corners' displacements, each step shortened until
+ * no face turns over and the objective falls. Where no step lowers them any more (a
  * stationary point, as a symmetric map of a symmetric mesh can be), every free home position moves once
  * by a fixed pseudo-random 1% of its faces' size and the flow goes on. The charts are not
  * packed again. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_FOLD. */

@@ -15,6 +15,13 @@ au_atlas_flow_opts au_atlas_flow_opts_default(void) {
   o.max_steps = 200;
   o.face_tol = 0.005;
   o.shear = 1.0;
+  /* docs/atlas-angles.md: a first weight of 0.064 or 0.016 ends within 0.03 of each other's Lambda (0.25
+   * and 1 worse); the bounds keep a margin below the issue's (per-face 0.02, vertex 0.005), as the charts'
+   * splits after the flow add cells (vertex error up to 0.0005 higher in param-eval). */
+  o.angles = 0.064;
+  o.angles_face_tol = 0.012;
+  o.angles_vertex_tol = 0.003;
+  o.settle = 1e-3;
   return o;
 }
 
@@ -48,6 +55,44 @@ static double face_error(int nf, const double *q, const double *S, double Stot, 
   *Atot = tot;
   if (sq) *sq = e2 / nf;
   return e / nf;
+}
+
+/* The anti-conformal part of face f's map from the surface to the atlas (corners q; G the gradients of the
+ * surface triangle's hat functions in a frame of its plane), over sigma: c[0] = (J11 - J22) / sigma,
+ * c[1] = (J12 + J21) / sigma. Its length is sigma_1 - sigma_2 over sigma (sigma_1 >= sigma_2 the singular
+ * values of J): 2 sinh(Lambda / 2) for a face of the area sigma^2 times its surface area. */
+static void face_shear(const double *q, const double *G, int f, double sigma, double c[2]) {
+  const double *qa = q + 6 * (size_t)f, *g = G + 6 * (size_t)f;
+  c[0] = c[1] = 0;
+  for (int k = 0; k < 3; k++) {
+    c[0] += qa[2 * k] * g[2 * k] - qa[2 * k + 1] * g[2 * k + 1];
+    c[1] += qa[2 * k] * g[2 * k + 1] + qa[2 * k + 1] * g[2 * k];
+  }
+  c[0] /= sigma, c[1] /= sigma;
+}
+
+/* The mean over the faces of |c|^2 (face_shear) with sigma^2 = Atot / Stot. */
+static double shear_mean(int nf, const double *q, const double *G, double Atot, double Stot) {
+  double sigma = sqrt(Atot / Stot), e = 0, c[2];
+  for (int f = 0; f < nf; f++) face_shear(q, G, f, sigma, c), e += c[0] * c[0] + c[1] * c[1];
+  return nf > 0 ? e / nf : 0;
+}
+
+/* The vertex cells' mean |log r| as param-eval measures it on the output (`--coords vt`): the surface cut
+ * along the seams, a cell per row of vt (Ft: the row of each corner; nvt rows), a third of each of its
+ * faces; r its share of the atlas over its share of the surface. cell: scratch of 2 nvt. */
+static double vertex_error(int nvt, int nf, const int *Ft, const double *A, const double *S, double *cell) {
+  memset(cell, 0, 2 * (size_t)nvt * sizeof *cell);
+  double at = 0, st = 0;
+  for (int f = 0; f < nf; f++) {
+    for (int k = 0; k < 3; k++) cell[2 * Ft[3 * f + k]] += A[f] / 3, cell[2 * Ft[3 * f + k] + 1] += S[f] / 3;
+    at += A[f], st += S[f];
+  }
+  double e = 0;
+  int n = 0;
+  for (int v = 0; v < nvt; v++)
+    if (cell[2 * v] > 0 && cell[2 * v + 1] > 0) e += fabs(log(cell[2 * v] / at * st / cell[2 * v + 1])), n++;
+  return n > 0 ? e / n : 0;
 }
 
 /* Position of entry (i, j), i <= j, in the upper-triangle pattern. */
@@ -109,10 +154,11 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
   double *q2 = malloc(6 * (size_t)nf * sizeof *q2), *S = malloc((size_t)nf * sizeof *S);
   double *A = malloc((size_t)nf * sizeof *A), *b = malloc((size_t)n * sizeof *b), *d = malloc((size_t)n * sizeof *d);
   double *p2 = malloc((size_t)n * sizeof *p2), *A2 = malloc((size_t)nf * sizeof *A2);
-  double *pmin = malloc(3 * (size_t)(nv > 0 ? nv : 1) * sizeof *pmin);
+  double *pmin = malloc(3 * (size_t)(nv > 0 ? nv : 1) * sizeof *pmin), *G = malloc(6 * (size_t)nf * sizeof *G);
+  double *cell = malloc(2 * (size_t)(L->nvt > 0 ? L->nvt : 1) * sizeof *cell);
   unsigned char *pin = calloc((size_t)nv, 1), *known = calloc(3 * (size_t)nf, 1);
   au_spd *spd = NULL;
-  if (!home || !p || !rot || !tr || !q || !q2 || !S || !A || !b || !d || !p2 || !A2 || !pmin || !pin || !known) {
+  if (!home || !p || !rot || !tr || !q || !q2 || !S || !A || !b || !d || !p2 || !A2 || !pmin || !G || !cell || !pin || !known) {
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory for the atlas flow");
     goto done;
   }
@@ -123,6 +169,16 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
     double u[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]}, w[3] = {x2[0] - x0[0], x2[1] - x0[1], x2[2] - x0[2]};
     double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2], cz = u[0] * w[1] - u[1] * w[0];
     S[f] = 0.5 * sqrt(cx * cx + cy * cy + cz * cz), Stot += S[f];
+    /* The surface triangle in a frame of its own plane (corner 0 at the origin, corner 1 on the x axis,
+     * counter-clockwise like the atlas) and the gradients of its corners' hat functions there. */
+    double l = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]), y[3][2];
+    y[0][0] = y[0][1] = y[1][1] = 0, y[1][0] = l;
+    y[2][0] = l > 0 ? (u[0] * w[0] + u[1] * w[1] + u[2] * w[2]) / l : 0, y[2][1] = l > 0 ? 2 * S[f] / l : 0;
+    for (int k = 0; k < 3; k++) {
+      const double *y1 = y[(k + 1) % 3], *y2 = y[(k + 2) % 3];
+      G[6 * (size_t)f + 2 * k] = S[f] > 0 ? -(y2[1] - y1[1]) / (2 * S[f]) : 0;
+      G[6 * (size_t)f + 2 * k + 1] = S[f] > 0 ? (y2[0] - y1[0]) / (2 * S[f]) : 0;
+    }
   }
   int npin = 0;
   for (int i = 0; c && i < c->n; i++)
@@ -231,6 +287,8 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
    * by their mean (sq), while the per-face mean |r - 1| (err) is what is reported and what the tolerance
    * is on. */
   double Atot, sq = 0, err = face_error(nf, q, S, Stot, A, &Atot, &sq);
+  double mu = o.angles;
+  if (err >= 0 && mu > 0) sq += mu * shear_mean(nf, q, G, Atot, Stot);
   if (info) info->err0 = err;
   if (err < 0) {
     st = au_msg_set(msg, AU_E_FOLD, "the atlas flow's start has a folded face");
@@ -238,7 +296,16 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
   }
   double lambda = o.shear;
   int steps = 0, jittered = 0;
-  while (steps < o.max_steps && err > o.face_tol) {
+  /* The angles (o.angles > 0): the steps lower the squared logs plus mu times the faces' mean squared shear
+   * (face_shear), whose minimum, for a fixed mu, is the least-shear map at its area error. The flow goes
+   * from the conformal start (large area error, no shear) towards the equal-area maps, the shear growing as
+   * the area error falls, so it stops at the first step whose areas are within the angle bounds (per-face
+   * angles_face_tol, vertex cells angles_vertex_tol). Where the objective has settled outside them (a step
+   * lowers it by less than o.settle of itself), mu is quartered and the flow goes on from there. Below 1/200 of its first value mu stays: once, the symmetry is broken (jitter); then mu is
+   * dropped and the plain flow ends at face_tol. Why the bounds are not the plain flow's 0.005: its last
+   * steps buy the per-face error below 0.006 with much of the shear (bob, mu held at 0.001: Lambda 0.524
+   * at per-face 0.0062; the plain flow: 0.627 at 0.0046). */
+  while (steps < o.max_steps && (mu > 0 || err > o.face_tol)) {
     double *val = au_spd_values(spd);
     memset(val, 0, (size_t)colstart[n] * sizeof *val);
     memset(b, 0, (size_t)n * sizeof *b);
@@ -246,11 +313,21 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
      * Dirichlet energy of the displacement (scaled by the mean target), all in the vertices' home frames.
      * The log: on the area ratio itself a squeezed face's gradient is its small edges over a large target,
      * and the flow stalled with such faces left squeezed (bob 0.13, fertility 0.28 per face). */
-    double meanT = Atot / nf;
+    double meanT = Atot / nf, sigma = sqrt(Atot / Stot);
     for (int f = 0; f < nf; f++) {
       double T = S[f] / Stot * Atot, r = log(A[f] / T);
       const double *qa = q + 6 * (size_t)f;
-      double g[3][2];
+      double g[3][2], h1[3][2], h2[3][2], cf[2] = {0, 0};
+      if (mu > 0) {
+        /* The shear residuals' gradients, in the home frames (R^T of the corners' gradients). */
+        face_shear(q, G, f, sigma, cf);
+        for (int k = 0; k < 3; k++) {
+          const double *gk = G + 6 * (size_t)f + 2 * k, *R = rot + 4 * (size_t)(3 * f + k);
+          double ax = gk[0] / sigma, ay = -gk[1] / sigma, bx = gk[1] / sigma, by = gk[0] / sigma;
+          h1[k][0] = R[0] * ax + R[2] * ay, h1[k][1] = R[1] * ax + R[3] * ay;
+          h2[k][0] = R[0] * bx + R[2] * by, h2[k][1] = R[1] * bx + R[3] * by;
+        }
+      }
       for (int k = 0; k < 3; k++) {
         const double *q1 = qa + 2 * ((k + 1) % 3), *q2_ = qa + 2 * ((k + 2) % 3);
         double gx = 0.5 * (q1[1] - q2_[1]), gy = 0.5 * (q2_[0] - q1[0]);
@@ -261,7 +338,7 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
       for (int i = 0; i < 3; i++) {
         int vi = F[3 * f + i];
         if (pin[vi]) continue;
-        for (int a = 0; a < 2; a++) b[2 * vi + a] -= g[i][a] * r;
+        for (int a = 0; a < 2; a++) b[2 * vi + a] -= g[i][a] * r + (mu > 0 ? mu * (h1[i][a] * cf[0] + h2[i][a] * cf[1]) : 0);
         for (int j = 0; j < 3; j++) {
           int vj = F[3 * f + j];
           if (pin[vj]) continue;
@@ -270,6 +347,7 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
               int ri = 2 * vi + a, cj = 2 * vj + bb;
               if (ri > cj) continue;
               double h = g[i][a] * g[j][bb];
+              if (mu > 0) h += mu * (h1[i][a] * h1[j][bb] + h2[i][a] * h2[j][bb]);
               /* Dirichlet energy of the corners' displacement: sum over the face's edges of |R_i d_i - R_j d_j|^2. */
               const double *Ri = rot + 4 * (size_t)(3 * f + i), *Rj = rot + 4 * (size_t)(3 * f + j);
               double rij = Ri[0 * 2 + a] * Rj[0 * 2 + bb] + Ri[1 * 2 + a] * Rj[1 * 2 + bb]; /* (R_i^T R_j)_{ab} */
@@ -299,6 +377,7 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
         double At2;
         double sq2 = 0;
         err2 = face_error(nf, q2, S, Stot, A, &At2, &sq2);
+        if (err2 >= 0 && mu > 0) sq2 += mu * shear_mean(nf, q2, G, At2, Stot);
         int shrunk = 0;
         for (int f = 0; err2 >= 0 && f < nf && !shrunk; f++) shrunk = A[f] < 0.1 * A2[f];
         if (err2 >= 0 && sq2 < sq && !shrunk) break;
@@ -316,6 +395,7 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
         if (jittered || !jitter(nv, nf, F, pin, p, rot, tr, q, q2, A, pmin)) break;
         jittered = 1, lambda = o.shear;
         err = face_error(nf, q, S, Stot, A, &Atot, &sq);
+        if (mu > 0) sq += mu * shear_mean(nf, q, G, Atot, Stot);
         continue;
       }
       lambda *= 4;
@@ -323,7 +403,22 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
     }
     memcpy(p, p2, (size_t)n * sizeof *p);
     memcpy(q, q2, 6 * (size_t)nf * sizeof *q);
+    double sq_prev = sq;
     err = face_error(nf, q, S, Stot, A, &Atot, &sq);
+    if (mu > 0) sq += mu * shear_mean(nf, q, G, Atot, Stot);
+    if (mu > 0) {
+      if (err <= o.angles_face_tol && vertex_error(L->nvt, nf, Ft, A, S, cell) <= o.angles_vertex_tol) {
+        steps++;
+        break;
+      }
+      if (sq > (1 - o.settle) * sq_prev) {
+        if (mu > o.angles / 200) mu *= 0.25;
+        else if (!jittered && jitter(nv, nf, F, pin, p, rot, tr, q, q2, A, pmin)) jittered = 1;
+        else mu = 0;
+        err = face_error(nf, q, S, Stot, A, &Atot, &sq);
+        if (mu > 0) sq += mu * shear_mean(nf, q, G, Atot, Stot);
+      }
+    }
     lambda = fmax(lambda * (alpha == 1 ? 0.5 : 1), 1e-6);
     steps++;
   }
@@ -333,7 +428,7 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
 done:
   au_spd_free(&spd);
   free(home), free(colstart), free(rows), free(p), free(rot), free(tr), free(q), free(q2), free(S), free(A), free(b), free(d),
-      free(p2), free(A2), free(pmin), free(pin), free(known);
+      free(p2), free(A2), free(pmin), free(G), free(cell), free(pin), free(known);
   return st;
 }
 

@@ -317,13 +317,13 @@ static int check_flow(au_mesh *m, int genus, int loops, double max_err) {
 }
 
 static int flow_closed(void) {
-  if (check_flow(read_data("ellipsoid"), 0, 0, 0.006)) return 1;
-  return check_flow(read_data("genus2"), 2, 0, 0.006);
+  if (check_flow(read_data("ellipsoid"), 0, 0, 0.012)) return 1;
+  return check_flow(read_data("genus2"), 2, 0, 0.012);
 }
 
 static int flow_open(void) {
-  if (check_flow(read_data("disk_bump"), 0, 1, 0.006)) return 1;
-  return check_flow(read_data("genus2_2loops"), 2, 2, 0.006);
+  if (check_flow(read_data("disk_bump"), 0, 1, 0.012)) return 1;
+  return check_flow(read_data("genus2_2loops"), 2, 2, 0.012);
 }
 
 int main(int argc, char **argv) {
