@@ -54,13 +54,13 @@ static au_status factorize(cholmod_sparse *A, cholmod_factor *L, cholmod_common 
 
 /* The numeric factor's memory, set up before the first factorization: CHOLMOD would allocate it there
  * and fault it in one 4 KiB page at a time while it zeroes each supernode, and on a virtual machine a
- * page fault costs microseconds (bunny's flow: 12,500 faults, about a third of its first
- * factorization; docs/flow-speed.md). So the values are allocated here, on huge pages where the system
- * grants them (Linux's transparent huge pages, advised), and with touch, touched here: the flow's plan
- * builds its solver on the second core while the start runs, and the faults go with it (a one-shot
- * solver, factored right after, is not touched twice). The block replaces
- * CHOLMOD's own and is released by CHOLMOD with SuiteSparse's free (the C library's, which also takes
- * aligned blocks). Returns 0 out of memory (L then stays symbolic, and the factorization allocates). */
+ * page fault costs microseconds (bunny's flow: 12,500 faults in its first factorization, which took 3
+ * to 4 times the later ones; docs/flow-speed.md). So the values are allocated here, on huge pages where
+ * the system grants them (Linux's transparent huge pages, advised), and with touch, zeroed here: the
+ * flow's plan builds its solver on the second core while the start runs, and the faults go with it (a
+ * one-shot solver, factored right after, is not touched twice). The block replaces CHOLMOD's own and is
+ * released by CHOLMOD with SuiteSparse's free (the C library's, which also takes aligned blocks).
+ * Returns 0 out of memory (L then stays symbolic, and the factorization allocates). */
 static int factor_memory(cholmod_factor *L, cholmod_common *c, int touch) {
   if (!L->is_super) return 1;
   if (L->xtype == CHOLMOD_PATTERN && !cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, L, c)) return 0;
