@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "au_par.h"
 
@@ -45,6 +46,35 @@ static au_status factorize(cholmod_sparse *A, cholmod_factor *L, cholmod_common 
                       (int)L->n);
   if (!ok || c->status < CHOLMOD_OK) return au_msg_set(msg, AU_E_NUMERIC, "solver: factorization failed (status %d)", c->status);
   return AU_OK;
+}
+
+/* A factor at least this large gets its values in memory aligned to, and advised for, huge pages. */
+#define AU_HUGE_BYTES ((size_t)4 << 20)
+#define AU_HUGE_ALIGN ((size_t)2 << 20)
+
+/* The numeric factor's memory, set up before the first factorization: CHOLMOD would allocate it there
+ * and fault it in one 4 KiB page at a time while it zeroes each supernode, and on a virtual machine a
+ * page fault costs microseconds (bunny's flow: 12,500 faults in its first factorization, which took 3
+ * to 4 times the later ones; docs/flow-speed.md). So the values are allocated here, on huge pages where
+ * the system grants them (Linux's transparent huge pages, advised), and with touch, zeroed here: the
+ * flow's plan builds its solver on the second core while the start runs, and the faults go with it (a
+ * one-shot solver, factored right after, is not touched twice). The block replaces CHOLMOD's own and is
+ * released by CHOLMOD with SuiteSparse's free (the C library's, which also takes aligned blocks).
+ * Returns 0 out of memory (L then stays symbolic, and the factorization allocates). */
+static int factor_memory(cholmod_factor *L, cholmod_common *c, int touch) {
+  if (!L->is_super) return 1;
+  if (L->xtype == CHOLMOD_PATTERN && !cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, L, c)) return 0;
+  const size_t bytes = L->xsize * sizeof(double);
+  void *p = NULL;
+  if (bytes >= AU_HUGE_BYTES && SuiteSparse_config.free_func == free && posix_memalign(&p, AU_HUGE_ALIGN, bytes) == 0) {
+#ifdef MADV_HUGEPAGE
+    madvise(p, bytes, MADV_HUGEPAGE);
+#endif
+    free(L->x);
+    L->x = p;
+  }
+  if (touch) memset(L->x, 0, bytes);
+  return 1;
 }
 
 /* METIS (through GKlib) catches SIGTERM while it runs and turns it into an error return: a run told
@@ -174,6 +204,7 @@ au_status au_solver_create(int n, int ne, const int *E, const unsigned char *fix
     return au_msg_set(msg, st == CHOLMOD_OUT_OF_MEMORY ? AU_E_NOMEM : AU_E_NUMERIC,
                       "solver: symbolic analysis failed (CHOLMOD status %d)", st);
   }
+  factor_memory(s->L, &s->c, 0);
   *out = s;
   return AU_OK;
 }
@@ -493,6 +524,7 @@ static int split_separator(const au_spd *s, spd_split *q, const int *bin, int *l
   q->Sch = malloc(sizeof(double) * (size_t)ns * (size_t)ns);
   q->y = malloc(sizeof(double) * (size_t)ns);
   if (!q->scol || !q->Sch || !q->y) return 0;
+  memset(q->Sch, 0, sizeof(double) * (size_t)ns * (size_t)ns); /* touched here (see factor_memory) */
   const int *Bp = s->B->p, *Bi = s->B->i;
   int m = 0;
   for (int j = 0; j < n; j++)
@@ -572,6 +604,10 @@ static int split_half(const au_spd *s, spd_split *q, const int *bin, int *loc, i
   memset(a->M->x, 0, sizeof(double) * nnz);
   a->L = cholmod_analyze(a->M, &a->c);
   if (!a->L || a->c.status < CHOLMOD_OK || !a->L->is_super) return 0;
+  /* The dense blocks are touched here too (see factor_memory). */
+  memset(a->G, 0, sizeof(double) * (size_t)ns * (size_t)ns);
+  memset(a->GG, 0, sizeof(double) * (size_t)ns * (size_t)ns);
+  factor_memory(a->L, &a->c, 1);
   return 1;
 }
 
@@ -815,6 +851,7 @@ au_status au_spd_create(int n, const int *colstart, const int *rows, const int *
                     s->c.status);
     goto done;
   }
+  factor_memory(s->L, &s->c, 1);
 done:
   cholmod_free_factor(&L0, &s->c);
   free(fill);
