@@ -40,8 +40,9 @@
  * 0.05). Why: with the barrier only near the floor, the Gauss-Newton step did not see the faces it would
  * take past the floor (screwdriver's first step: 27 such faces, 25 of them outside the barrier's reach, 23
  * already below the floor in the linearized model), so each step was halved 4-9 times. Seen by the model,
- * fewer steps are cut: penguin_hr's polish 177 -> 82 steps (per-face 0.0113 -> 0.0077), screwdriver's
- * 124 -> 95, hammer's 200 -> 90. At weight 0.3 cow's polish stalled at step 33 with per-face 0.0233
+ * they cost fewer steps: penguin_hr's polish 177 -> 82 steps (per-face 0.0113 -> 0.0077), screwdriver's
+ * 124 -> 95, hammer's 200 -> 90 (screwdriver's steps are still halved 4-6 times in 79 of its 95). At
+ * weight 0.3 cow's polish stalled after 34 steps with per-face 0.0233
  * (0.0162): the barrier's own part of the cost hid its progress from the stall rule
  * (docs/sphere-polish-speed.md). --refine-mesh's polish keeps au_sphere_gpolish_settings'. */
 #define AU_GPOLISH_BARRIER 1.0
