@@ -833,12 +833,12 @@ static int global_polish_limbs4(void) {
   AU_CHECK_DBL(qg.vertex_logr_mean_abs, <, q0.vertex_logr_mean_abs);
   AU_CHECK_DBL(qg.r_mean_abs_dev, <=, q0.r_mean_abs_dev);
   /* face_window (the sphere map's rule at the tolerance), with the sphere map's wide barrier, asked for a
-   * vertex error this polish reaches within its 120 steps (0.025, from 0.0436; measured in two runs: at
-   * step 91 and 105): without a window, and with a face_target above every per-face error, it stops there;
-   * with a window (gain 0: any fall of the per-face error over 5 steps) it went on (to 200 and 120 steps,
-   * its max_iter). The factorization's threads make the path vary between runs, so only these are
-   * asserted. Bad windows, gains and targets are refused. */
-  go.min_gain = 0, go.tol = 0.025, go.barrier = 1, go.barrier_weight = 0.1, go.max_iter = 120;
+   * vertex error this polish reaches within its 120 steps (0.03, from 0.0436; measured: at step 37 with one
+   * OpenBLAS thread, as ctest runs it, 40 with four): without a window, and with a face_target above every
+   * per-face error, it stops there; with a window (gain 0: any fall of the per-face error over 5 steps) it
+   * goes on (to step 57; 42 with four threads). The threads change the path, so only these are asserted.
+   * Bad windows, gains and targets are refused. */
+  go.min_gain = 0, go.tol = 0.03, go.barrier = 1, go.barrier_weight = 0.1, go.max_iter = 120;
   bad = go, bad.face_window = 21;
   AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
   bad = go, bad.face_window = -1;
@@ -857,12 +857,12 @@ static int global_polish_limbs4(void) {
                     (au_msg *)NULL);
     AU_CHECK_INT(qw[k].folds, ==, 0);
   }
-  fprintf(stderr, "limbs4, tol 0.025: %d steps (per-face %.4f); window: %d (%.4f); window, target 1: %d\n", wsteps[0],
+  fprintf(stderr, "limbs4, tol 0.03: %d steps (per-face %.4f); window: %d (%.4f); window, target 1: %d\n", wsteps[0],
           qw[0].r_mean_abs_dev, wsteps[1], qw[1].r_mean_abs_dev, wsteps[2]);
-  AU_CHECK_DBL(qw[0].vertex_logr_mean_abs, <=, 0.025);
+  AU_CHECK_DBL(qw[0].vertex_logr_mean_abs, <=, 0.03);
   AU_CHECK_INT(wsteps[0], <, 120);
   AU_CHECK_INT(wsteps[1], >, wsteps[0]);
-  AU_CHECK_DBL(qw[2].vertex_logr_mean_abs, <=, 0.025);
+  AU_CHECK_DBL(qw[2].vertex_logr_mean_abs, <=, 0.03);
   AU_CHECK_INT(wsteps[2], <, 120);
   free(P0), free(A), free(C);
   unload(&L);
