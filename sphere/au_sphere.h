@@ -188,6 +188,11 @@ typedef struct au_gpolish_opts {
   double min_gain;       /* > 0: also stop once the last 20 steps together have lowered neither the vertex cells' mean
                           * |log ratio| nor the faces' mean |r - 1| (against the surface's shares) by this
                           * part of its value (0..1; 0: off, as au_sphere_gpolish_settings leaves it) */
+  int face_window;       /* > 0: at the tolerance, go on while the faces' mean |r - 1| is above face_target and
+                          * has fallen by more than face_gain of its value over the last face_window steps
+                          * (1..20; 0: stop at the tolerance, as au_sphere_gpolish_settings leaves it) */
+  double face_gain;      /* see face_window (0..1) */
+  double face_target;    /* see face_window (>= 0) */
 } au_gpolish_opts;
 au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
                                   const au_gpolish_opts *o, int *iters, au_msg *msg);

@@ -433,7 +433,7 @@ static int damped_step(gp *g, au_spd *spd, const double *H, const double *rhs, d
  * the share; its weight matters little. Measured on the refined limbs4 and coil and on cow
  * (docs/sphere.md). */
 au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, double tol, const int *cancel) {
-  au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, angle_weight, 0, tol, cancel, 0};
+  au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, angle_weight, 0, tol, cancel, 0, 0, 0, 0};
   return o;
 }
 
@@ -442,7 +442,8 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
   if (iters) *iters = 0;
   if (!m || !t || !P || !o || o->max_iter < 0 || !(o->cell_weight >= 0) || !(o->barrier >= 0) ||
       !(o->barrier_weight >= 0) || !(o->min_orient >= 0) || !(o->angle_weight >= 0) || !(o->robust >= 0) ||
-      !(o->min_gain >= 0 && o->min_gain < 1))
+      !(o->min_gain >= 0 && o->min_gain < 1) || o->face_window < 0 || o->face_window > GP_GAIN_WINDOW ||
+      !(o->face_gain >= 0 && o->face_gain < 1) || !(o->face_target >= 0))
     return au_msg_set(msg, AU_E_ARG, "global polish: bad arguments");
   const int nv = m->nv, nf = m->nf, n = 2 * nv, *F = m->F;
   gp g = {.nv = nv, .nf = nf, .F = F, .wv = o->cell_weight, .mu = o->barrier_weight, .delta = o->robust};
@@ -487,6 +488,8 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
   if (st != AU_OK) goto done;
   double lam = 1e-3, verr_hist[GP_GAIN_WINDOW], ferr_hist[GP_GAIN_WINDOW];
   int stall = 0;
+  double fhist[GP_GAIN_WINDOW]; /* the face errors of the last face_window steps, by step % face_window */
+  fhist[0] = g.ferr;
   for (int it = 0; it < o->max_iter; it++) {
     /* min_gain: the errors a user reads (param-eval's) against theirs GP_GAIN_WINDOW steps back. The cost
      * keeps falling where they have stopped: on screwdriver its last 77 of 200 steps took the faces
@@ -521,7 +524,14 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     memcpy(P, Y, sizeof(double) * 3 * (size_t)nv);
     c0 = c1, Cs = Cs1;
     if (iters) *iters = it + 1;
-    if (stall >= 5 || g.verr <= o->tol) break;
+    if (stall >= 5) break;
+    /* face_window: a step that brings the vertex error to the tolerance may leave the per-face error
+     * where a few more steps still lower it (docs/sphere-polish-speed.md). */
+    if (g.verr <= o->tol &&
+        (o->face_window <= 0 || g.ferr <= o->face_target ||
+         (it + 1 >= o->face_window && g.ferr > (1 - o->face_gain) * fhist[(it + 1) % o->face_window])))
+      break;
+    if (o->face_window > 0) fhist[(it + 1) % o->face_window] = g.ferr;
   }
 done:
   au_spd_free(&spd);
