@@ -127,16 +127,17 @@ typedef struct au_atlas_holonomy_info {
 au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, double *elen,
                                 au_atlas_holonomy_info *info, au_msg *msg);
 
-/* Before au_atlas_holonomy_fix, with quarter cones c chosen automatically: change the angles of a few cones by a
- * quarter turn (one up and one down, so Gauss-Bonnet still holds; on an open surface also one alone), each at
- * most once, keeping every angle at least pi/2 and none flat, where the linearized response of the conformal
- * metric elen [0..ne-1] (the holonomy's derivative in the cone angles, one Laplacian solve per loop) predicts
- * that the loops' holonomies come nearer to multiples of pi/2, so that the metric needs less change to reach
- * them. Greedy, while the sum of the squared distances falls by a fifth. *nchanged (may be NULL): the cones
- * changed; the caller solves the metric again when it is > 0. Returns AU_OK, AU_E_ARG, AU_E_NOMEM,
- * AU_E_NOT_SPD. */
+/* Before au_atlas_holonomy_fix, with quarter cones c chosen automatically: bring the loops' holonomies nearer to
+ * multiples of pi/2, as predicted by the linearized response of the conformal metric elen [0..ne-1] (the
+ * holonomy's derivative in the cone angles, d H_k / d Theta_v = -zeta_k(v), one Laplacian solve per loop), so
+ * that the lengths need less change to reach them. With turns, first a few cones' angles change by a quarter turn
+ * (one up and one down, so Gauss-Bonnet still holds; on an open surface also one alone), each at most once,
+ * every angle kept at least pi/2 and none flat, greedily while the sum of the squared distances falls by a fifth;
+ * then (always) cones move to a neighbouring vertex (none next to another cone, the boundary or the held vertex;
+ * at most three edges a cone), greedily while it falls by 2%. *nchanged (may be NULL): the turns and moves made;
+ * the caller solves the metric again when it is > 0. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD. */
 au_status au_atlas_holonomy_balance(const au_mesh *m, const au_topo *t, au_atlas_cones *c, const double *elen,
-                                    int *nchanged, au_msg *msg);
+                                    int turns, int *nchanged, au_msg *msg);
 
 /* Cut m through the cones c and, for genus >= 1 or several boundary loops, a homology basis (the
  * complement of a dual spanning tree that avoids a shortest-path tree from the cones, or from the boundary,

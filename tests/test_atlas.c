@@ -229,7 +229,7 @@ static int check_layout(au_mesh *m, int genus, int loops, int quarter, double mi
     if (sh == AU_W_NOT_CONVERGED) {
       /* Too far for the lengths alone: a few cones turned by quarter turns first, as au_atlas does. */
       int changed = 0;
-      AU_CHECK_STATUS(au_atlas_holonomy_balance(m, t, &c, len, &changed, &msg), AU_OK, &msg);
+      AU_CHECK_STATUS(au_atlas_holonomy_balance(m, t, &c, len, 1, &changed, &msg), AU_OK, &msg);
       AU_CHECK_INT(changed, >, 0);
       double ksum = 0;
       for (int i = 0; i < c.n; i++) ksum += 2 * PI - c.angle[i];
