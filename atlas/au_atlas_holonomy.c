@@ -15,7 +15,12 @@
  * corner angles: in each face it crosses, + the angle at the shared vertex of the entering and leaving edges
  * when that vertex is on the loop's left, - when it is on its right.
  * Corner angles depend on log lengths as d alpha_i / d lambda_i = cot alpha_j + cot alpha_k and
- * d alpha_i / d lambda_j = -cot alpha_k ({i, j, k} the corners, lambda_i the log length opposite i). */
+ * d alpha_i / d lambda_j = -cot alpha_k ({i, j, k} the corners, lambda_i the log length opposite i).
+ * The change a holonomy needs can be more than the triangles bear (bob's loops are 43 degrees off): then
+ * au_atlas_holonomy_balance changes the cones instead, by the linearized response of the conformal metric to its
+ * cone angles (the holonomy's derivative in the angle targets is -zeta = -L^-1 B^T h, one Laplacian solve per
+ * loop): quarter turns of a few cones' angles and moves of cones by one edge, chosen greedily so that the
+ * predicted holonomies come near multiples of pi/2 and the lengths have little left to do. */
 
 #include <math.h>
 #include <stdlib.h>
