@@ -165,6 +165,7 @@ quarter)
     IN=$(stage "$SRC/data/$name.obj")
     run atlas "$IN" "$OUT" --report "$REP" --quarter
     expect_status 0
+    expect_err " quarter_loops=4/4 "
     check "$IN" "${c#*:}" quarter
     check "$IN" "${c#*:}" equal
     $PY -c 'import json,sys; h=json.load(open(sys.argv[1]))["holonomy"]; sys.exit(0 if h["loops"] == 4 and h["fixed"] == 4 and h["deviation_deg"] > 1 else "holonomy %r" % h)' "$REP" \
