@@ -52,7 +52,8 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
   au_atlas_result *r = calloc(1, sizeof *r);
   au_mesh *m = NULL;
   au_topo *t = NULL;
-  double *u = NULL;
+  double *u = NULL, *elen = NULL, *elen0 = NULL, *angle0 = NULL;
+  int *v0 = NULL;
   au_atlas_cones c;
   au_atlas_layout L;
   memset(&c, 0, sizeof c);
@@ -112,8 +113,6 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
   }
   if (sm > 0) warn(r, msg->text);
   r->newton_steps = info.steps, r->metric_err = info.err;
-  r->t_metric = now_s() - t0;
-  t0 = now_s();
   /* Given cones of quarter angles keep the common frame too, so their seams turn by quarter turns. */
   int quarter = ao.quarter;
   if (o.ncones > 0) {
@@ -123,34 +122,117 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
       quarter &= fabs(q - round(q)) <= 1e-9;
     }
   }
-  /* The conformal atlas is packed by the charts' shapes only when it is the output: the flow's is packed
-   * again after the flow (the flow does not depend on where the charts lie). */
-  if ((st = au_atlas_layout_make(m, t, &c, u, 2.0 / o.raster, quarter, o.conformal_only != 0, &L, msg)) != AU_OK) goto fail;
-  r->t_layout = now_s() - t0;
-  if (!o.conformal_only) {
-    t0 = now_s();
-    au_atlas_flow_opts fo = au_atlas_flow_opts_default();
-    fo.max_steps = o.max_steps;
-    au_atlas_flow_info fi;
-    if ((st = au_atlas_flow(m, t, &c, &L, &fo, &fi, msg)) != AU_OK) goto fail;
-    if ((st = au_atlas_separate(m, t, &L, quarter, 2.0 / o.raster, NULL, msg)) != AU_OK) goto fail;
-    if ((st = au_atlas_measure(m, t, &c, &L, msg)) != AU_OK) goto fail;
-    r->flow_steps = fi.steps, r->face_err_start = fi.err0, r->face_err = fi.err;
-    r->equal_area = fi.err <= 0.02;
-    if (!r->equal_area) {
-      char w[160];
-      snprintf(w, sizeof w, "the equal-area flow stopped at a per-face mean |r - 1| of %.3g after %d steps (from %.3g)",
-               fi.err, fi.steps, fi.err0);
-      warn(r, w);
-    }
-    r->t_flow = now_s() - t0;
-  } else {
-    r->face_err_start = r->face_err = au_atlas_face_error(m, &L);
-  }
-  r->overlap_texels = au_atlas_overlap_texels(nf, L.vt, L.Ft, o.raster, NULL);
-  if (r->overlap_texels < 0) {
+  if (!(elen = malloc((size_t)(t->ne > 0 ? t->ne : 1) * sizeof *elen))) {
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory");
     goto fail;
+  }
+  au_atlas_edge_lengths(m, t, u, elen);
+  if (quarter) {
+    angle0 = malloc((size_t)(c.n > 0 ? c.n : 1) * sizeof *angle0);
+    elen0 = malloc((size_t)(t->ne > 0 ? t->ne : 1) * sizeof *elen0);
+    v0 = malloc((size_t)(c.n > 0 ? c.n : 1) * sizeof *v0);
+    if (!angle0 || !elen0 || !v0) {
+      st = au_msg_set(msg, AU_E_NOMEM, "out of memory");
+      goto fail;
+    }
+    memcpy(angle0, c.angle, (size_t)c.n * sizeof *angle0);
+    memcpy(v0, c.v, (size_t)c.n * sizeof *v0);
+    memcpy(elen0, elen, (size_t)t->ne * sizeof *elen0);
+  }
+  /* With quarter cones the seams around the cones turn by quarter turns; those across the handles and between
+   * boundary loops turn by the metric's holonomy, made a multiple of pi/2 here (the lengths stop being
+   * conformal). Where that fails the conformal metric is kept, with a warning. */
+  if (quarter) {
+    /* Where the loops' holonomy is too far from multiples of pi/2 for the lengths to reach them (a triangle
+     * would degenerate), automatic cones are turned by quarter turns and moved by an edge where that brings the
+     * holonomies nearer (au_atlas_holonomy_balance: predicted linearly, so up to four rounds, each with the
+     * metric solved again), and the fix is tried again: first with quarter turns in every round, then, from the
+     * cones as they were, with moves alone in the first (the finer change, which some surfaces need). */
+    au_atlas_holonomy_info hi;
+    au_msg hm = {{0}};
+    au_status sh = au_atlas_holonomy_fix(m, t, &c, elen, &hi, &hm);
+    const double dev0 = hi.hol_dev;
+    for (int plan = 0; plan < 2 && sh == AU_W_NOT_CONVERGED && o.ncones == 0; plan++) {
+      int turned = 0;
+      for (int round = 0; round < 4 && sh == AU_W_NOT_CONVERGED; round++) {
+        int changed = 0;
+        if ((st = au_atlas_holonomy_balance(m, t, &c, elen, plan == 0 || round > 0, &changed, msg)) != AU_OK) goto fail;
+        if (!changed) break;
+        turned += changed;
+        if ((sm = au_atlas_cetm(m, t, &c, &ao, u, &info, msg)) < 0) {
+          st = sm;
+          goto fail;
+        }
+        r->newton_steps += info.steps, r->metric_err = info.err;
+        au_atlas_edge_lengths(m, t, u, elen);
+        sh = au_atlas_holonomy_fix(m, t, &c, elen, &hi, &hm);
+      }
+      if (sh == AU_OK) {
+        r->holonomy_cones = turned;
+      } else if (turned > 0) {
+        /* Not fixed even so: the cones and the metric as they were. */
+        memcpy(c.angle, angle0, (size_t)c.n * sizeof *angle0);
+        memcpy(c.v, v0, (size_t)c.n * sizeof *v0);
+        memcpy(elen, elen0, (size_t)t->ne * sizeof *elen);
+      }
+    }
+    hi.hol_dev = dev0;
+    if (sh == AU_E_NOMEM) {
+      st = au_msg_set(msg, sh, "%s", hm.text);
+      goto fail;
+    }
+    if (sh != AU_OK) warn(r, hm.text);
+    r->holonomy_loops = hi.loops, r->holonomy_fixed = hi.fixed, r->holonomy_dev = hi.hol_dev;
+    r->holonomy_len_change = hi.max_change;
+  }
+  r->t_metric = now_s() - t0;
+  t0 = now_s();
+  /* The conformal atlas is packed by the charts' shapes only when it is the output: the flow's is packed
+   * again after the flow (the flow does not depend on where the charts lie). A metric whose holonomy was fixed
+   * whose atlas does not come out equal area and overlap-free is dropped for the conformal one, with a warning. */
+  au_atlas_flow_info fi;
+  memset(&fi, 0, sizeof fi);
+  for (int attempt = 0;; attempt++) {
+    if ((st = au_atlas_layout_make(m, t, &c, elen, 2.0 / o.raster, quarter, o.conformal_only != 0, &L, msg)) != AU_OK)
+      goto fail;
+    r->t_layout = now_s() - t0;
+    if (!o.conformal_only) {
+      t0 = now_s();
+      au_atlas_flow_opts fo = au_atlas_flow_opts_default();
+      fo.max_steps = o.max_steps;
+      if ((st = au_atlas_flow(m, t, &c, &L, &fo, &fi, msg)) != AU_OK) goto fail;
+      if ((st = au_atlas_separate(m, t, &L, quarter, 2.0 / o.raster, NULL, msg)) != AU_OK) goto fail;
+      if ((st = au_atlas_measure(m, t, &c, &L, msg)) != AU_OK) goto fail;
+      r->flow_steps = fi.steps, r->face_err_start = fi.err0, r->face_err = fi.err;
+      r->equal_area = fi.err <= 0.02;
+      r->t_flow = now_s() - t0;
+    } else {
+      r->face_err_start = r->face_err = au_atlas_face_error(m, &L);
+    }
+    r->overlap_texels = au_atlas_overlap_texels(nf, L.vt, L.Ft, o.raster, NULL);
+    if (r->overlap_texels < 0) {
+      st = au_msg_set(msg, AU_E_NOMEM, "out of memory");
+      goto fail;
+    }
+    int bad = L.folds > 0 || r->overlap_texels > 0 || (!o.conformal_only && !r->equal_area);
+    if (!bad || attempt > 0 || r->holonomy_fixed == 0) break;
+    char w[200];
+    snprintf(w, sizeof w, "holonomy: the atlas of the fixed metric (%d cone turns and moves) is not %s; the conformal metric "
+             "is kept, seams across the %d loops are not quarter turns", r->holonomy_cones,
+             r->overlap_texels > 0 || L.folds > 0 ? "overlap-free" : "equal area", r->holonomy_loops);
+    warn(r, w);
+    memcpy(c.angle, angle0, (size_t)c.n * sizeof *angle0);
+    memcpy(c.v, v0, (size_t)c.n * sizeof *v0);
+    memcpy(elen, elen0, (size_t)t->ne * sizeof *elen);
+    r->holonomy_fixed = 0, r->holonomy_cones = 0, r->holonomy_len_change = 0;
+    au_atlas_layout_free(&L);
+    t0 = now_s();
+  }
+  if (!o.conformal_only && !r->equal_area) {
+    char w[160];
+    snprintf(w, sizeof w, "the equal-area flow stopped at a per-face mean |r - 1| of %.3g after %d steps (from %.3g)",
+             fi.err, fi.steps, fi.err0);
+    warn(r, w);
   }
   if (L.folds > 0 || r->overlap_texels > 0) {
     st = au_msg_set(msg, AU_E_FOLD, "the atlas has %d folded faces and %ld texels covered twice", L.folds,
@@ -170,7 +252,7 @@ fail:
   au_atlas_result_free(&r);
   au_atlas_layout_free(&L);
   au_atlas_cones_clear(&c);
-  free(u);
+  free(u), free(elen), free(elen0), free(angle0), free(v0);
   au_topo_free(&t);
   au_mesh_free(&m);
   return st;
@@ -237,6 +319,8 @@ au_status au_atlas_result_json(const au_atlas_result *r, double t_read, double t
   sb(&b, "  \"coverage\": %.6f,\n  \"folds\": %d,\n  \"overlap_texels\": %ld,\n", r->coverage, r->folds,
      r->overlap_texels);
   sb(&b, "  \"metric\": {\"newton_steps\": %d, \"angle_error\": %.3g},\n", r->newton_steps, r->metric_err);
+  sb(&b, "  \"holonomy\": {\"loops\": %d, \"cone_changes\": %d, \"fixed\": %d, \"deviation_deg\": %.6g, "
+     "\"max_length_change\": %.6g},\n", r->holonomy_loops, r->holonomy_cones, r->holonomy_fixed, r->holonomy_dev * 180 / 3.14159265358979323846, r->holonomy_len_change);
   sb(&b, "  \"flow\": {\"steps\": %d, \"face_error_start\": %.6g, \"face_error\": %.6g},\n", r->flow_steps,
      r->face_err_start, r->face_err);
   sb(&b, "  \"time\": {");

@@ -101,11 +101,49 @@ typedef struct au_atlas_layout {
   double scale;         /* atlas units per unit of length of the cone metric */
 } au_atlas_layout;
 
+/* The lengths elen [0..ne-1] of the edges of m (topology t) in the metric of the log scale factors u
+ * (l_ij exp((u_i + u_j) / 2)); u may be NULL (the mesh's own lengths). */
+void au_atlas_edge_lengths(const au_mesh *m, const au_topo *t, const double *u, double *elen);
+
+/* What the holonomy fix did. */
+typedef struct au_atlas_holonomy_info {
+  int loops;         /* generator loops: 2 genus + boundary loops - 1 (0 on a sphere, disk) */
+  int fixed;         /* loops whose holonomy is now a multiple of pi/2: all of them, or 0 on a fallback */
+  int steps;         /* Newton steps */
+  double hol_dev;    /* before: the largest |holonomy - nearest multiple of pi/2| of a loop, radians */
+  double err;        /* after: the largest residual of an angle sum or a loop's holonomy, radians */
+  double max_change; /* the largest relative change |l / l0 - 1| of an edge length */
+} au_atlas_holonomy_info;
+
+/* Make the flat cone metric elen [0..ne-1] (edge lengths of m, topology t, with the cones c: every interior
+ * vertex's angle sum is 2 pi or its cone's angle, as au_atlas_cetm leaves them) one whose holonomy around every
+ * homology loop (2 genus loops, and one around each boundary loop but one) is a multiple of pi/2, so that with
+ * quarter cones every seam's rotation is a multiple of 90 degrees: Newton's method on the log edge lengths, each
+ * step the least change that satisfies the linearized angle sums and holonomies (one sparse SPD solve), halved
+ * until every angle keeps a quarter of the smallest angle of the start and the residual falls; to 1e-11 rad.
+ * The lengths are no longer conformal to the mesh's. elen is changed only on success. Returns AU_OK (also when
+ * there is no loop); AU_W_NOT_CONVERGED (a degenerate triangle, or no step that keeps the triangles valid:
+ * elen unchanged, msg says so); AU_E_ARG; AU_E_NOMEM; AU_E_NOT_SPD; AU_E_INTERNAL. */
+au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, double *elen,
+                                au_atlas_holonomy_info *info, au_msg *msg);
+
+/* Before au_atlas_holonomy_fix, with quarter cones c chosen automatically: bring the loops' holonomies nearer to
+ * multiples of pi/2, as predicted by the linearized response of the conformal metric elen [0..ne-1] (the
+ * holonomy's derivative in the cone angles, d H_k / d Theta_v = -zeta_k(v), one Laplacian solve per loop), so
+ * that the lengths need less change to reach them. With turns, first a few cones' angles change by a quarter turn
+ * (one up and one down, so Gauss-Bonnet still holds; on an open surface also one alone), each at most once,
+ * every angle kept at least pi/2 and none flat, greedily while the sum of the squared distances falls by a fifth;
+ * then (always) cones move to a neighbouring vertex (none next to another cone, the boundary or the held vertex;
+ * at most three edges a cone), greedily while it falls by 2%. *nchanged (may be NULL): the turns and moves made;
+ * the caller solves the metric again when it is > 0. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD. */
+au_status au_atlas_holonomy_balance(const au_mesh *m, const au_topo *t, au_atlas_cones *c, const double *elen,
+                                    int turns, int *nchanged, au_msg *msg);
+
 /* Cut m through the cones c and, for genus >= 1 or several boundary loops, a homology basis (the
  * complement of a dual spanning tree that avoids a shortest-path tree from the cones, or from the boundary,
  * with the branches that end at an ordinary interior vertex pruned; a cone of angle > 2 pi that is left
  * at the end of a branch gets a second cut, to another cut vertex or the boundary, which splits its chart
- * in two), lay out each chart by integrating the metric of u face by face, every chart starting in one
+ * in two), lay out each chart by integrating the metric (len [0..ne-1], the edges' lengths) face by face, every chart starting in one
  * common frame (the surface developed along a dual tree), turn each chart to its smallest bounding box
  * (with quarter: by a multiple of 90 degrees only, so that seam rotations stay the holonomy's), split a
  * chart that covers a texel of a 1024 x 1024 raster twice (a race from the two faces by centroid distance), and
@@ -113,8 +151,8 @@ typedef struct au_atlas_layout {
  * when shapes is 1 (au_atlas_pack), on shelves only when 0 (for a layout that the flow moves and
  * au_atlas_separate packs again). On success *L owns its arrays (au_atlas_layout_free).
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_INTERNAL (a dual tree that does not span). */
-au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
-                               int quarter, int shapes, au_atlas_layout *L, au_msg *msg);
+au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *len,
+                               double gap, int quarter, int shapes, au_atlas_layout *L, au_msg *msg);
 /* Free the arrays of L and zero it; NULL-safe. */
 void au_atlas_layout_free(au_atlas_layout *L);
 

@@ -1005,9 +1005,9 @@ au_status au_atlas_measure(const au_mesh *m, const au_topo *t, const au_atlas_co
   return AU_OK;
 }
 
-au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *u, double gap,
-                               int quarter, int shapes, au_atlas_layout *L, au_msg *msg) {
-  if (!m || !t || !u || !L || t->nv != m->nv || t->nf != m->nf || !(gap >= 0) || gap >= 0.25)
+au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, const double *len,
+                               double gap, int quarter, int shapes, au_atlas_layout *L, au_msg *msg) {
+  if (!m || !t || !len || !L || t->nv != m->nv || t->nf != m->nf || !(gap >= 0) || gap >= 0.25)
     return au_msg_set(msg, AU_E_ARG, "au_atlas_layout_make: bad arguments");
   memset(L, 0, sizeof *L);
   const int nv = m->nv, nf = m->nf, ne = t->ne, *F = m->F, nc = c ? c->n : 0;
@@ -1035,11 +1035,8 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
   unsigned char *cut = L->cut;
   for (int i = 0; i < nc; i++) iscone[c->v[i]] = 1;
   for (int e = 0; e < ne; e++) {
-    int a = t->E[2 * e], b = t->E[2 * e + 1];
-    const double *p = m->X + 3 * (size_t)a, *q = m->X + 3 * (size_t)b;
-    elen[e] = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2])) *
-              exp(0.5 * (u[a] + u[b]));
-    vstart[a + 1]++, vstart[b + 1]++;
+    elen[e] = len[e];
+    vstart[t->E[2 * e] + 1]++, vstart[t->E[2 * e + 1] + 1]++;
   }
   for (int v = 0; v < nv; v++) vstart[v + 1] += vstart[v];
   {

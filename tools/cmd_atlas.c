@@ -140,12 +140,16 @@ int cli_cmd_atlas(int argc, char **argv) {
     if (html) cli_remove_output(html);
     goto done;
   }
-  if (!quiet)
+  if (!quiet) {
+    /* With quarter cones on a surface with homology loops: how many loops' holonomy is a quarter turn. */
+    char hol[48] = "";
+    if (r->holonomy_loops > 0) snprintf(hol, sizeof hol, " quarter_loops=%d/%d", r->holonomy_fixed, r->holonomy_loops);
     fprintf(stderr,
             "authalic: atlas: V=%d F=%d genus=%d loops=%d cones=%d charts=%d seams=%d coverage=%.3f folds=%d "
-            "overlap_texels=%ld face_error=%.4f (start %.4f) equal_area=%s time=%.2fs\n",
+            "overlap_texels=%ld face_error=%.4f (start %.4f) equal_area=%s%s time=%.2fs\n",
             r->nv, r->nf, r->genus, r->nloops, r->ncones, r->ncharts, r->nseams, r->coverage, r->folds,
-            r->overlap_texels, r->face_err, r->face_err_start, r->equal_area ? "yes" : "no", cli_now() - t_start);
+            r->overlap_texels, r->face_err, r->face_err_start, r->equal_area ? "yes" : "no", hol, cli_now() - t_start);
+  }
 done:
   au_free(json);
   au_atlas_result_free(&r);

@@ -118,8 +118,10 @@ class AtlasResult(ctypes.Structure):
                 ("seam_len_dev", c_double), ("coverage", c_double), ("folds", c_int), ("overlap_texels", ctypes.c_long),
                 ("equal_area", c_int), ("flow_steps", c_int), ("face_err_start", c_double), ("face_err", c_double),
                 ("genus", c_int), ("nloops", c_int), ("newton_steps", c_int),
-                ("metric_err", c_double), ("t_check", c_double), ("t_cones", c_double), ("t_metric", c_double),
-                ("t_layout", c_double), ("t_flow", c_double), ("status", c_int), ("nwarnings", c_int), ("warnings", (c_char * 512) * 4)]
+                ("metric_err", c_double), ("holonomy_loops", c_int), ("holonomy_cones", c_int),
+                ("holonomy_fixed", c_int),
+                ("holonomy_dev", c_double), ("holonomy_len_change", c_double), ("t_check", c_double),
+                ("t_cones", c_double), ("t_metric", c_double), ("t_layout", c_double), ("t_flow", c_double), ("status", c_int), ("nwarnings", c_int), ("warnings", (c_char * 512) * 4)]
 
 
 STRUCTS = {"au_msg": Msg, "au_mesh": Mesh, "au_write_opts": WriteOpts, "au_report_extra": ReportExtra,

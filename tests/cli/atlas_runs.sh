@@ -164,6 +164,21 @@ quarter)
   expect_status 0
   grep -q "^authalic: atlas:" "$T/log/stderr" && fail "--quiet printed the summary"
   check "$IN" 2 quarter
+  # Genus 2, closed and with a boundary loop: the seams across the handles and to the boundary turn by the
+  # metric's holonomy, made a multiple of 90 degrees on every loop (the report's "holonomy"); every seam a
+  # quarter turn to 1e-6 degrees, still equal area.
+  for c in genus2:-2 genus2_1loop:open; do
+    name=${c%%:*}
+    [ -f "$SRC/data/$name.obj" ] || skip "$SRC/data/$name.obj is missing (run au_mkdata to generate data/)"
+    IN=$(stage "$SRC/data/$name.obj")
+    run atlas "$IN" "$OUT" --report "$REP" --quarter
+    expect_status 0
+    expect_err " quarter_loops=4/4 "
+    check "$IN" "${c#*:}" quarter
+    check "$IN" "${c#*:}" equal
+    $PY -c 'import json,sys; h=json.load(open(sys.argv[1]))["holonomy"]; sys.exit(0 if h["loops"] == 4 and h["fixed"] == 4 and h["deviation_deg"] > 1 else "holonomy %r" % h)' "$REP" \
+      || fail "the holonomy of $name's loops was not fixed"
+  done
   ;;
 cones)
   # Eight cones of 270 degrees at the ellipsoid's ring vertices: 8 x 90 = 720 = 360 x 2.
