@@ -10,7 +10,11 @@
  *    rest of the curvature), the linearized flattening L u = -K (L the cotan Laplacian, K the angle
  *    defects) is solved and the vertex of largest |u| becomes the next cone; the cones' curvatures are
  *    what the linear solve leaves at them, so they sum to 2*pi*chi exactly (closed surfaces). With
- *    quarter set they are rounded to multiples of pi/2 with the sum kept.
+ *    quarter set they are rounded to multiples of pi/2 with the sum kept: the nearest rounding where it
+ *    leaves the flattening's range within u_range, else each cone down or up, chosen greedily (one up and
+ *    one down at a time) to narrow the range (u is linear in the curvatures: one solve per cone); while
+ *    the range stays above u_range a cone is added at the vertex of most extreme u (past max_cones, up to
+ *    twice it, only when the range at max_cones is above u_range + 0.5), until a new cone comes out flat.
  * 2. the metric (au_atlas_cetm): the convex energy of Springborn, Schroeder & Pinkall 2008 (conformal
  *    equivalence of triangle meshes) in the log scale factors u, new length l_ij exp((u_i + u_j) / 2),
  *    minimized by Newton: the gradient is Theta_i minus the angle sum at i, the Hessian the cotan
@@ -32,7 +36,8 @@ extern "C" {
 
 /* Options of the cone metric. */
 typedef struct au_atlas_opts {
-  int max_cones;  /* the most cones placed automatically (default 24) */
+  int max_cones;  /* the most cones placed automatically (default 24; with quarter up to twice as many where
+                     the rounding leaves the flattening's range above u_range + 0.5) */
   double u_range; /* place cones until max u - min u of the linearized flattening is below this (default 1.5:
                      lengths within a factor e^1.5 of the surface's, areas e^3) */
   int quarter;    /* 1: cone curvatures in multiples of pi/2 (seam rotations in multiples of 90 degrees);

@@ -157,6 +157,92 @@ static void quarter_round(double *kappa, int n, int closed) {
   free(r);
 }
 
+/* Range (max - min over used vertices) of u0 + sum_i (q r_i - kappa_i) G_i, into u. */
+static double rounded_range(const au_topo *t, int n, const double *u0, const double *G, const int *r, const double *kappa,
+                            double *u) {
+  const double q = AU_PI / 2;
+  memcpy(u, u0, (size_t)t->nv * sizeof *u);
+  for (int i = 0; i < n; i++) {
+    double d = q * r[i] - kappa[i];
+    if (d == 0) continue;
+    const double *g = G + (size_t)i * t->nv;
+    for (int v = 0; v < t->nv; v++) u[v] += d * g[v];
+  }
+  double lo = 1e300, hi = -1e300;
+  for (int v = 0; v < t->nv; v++)
+    if (t->vused[v]) lo = u[v] < lo ? u[v] : lo, hi = u[v] > hi ? u[v] : hi;
+  return hi - lo;
+}
+
+/* Quarter curvatures for the cones cv (continuous curvatures kappa): each rounded down or up (the flattening
+ * is linear in them: u = u0 + sum_i (q r_i - kappa_i) G_i, G_i the response to cone i), starting from the
+ * nearest with the Gauss-Bonnet total kept, then changed greedily, one cone up and another down (on an open
+ * surface also one alone), while that narrows the range of u: the nearest rounding of each cone alone can
+ * leave a wide range that the flow then cannot undo. Returns the range in *range and the rounded curvatures
+ * in kappa; u receives the flattening. */
+static au_status quarter_choose(const au_topo *t, const unsigned char *fixed, const double *w, const double *K, int n,
+                                const int *cv, double *kappa, int closed, double keep, double *range, double *u,
+                                au_msg *msg) {
+  const double q = AU_PI / 2;
+  int nv = t->nv;
+  au_solver *s = NULL;
+  double *B = calloc((size_t)nv * (n + 1), sizeof *B), *X = calloc((size_t)nv * (n + 1), sizeof *X);
+  int *r = malloc((size_t)(n > 0 ? n : 1) * sizeof *r), *lo = malloc((size_t)(n > 0 ? n : 1) * sizeof *lo);
+  double *rk = malloc((size_t)(n > 0 ? n : 1) * sizeof *rk);
+  au_status st = AU_OK;
+  if (!B || !X || !r || !lo || !rk) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
+    goto done;
+  }
+  if ((st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &s, msg)) != AU_OK) goto done;
+  if ((st = au_solver_factor(s, w, NULL, msg)) != AU_OK) goto done;
+  /* Column 0: the flattening with the continuous curvatures; column 1 + i: the response to cone i. */
+  for (int v = 0; v < nv; v++) B[v] = -K[v];
+  for (int i = 0; i < n; i++) B[cv[i]] += kappa[i], B[(size_t)(i + 1) * nv + cv[i]] = 1;
+  if ((st = au_solver_solve(s, n + 1, B, X, msg)) != AU_OK) goto done;
+  memcpy(rk, kappa, (size_t)n * sizeof *rk);
+  quarter_round(rk, n, closed);
+  for (int i = 0; i < n; i++) {
+    r[i] = (int)lround(rk[i] / q);
+    lo[i] = (int)floor(kappa[i] / q);
+  }
+  double best = rounded_range(t, n, X, X + nv, r, kappa, u);
+  for (int search = best > keep; search;) {
+    int bi = -1, bj = -1;
+    double bval = best * (1 - 1e-6);
+    for (int i = 0; i < n; i++) {
+      if (r[i] != lo[i] || r[i] + 1 >= 4) continue; /* i goes up: its angle stays positive */
+      for (int j = closed ? 0 : -1; j < n; j++) {
+        if (j == i || (j >= 0 && r[j] != lo[j] + 1)) continue; /* j goes down */
+        r[i]++;
+        if (j >= 0) r[j]--;
+        double v = rounded_range(t, n, X, X + nv, r, kappa, u);
+        r[i]--;
+        if (j >= 0) r[j]++;
+        if (v < bval) bval = v, bi = i, bj = j;
+      }
+    }
+    if (!closed)
+      for (int j = 0; j < n; j++) {
+        if (r[j] != lo[j] + 1) continue;
+        r[j]--;
+        double v = rounded_range(t, n, X, X + nv, r, kappa, u);
+        r[j]++;
+        if (v < bval) bval = v, bi = -1, bj = j;
+      }
+    if (bi < 0 && bj < 0) break;
+    if (bi >= 0) r[bi]++;
+    if (bj >= 0) r[bj]--;
+    best = bval;
+  }
+  *range = rounded_range(t, n, X, X + nv, r, kappa, u);
+  for (int i = 0; i < n; i++) kappa[i] = q * r[i];
+done:
+  au_solver_free(&s);
+  free(B), free(X), free(r), free(lo), free(rk);
+  return st;
+}
+
 au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atlas_opts *o, au_atlas_cones *c,
                                au_msg *msg) {
   if (!m || !t || !c || t->nv != m->nv || t->nf != m->nf) return au_msg_set(msg, AU_E_ARG, "au_atlas_place_cones: bad arguments");
@@ -168,8 +254,9 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
   double *w = malloc((size_t)(t->ne > 0 ? t->ne : 1) * sizeof *w), *K = malloc((size_t)nv * sizeof *K);
   double *b = malloc((size_t)nv * sizeof *b), *u = malloc((size_t)nv * sizeof *u), *Lu = malloc((size_t)nv * sizeof *Lu);
   unsigned char *fixed = malloc((size_t)nv);
-  int *cv = malloc((size_t)(oo.max_cones > 0 ? oo.max_cones : 1) * sizeof *cv);
-  double *kappa = malloc((size_t)(oo.max_cones > 0 ? oo.max_cones : 1) * sizeof *kappa);
+  int cap = oo.quarter ? 2 * oo.max_cones : oo.max_cones;
+  int *cv = malloc((size_t)(cap > 0 ? cap : 1) * sizeof *cv);
+  double *kappa = malloc((size_t)(cap > 0 ? cap : 1) * sizeof *kappa);
   au_status st = AU_OK;
   if (!len || !ang || !cot || !w || !K || !b || !u || !Lu || !fixed || !cv || !kappa) {
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
@@ -235,7 +322,57 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
     cv[n++] = far;
     fixed[far] = 1;
   }
-  if (oo.quarter) quarter_round(kappa, n, closed);
+  if (oo.quarter && n > 0) {
+    /* Quarter cones: the rounding is chosen to keep the flattening's range small (quarter_choose); while it
+     * stays above u_range a cone is added where u is most extreme and the curvatures solved again. */
+    unsigned char *fq = malloc((size_t)nv);
+    double *kq = malloc((size_t)cap * sizeof *kq), *kprev = malloc((size_t)cap * sizeof *kprev);
+    if (!fq || !kq || !kprev) {
+      free(fq), free(kq), free(kprev);
+      st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
+      goto done;
+    }
+    int over = 1, added = 0;
+    for (;;) {
+      int ref = 0;
+      while (!t->vused[ref]) ref++;
+      for (int v = 0; v < nv; v++) fq[v] = !t->vused[v] || t->vb[v];
+      if (closed) fq[ref] = 1;
+      double range = 0;
+      memcpy(kq, kappa, (size_t)n * sizeof *kq);
+      if ((st = quarter_choose(t, fq, w, K, n, cv, kq, closed, oo.u_range, &range, u, msg)) != AU_OK) break;
+      if (added && kq[n - 1] == 0) {
+        /* The new cone came out flat: adding more where u is extreme does not narrow the range. */
+        n--;
+        memcpy(kappa, kprev, (size_t)n * sizeof *kq);
+        break;
+      }
+      int far = -1;
+      double lo = 1e300, hi = -1e300;
+      for (int v = 0; v < nv; v++)
+        if (t->vused[v]) lo = u[v] < lo ? u[v] : lo, hi = u[v] > hi ? u[v] : hi;
+      for (int i = 0; i < n; i++) fq[cv[i]] = 2;
+      for (int v = 0; v < nv; v++)
+        if (t->vused[v] && !t->vb[v] && fq[v] != 2 && (far < 0 || fabs(u[v] - 0.5 * (lo + hi)) > fabs(u[far] - 0.5 * (lo + hi))))
+          far = v;
+      /* Past max_cones only from a range wider than u_range + 0.5: each cone adds charts and costs coverage, and
+       * a range a little over u_range the flow undoes (fertility: 1.66 at 24 cones). */
+      if (n == oo.max_cones && range <= oo.u_range + 0.5) over = 0;
+      if (range <= oo.u_range || n >= (over ? cap : oo.max_cones) || far < 0) {
+        memcpy(kappa, kq, (size_t)n * sizeof *kq);
+        break;
+      }
+      memcpy(kprev, kq, (size_t)n * sizeof *kq);
+      cv[n++] = far, added = 1;
+      for (int v = 0; v < nv; v++) fq[v] = !t->vused[v] || t->vb[v];
+      for (int i = 0; i < n; i++) fq[cv[i]] = 1;
+      if ((st = laplace_solve(t, fq, w, b, u, msg)) != AU_OK) break;
+      apply_laplacian(t, w, u, Lu);
+      for (int i = 0; i < n; i++) kappa[i] = K[cv[i]] + Lu[cv[i]];
+    }
+    free(fq), free(kq), free(kprev);
+    if (st != AU_OK) goto done;
+  }
   /* Cones that came out flat are no cones; on a closed surface their (small) curvature moves to the
    * strongest cone, so the total stays exact. */
   int strongest = -1;
