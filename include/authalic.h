@@ -974,8 +974,11 @@ AU_API au_status au_view_write(const char *path, const au_view_input *in, au_msg
 
 /* Options of au_atlas; start from au_atlas_options_default(). */
 typedef struct au_atlas_options {
-  int max_cones;            /* automatic cones: at most this many (default 24) */
-  int quarter;              /* 1: cone angles in multiples of pi/2 (default 0) */
+  int max_cones;            /* automatic cones: at most this many (default 24); with quarter, up to twice
+                               as many where the rounded cones leave the conformal factor's range wide
+                               (docs/atlas-quarter.md) */
+  int quarter;              /* 1: cone angles in multiples of pi/2 and every loop's holonomy a multiple
+                               of pi/2, so every seam turns by a quarter turn (default 0) */
   int ncones;               /* > 0: these cones instead of automatic ones (default 0) */
   const int *cone_v;        /* cone_v [0..ncones-1]: interior vertices */
   const double *cone_angle; /* cone_angle [0..ncones-1]: angles in radians; on a closed surface the

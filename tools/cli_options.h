@@ -153,8 +153,9 @@ enum {
     "the cones instead of automatic ones: one line per cone, a vertex (0-based) and its angle in degrees; on a "    \
     "closed surface the curvatures 360 - angle must sum to 360 x Euler characteristic")                            \
   X(OPT_QUARTER, "quarter", NULL, CLI_FLAG, CLI_ATLAS,                                                              \
-    "cone angles in multiples of 90 degrees (seam rotations around cones then multiples of 90 degrees)")            \
-  X(OPT_MAX_CONES, "max-cones", "N", CLI_VALUE, CLI_ATLAS, "at most N automatic cones, 1..1000 (default 24)")      \
+    "cone angles and every loop's holonomy in multiples of 90 degrees: every seam turns by a quarter turn")          \
+  X(OPT_MAX_CONES, "max-cones", "N", CLI_VALUE, CLI_ATLAS,                                                           \
+    "at most N automatic cones, 1..1000 (default 24; with --quarter up to 2N where needed)")                         \
   X(OPT_REPORT, "report", "R.json", CLI_FILE, CLI_ATLAS,                                                             \
     "write a JSON report: cones, charts, seams and their rotations, coverage, folds, overlapping texels, times")    \
   X(OPT_QUIET, "quiet", NULL, CLI_FLAG, CLI_ALL, "no progress and no summary on stderr (errors and warnings remain)") \

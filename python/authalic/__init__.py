@@ -1007,7 +1007,7 @@ def atlas(V, F, cones=None, quarter=False, max_cones=24):
 
     cones: None (automatic), or a sequence of (vertex, angle in degrees) for interior vertices; on a
         closed surface the curvatures 360 - angle must sum to 360 x Euler characteristic.
-    quarter: automatic cone angles in multiples of 90 degrees.
+    quarter: cone angles and every loop's holonomy in multiples of 90 degrees (every seam a quarter turn).
     max_cones: at most this many automatic cones (1..1000).
 
     Returns (VT, FT, info): VT float64 (nvt, 2) per-corner texture coordinates in [0,1]^2, FT int32
