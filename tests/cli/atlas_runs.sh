@@ -104,6 +104,16 @@ PYEOF
   fi
 }
 
+# quarter IN CHI LOOPS: --quarter on IN: exit 0, all LOOPS homology loops' holonomy fixed, every cone angle
+# and seam rotation a quarter turn, equal area.
+quarter() {
+  run atlas "$1" "$OUT" --report "$REP" --quarter
+  expect_status 0
+  expect_err " quarter_loops=$3/$3 "
+  check "$1" "$2" quarter
+  check "$1" "$2" equal
+}
+
 case $1 in
 data)
   # Genus 0 closed, genus 1, one and two boundary loops.
@@ -154,12 +164,7 @@ genus | genus_large)
     for c in genus3:-4:6 genus5:-8:10; do
       name=${c%%:*} rest=${c#*:} chi=${rest%%:*} k=${c##*:}
       [ -f "$SRC/data/$name.obj" ] || skip "$SRC/data/$name.obj is missing (run au_mkdata to generate data/)"
-      IN=$(stage "$SRC/data/$name.obj")
-      run atlas "$IN" "$OUT" --report "$REP" --quarter
-      expect_status 0
-      expect_err " quarter_loops=$k/$k "
-      check "$IN" "$chi" quarter
-      check "$IN" "$chi" equal
+      quarter "$(stage "$SRC/data/$name.obj")" "$chi" "$k"
     done
   fi
   ;;
@@ -176,11 +181,7 @@ shared)
   # fertility with --quarter: equal area, every seam a quarter turn, at least half the square covered
   # (the nearest rounding of its cones gave 62 charts covering 0.405).
   stage_shared fertility.off
-  run atlas "$IN" "$OUT" --report "$REP" --quarter
-  expect_status 0
-  expect_err " quarter_loops=8/8 "
-  check "$IN" -6 quarter
-  check "$IN" -6 equal
+  quarter "$IN" -6 8
   ;;
 quarter)
   IN=$(stage "$SRC/data/ellipsoid.obj")
@@ -194,12 +195,7 @@ quarter)
   for c in genus2:-2 genus2_1loop:open; do
     name=${c%%:*}
     [ -f "$SRC/data/$name.obj" ] || skip "$SRC/data/$name.obj is missing (run au_mkdata to generate data/)"
-    IN=$(stage "$SRC/data/$name.obj")
-    run atlas "$IN" "$OUT" --report "$REP" --quarter
-    expect_status 0
-    expect_err " quarter_loops=4/4 "
-    check "$IN" "${c#*:}" quarter
-    check "$IN" "${c#*:}" equal
+    quarter "$(stage "$SRC/data/$name.obj")" "${c#*:}" 4
     $PY -c 'import json,sys; h=json.load(open(sys.argv[1]))["holonomy"]; sys.exit(0 if h["loops"] == 4 and h["fixed"] == 4 and h["deviation_deg"] > 1 else "holonomy %r" % h)' "$REP" \
       || fail "the holonomy of $name's loops was not fixed"
   done
