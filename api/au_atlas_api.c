@@ -113,6 +113,9 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
   }
   if (sm > 0) warn(r, msg->text);
   r->newton_steps = info.steps, r->metric_err = info.err;
+  /* The first metric's outcome: restored where a re-solved metric (new cones) is dropped for it. */
+  const au_status sm0 = sm;
+  const double err0 = info.err;
   /* Given cones of quarter angles keep the common frame too, so their seams turn by quarter turns. */
   int quarter = ao.quarter;
   if (o.ncones > 0) {
@@ -154,13 +157,16 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
     const double dev0 = hi.hol_dev;
     for (int plan = 0; plan < 2 && sh == AU_W_NOT_CONVERGED && o.ncones == 0; plan++) {
       int turned = 0;
+      au_status sr = AU_OK;
+      au_msg rm = {{0}};
       for (int round = 0; round < 4 && sh == AU_W_NOT_CONVERGED; round++) {
         int changed = 0;
         if ((st = au_atlas_holonomy_balance(m, t, &c, elen, plan == 0 || round > 0, &changed, msg)) != AU_OK) goto fail;
         if (!changed) break;
         turned += changed;
-        if ((sm = au_atlas_cetm(m, t, &c, &ao, u, &info, msg)) < 0) {
-          st = sm;
+        if ((sr = au_atlas_cetm(m, t, &c, &ao, u, &info, &rm)) < 0) {
+          if (msg) *msg = rm;
+          st = sr;
           goto fail;
         }
         r->newton_steps += info.steps, r->metric_err = info.err;
@@ -169,11 +175,16 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
       }
       if (sh == AU_OK) {
         r->holonomy_cones = turned;
+        if (turned > 0) {
+          sm = sr;
+          if (sr > 0) warn(r, rm.text);
+        }
       } else if (turned > 0) {
         /* Not fixed even so: the cones and the metric as they were. */
         memcpy(c.angle, angle0, (size_t)c.n * sizeof *angle0);
         memcpy(c.v, v0, (size_t)c.n * sizeof *v0);
         memcpy(elen, elen0, (size_t)t->ne * sizeof *elen);
+        r->metric_err = err0;
       }
     }
     hi.hol_dev = dev0;
@@ -225,6 +236,7 @@ au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas
     memcpy(c.v, v0, (size_t)c.n * sizeof *v0);
     memcpy(elen, elen0, (size_t)t->ne * sizeof *elen);
     r->holonomy_fixed = 0, r->holonomy_cones = 0, r->holonomy_len_change = 0;
+    sm = sm0, r->metric_err = err0;
     au_atlas_layout_free(&L);
     t0 = now_s();
   }

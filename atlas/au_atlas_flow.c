@@ -389,9 +389,17 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
       }
     }
     if (failed) {
-      /* More damping; at its largest the flow is stalled: once, the symmetry is broken (jitter) and the
-       * flow goes on from there; then it stops where it is (the map so far is valid). */
+      /* More damping; at its largest the flow is stalled: with the shear term on, mu is quartered (below
+       * 1/200 of its first value dropped) and the flow goes on from there; then, once, the symmetry is broken
+       * (jitter) and the flow goes on; then it stops where it is (the map so far is valid). */
       if (lambda > 1e8 * o.shear) {
+        if (mu > 0) {
+          mu = mu > o.angles / 200 ? mu * 0.25 : 0;
+          lambda = o.shear;
+          err = face_error(nf, q, S, Stot, A, &Atot, &sq);
+          if (mu > 0) sq += mu * shear_mean(nf, q, G, Atot, Stot);
+          continue;
+        }
         if (jittered || !jitter(nv, nf, F, pin, p, rot, tr, q, q2, A, pmin)) break;
         jittered = 1, lambda = o.shear;
         err = face_error(nf, q, S, Stot, A, &Atot, &sq);

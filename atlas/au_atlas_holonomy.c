@@ -359,7 +359,13 @@ au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atl
       for (int p = R.jstart[j]; p < R.jstart[j + 1]; p++) wrow[R.jedge[p]] = 0;
     }
     au_msg fm;
-    if (au_spd_factor(S, &fm) != AU_OK) break; /* a singular J J^T: no step, the fallback below */
+    au_status sf = au_spd_factor(S, &fm);
+    if (sf == AU_E_NOMEM) {
+      if (msg) *msg = fm;
+      st = sf;
+      goto done;
+    }
+    if (sf != AU_OK) break; /* a singular J J^T: no step, the fallback below */
     for (int i = 0; i < R.n; i++) rhs[i] = -r[i];
     if ((st = au_spd_solve(S, rhs, y, msg)) != AU_OK) goto done;
     memset(dl, 0, (size_t)ne * sizeof *dl);

@@ -250,6 +250,7 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
   au_atlas_opts oo = o ? *o : au_atlas_opts_default();
   int nv = m->nv, nf = m->nf, closed = t->nloops == 0;
   if (oo.max_cones < (closed ? 1 : 0)) return au_msg_set(msg, AU_E_ARG, "max_cones %d: a closed surface needs a cone", oo.max_cones);
+  if (oo.max_cones > nv) oo.max_cones = nv; /* no more cones than vertices; keeps 2 max_cones below INT_MAX */
   double *len = corner_lengths(m), *ang = malloc(3 * (size_t)nf * sizeof *ang), *cot = malloc(3 * (size_t)nf * sizeof *cot);
   double *w = malloc((size_t)(t->ne > 0 ? t->ne : 1) * sizeof *w), *K = malloc((size_t)nv * sizeof *K);
   double *b = malloc((size_t)nv * sizeof *b), *u = malloc((size_t)nv * sizeof *u), *Lu = malloc((size_t)nv * sizeof *Lu);
@@ -303,7 +304,11 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
   for (;;) {
     int any_free = 0;
     for (int v = 0; v < nv && !any_free; v++) any_free = !fixed[v];
-    if (!any_free) break;
+    if (!any_free) {
+      /* Every vertex a cone (a tetrahedron): u is 0 everywhere, each cone keeps its own curvature. */
+      for (int i = 0; i < n; i++) kappa[i] = K[cv[i]];
+      break;
+    }
     if ((st = laplace_solve(t, fixed, w, b, u, msg)) != AU_OK) goto done;
     apply_laplacian(t, w, u, Lu);
     double lo = 0, hi = 0;

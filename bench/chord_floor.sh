@@ -1,9 +1,8 @@
 #!/bin/sh
 # chord_floor.sh BIN OUTDIR [MESH...] - each mesh mapped twice by `authalic sphere`: by default (the
 # chord triangles' areas equalized) and with --spherical-areas (the spherical triangles'), and both maps
-# measured in both measures: the chord figures by ../shared/tools/param-eval (per-face mean |r-1|,
-# vertex mean |log r|, folds), the spherical ones from the report (metrics.sph_r_mean_abs_dev,
-# sph_vertex_logr_mean_abs), with the chord floor's faces and excess (the share of the area that the
+# measured in both measures by ../shared/tools/param-eval (per-face mean |r-1|, vertex mean |log r|,
+# folds; its sph_ figures for the spherical triangles), with the report's chord floor faces and excess (the share of the area that the
 # map's long edges hold above the faces' shares, docs/sphere.md#the-chord-floor) and CPU seconds.
 # Default meshes: the generated limb family and the shared meshes a conformal start squeezes hardest.
 # Run from the source root: sh bench/chord_floor.sh build/authalic /tmp/floor > table.md

@@ -1014,7 +1014,7 @@ typedef struct au_atlas_result {
   double metric_err;    /* the metric's largest angle-sum error, radians */
   int holonomy_loops;   /* with quarter cones: the homology loops (2 genus + boundary loops - 1) */
   int holonomy_cones;   /* quarter turns and one-edge moves of automatic cones that brought the loops' holonomy nearer */
-  int holonomy_fixed;   /* of them, those whose holonomy was made a multiple of pi/2 (all, or 0 with a warning) */
+  int holonomy_fixed;   /* the homology loops whose holonomy was made a multiple of pi/2 (all, or 0 with a warning) */
   double holonomy_dev;  /* the conformal metric's largest |holonomy - nearest multiple of pi/2|, radians */
   double holonomy_len_change; /* the largest relative change of an edge length that fixing it took */
   double t_check, t_cones, t_metric, t_layout, t_flow; /* seconds */

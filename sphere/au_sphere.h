@@ -190,7 +190,8 @@ typedef struct au_gpolish_opts {
                           * part of its value (0..1; 0: off, as au_sphere_gpolish_settings leaves it) */
   int face_window;       /* > 0: at the tolerance, go on while the faces' mean |r - 1| is above face_target and
                           * has fallen by more than face_gain of its value over the last face_window steps
-                          * (1..20; 0: stop at the tolerance, as au_sphere_gpolish_settings leaves it) */
+                          * (1..20; 0: stop at the tolerance, as au_sphere_gpolish_settings leaves it); a map
+                          * already at the tolerance when the polish starts is left as it is */
   double face_gain;      /* see face_window (0..1) */
   double face_target;    /* see face_window (>= 0) */
 } au_gpolish_opts;

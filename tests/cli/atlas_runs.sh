@@ -133,6 +133,15 @@ data)
         || fail "the ellipsoid's atlas has more charts than its packing needs"
     fi
   done
+  # The smallest closed surface, a tetrahedron: every vertex a cone (with max_cones above the vertex
+  # count), each keeping its own curvature; one chart, exactly equal area.
+  printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n' > "$T/o/tet.obj"
+  run atlas "$T/o/tet.obj" "$OUT" --report "$REP"
+  expect_status 0
+  expect_err " cones=4 "
+  check "$T/o/tet.obj" 2
+  $PY -c 'import json,sys; f=json.load(open(sys.argv[1]))["flow"]; sys.exit(0 if f["face_error"] <= 1e-9 else "flow %r" % f)' "$REP" \
+    || fail "the tetrahedron's atlas is not exactly equal area"
   # --init-only: the conformal start, not equal area.
   IN=$(stage "$SRC/data/ellipsoid.obj")
   run atlas "$IN" "$OUT" --report "$REP" --init-only
