@@ -13,15 +13,6 @@
 #include "au_treecotree.h"
 #include "authalic.h"
 
-static au_mesh *read_data(const char *name) {
-  char path[4096];
-  snprintf(path, sizeof path, "%s/data/%s.obj", AU_SOURCE_DIR, name);
-  au_mesh *m = NULL;
-  au_msg msg;
-  if (au_mesh_read(path, &m, &msg) != AU_OK) fprintf(stderr, "%s: %s\n", path, msg.text);
-  return m;
-}
-
 /* The torus of revolution R = 3, r = 1 on an nu x nt grid, each quad split along a diagonal. */
 static au_mesh *grid_torus(int nu, int nt) {
   au_mesh *m = NULL;
@@ -218,7 +209,7 @@ static int check_mesh(const au_mesh *m, int want_genus, int want_loops, int want
 }
 
 static int run_data(const char *name, int genus, int loops, int ngen) {
-  au_mesh *m = read_data(name);
+  au_mesh *m = au_test_data_mesh(name);
   int r = check_mesh(m, genus, loops, ngen);
   au_mesh_free(&m);
   return r;
