@@ -28,6 +28,7 @@
 
 #include "au_atlas.h"
 #include "au_solver.h"
+#include "au_treecotree.h"
 
 #define AU_PI 3.14159265358979323846
 
@@ -118,94 +119,37 @@ static int opposite(const au_topo *t, int f, int e) {
   return -1;
 }
 
-/* The generator loops: a shortest-hop tree of the vertices (from the boundary, every boundary vertex a root,
- * or from vertex ref), a dual tree of the faces over the interior edges off it, and one dual loop per interior
- * edge in neither (2g + boundary loops - 1 of them). Each loop's terms are appended to (corner, sign) from
- * *nterm; lstart [0..nloops] receives where each loop's terms start. Returns the number of loops, -1 when out
- * of memory. */
-static int loops(const au_mesh *m, const au_topo *t, int ref, int *corner, signed char *sign, int *nterm,
-                 int *lstart, int maxloops) {
-  const int nv = m->nv, nf = m->nf, ne = t->ne;
-  int *vstart = calloc((size_t)nv + 1, sizeof *vstart), *vadj = malloc(2 * (size_t)ne * sizeof *vadj);
-  int *queue = malloc((size_t)(nv > nf ? nv : nf) * sizeof *queue), *seen = calloc((size_t)(nv > nf ? nv : nf), sizeof *seen);
-  int *fpar = malloc((size_t)nf * sizeof *fpar), *depth = malloc((size_t)nf * sizeof *depth);
-  int *path = malloc((size_t)nf * 2 * sizeof *path);
-  unsigned char *tree = calloc((size_t)ne, 1);
-  int n = -1;
-  if (!vstart || !vadj || !queue || !seen || !fpar || !depth || !path || !tree) goto done;
-  for (int e = 0; e < ne; e++) vstart[t->E[2 * e] + 1]++, vstart[t->E[2 * e + 1] + 1]++;
-  for (int v = 0; v < nv; v++) vstart[v + 1] += vstart[v];
-  for (int e = 0; e < ne; e++)
-    for (int s = 0; s < 2; s++) {
-      int v = t->E[2 * e + s];
-      vadj[vstart[v] + seen[v]++] = e;
-    }
-  memset(seen, 0, (size_t)(nv > nf ? nv : nf) * sizeof *seen);
-  int head = 0, tail = 0;
-  if (t->nloops > 0) {
-    for (int v = 0; v < nv; v++)
-      if (t->vb[v]) seen[v] = 1, queue[tail++] = v;
-  } else {
-    seen[ref] = 1, queue[tail++] = ref;
-  }
-  while (head < tail) {
-    int v = queue[head++];
-    for (int i = vstart[v]; i < vstart[v + 1]; i++) {
-      int e = vadj[i], w = t->E[2 * e] == v ? t->E[2 * e + 1] : t->E[2 * e];
-      if (seen[w]) continue;
-      seen[w] = 1, tree[e] = 1, queue[tail++] = w;
-    }
-  }
-  memset(seen, 0, (size_t)(nv > nf ? nv : nf) * sizeof *seen);
-  head = tail = 0;
-  seen[0] = 1, fpar[0] = -1, depth[0] = 0, queue[tail++] = 0;
-  while (head < tail) {
-    int f = queue[head++];
-    for (int k = 0; k < 3; k++) {
-      int e = t->FE[3 * f + k];
-      if (t->EF[2 * e + 1] < 0 || tree[e]) continue;
-      int g = t->EF[2 * e] == f ? t->EF[2 * e + 1] : t->EF[2 * e];
-      if (seen[g]) continue;
-      seen[g] = 1, fpar[g] = e, depth[g] = depth[f] + 1, tree[e] = 2, queue[tail++] = g;
-    }
-  }
-  n = 0;
+/* The generator loops: the dual loops of the tree-cotree decomposition (au_treecotree.h: its vertex tree grows
+ * from the boundary, every boundary vertex a root, or from the first referenced vertex), one per generator,
+ * 2g + boundary loops - 1 of them; at most maxloops are taken. Each loop's terms are appended to (corner, sign)
+ * from *nterm (a loop has at most nf); lstart [0..*n] receives where each loop's terms start, *n the number of
+ * loops. Returns AU_OK or the decomposition's status. */
+static au_status loops(const au_topo *t, int *corner, signed char *sign, int *nterm, int *lstart, int maxloops, int *n,
+                       au_msg *msg) {
+  au_treecotree *tc = NULL;
+  int *edges = malloc((size_t)t->nf * sizeof *edges), *faces = malloc((size_t)t->nf * sizeof *faces);
+  au_status st = edges && faces ? au_treecotree_build(t, &tc, msg) : au_msg_set(msg, AU_E_NOMEM, "out of memory");
+  *n = 0;
+  if (st != AU_OK) goto done;
   lstart[0] = *nterm;
-  for (int e = 0; e < ne && n < maxloops; e++) {
-    if (t->EF[2 * e + 1] < 0 || tree[e]) continue;
-    /* The crossed edges in order: e from face a into face b, up the dual tree from b to the common ancestor,
-     * down from it to a. */
-    int a = t->EF[2 * e], b = t->EF[2 * e + 1], np = 0, nd = 0;
-    int *down = path + nf;
-    path[np++] = e;
-    int x = b, y = a;
-    while (x != y) {
-      if (depth[x] >= depth[y]) {
-        int ex = fpar[x];
-        path[np++] = ex, x = t->EF[2 * ex] == x ? t->EF[2 * ex + 1] : t->EF[2 * ex];
-      } else {
-        int ey = fpar[y];
-        down[nd++] = ey, y = t->EF[2 * ey] == y ? t->EF[2 * ey + 1] : t->EF[2 * ey];
-      }
-    }
-    while (nd > 0) path[np++] = down[--nd];
-    /* Face i of the loop is entered through path[i] and left through path[i + 1]. */
-    int f = b;
+  for (int j = 0; j < tc->ngen && j < maxloops; j++) {
+    int np = au_treecotree_dual_loop(t, tc, j, edges, faces);
+    /* Face faces[i] of the loop is entered through edges[i] and left through edges[i + 1]. */
     for (int i = 0; i < np; i++) {
-      int ein = path[i], eout = path[(i + 1) % np];
-      int kin = opposite(t, f, ein), kout = opposite(t, f, eout), k = 3 - kin - kout;
+      int f = faces[i], kin = opposite(t, f, edges[i]), kout = opposite(t, f, edges[(i + 1) % np]);
+      int k = 3 - kin - kout;
       corner[*nterm] = 3 * f + k;
       /* The shared vertex is on the left when the loop enters opposite k + 2 and leaves opposite k + 1 (the
        * faces are counterclockwise). */
       sign[*nterm] = (kin == (k + 2) % 3 && kout == (k + 1) % 3) ? 1 : -1;
       (*nterm)++;
-      f = t->EF[2 * eout] == f ? t->EF[2 * eout + 1] : t->EF[2 * eout];
     }
-    lstart[++n] = *nterm;
+    lstart[++*n] = *nterm;
   }
 done:
-  free(vstart), free(vadj), free(queue), free(seen), free(fpar), free(depth), free(path), free(tree);
-  return n;
+  au_treecotree_free(&tc);
+  free(edges), free(faces);
+  return st;
 }
 
 au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, double *elen,
@@ -265,8 +209,11 @@ au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atl
     R.start[vrow[v]] = nterm, R.target[vrow[v]] = theta[v];
     for (int i = cstart[v]; i < cstart[v + 1]; i++) R.corner[nterm] = vc[i], R.sign[nterm++] = 1;
   }
-  int got = loops(m, t, ref, R.corner, R.sign, &nterm, lstart, K);
-  if (got < 0) goto nomem;
+  int got = 0;
+  if ((st = loops(t, R.corner, R.sign, &nterm, lstart, K, &got, msg)) != AU_OK) {
+    if (st == AU_E_NOMEM) goto nomem;
+    goto done;
+  }
   if (got != K) {
     st = au_msg_set(msg, AU_E_INTERNAL, "holonomy: %d generator loops found, %d expected", got, K);
     goto done;
@@ -438,10 +385,11 @@ au_status au_atlas_holonomy_balance(const au_mesh *m, const au_topo *t, au_atlas
   if (angles(t, nf, lam, ang, cot) <= 0) goto done; /* a degenerate metric: nothing predicted */
   int ref = 0;
   while (!t->vused[ref]) ref++;
-  int nterm = 0;
-  int got = loops(m, t, ref, corner, sign, &nterm, lstart, K);
-  if (got != K) {
-    st = got < 0 ? au_msg_set(msg, AU_E_NOMEM, "out of memory balancing the holonomy") : AU_OK;
+  int nterm = 0, got = 0;
+  au_msg lm;
+  au_status sl = loops(t, corner, sign, &nterm, lstart, K, &got, &lm);
+  if (sl != AU_OK || got != K) { /* no loops, nothing predicted */
+    st = sl == AU_E_NOMEM ? au_msg_set(msg, AU_E_NOMEM, "out of memory balancing the holonomy") : AU_OK;
     goto done;
   }
   /* d H_k / d Theta_v = -zeta_k(v), zeta_k = L^-1 B^T h_k: a change of the angle targets moves the conformal

@@ -1,6 +1,8 @@
 /* au_test.c - the test harness's runner. */
 #include "au_test.h"
 
+#include "authalic.h"
+
 #include <string.h>
 #include <sys/stat.h>
 
@@ -25,4 +27,13 @@ int au_test_shared_mesh(const char *name, char *buf, size_t len) {
   struct stat st;
   snprintf(buf, len, "%s/meshes/%s", AU_SHARED_DIR, name);
   return stat(buf, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+struct au_mesh *au_test_data_mesh(const char *name) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/data/%s.obj", AU_SOURCE_DIR, name);
+  au_mesh *m = NULL;
+  au_msg msg;
+  if (au_mesh_read(path, &m, &msg) != AU_OK) fprintf(stderr, "%s: %s\n", path, msg.text);
+  return m;
 }

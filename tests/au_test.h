@@ -17,6 +17,10 @@ int au_test_main(int argc, char **argv, const au_test_case *cases, int ncases);
 /* Path of a shared mesh (../shared/meshes/NAME) into buf; returns 0 if the file is missing. */
 int au_test_shared_mesh(const char *name, char *buf, size_t len);
 
+/* The project's own mesh data/NAME.obj, read (the caller frees it with au_mesh_free); NULL, with the
+ * reader's message on stderr, when it cannot be read. */
+struct au_mesh *au_test_data_mesh(const char *name);
+
 #define AU_SKIP 77
 
 /* The text of an optional message buffer (so macros can take &msg or NULL without warnings). */
