@@ -56,13 +56,6 @@
 #define AU_GPOLISH_FACE_GAIN 0.05
 #define AU_GPOLISH_FACE_TARGET 0.009
 
-/* The lantern (au_advect_opts.lantern) raises a face's shape restoring only at the steps of a least-shear
- * flow's spherical part whose vertex error is below this (AU_LANTERN_BELOW in common/au_advect.c), and
- * only while restoring is on (restore > 0). A flow that never came below it is the lantern flow's step
- * for step; tpose's strong twisted start stays above 8.3 for its 28 steps, and its lantern retry ran the
- * same 28 steps again to the same map (test_sphere.lantern_skipped checks the equality). */
-#define AU_LANTERN_BELOW 1
-
 au_sphere_opts au_sphere_opts_default(void) {
   au_sphere_opts o;
   memset(&o, 0, sizeof o);
@@ -239,6 +232,13 @@ static double chord_floor_excess(const au_mesh *m, const double *P) {
   free(as), free(ad);
   return excess;
 }
+
+/* The lantern (au_advect_opts.lantern) raises a face's shape restoring only at the steps of a least-shear
+ * flow's spherical part whose vertex error is below this (AU_LANTERN_BELOW in common/au_advect.c), and
+ * only while restoring is on (restore > 0). A flow that never came below it is the lantern flow's step
+ * for step: tpose's strong twisted start stays above 8.3 for its 24 spherical steps, and its lantern
+ * retry ran the same 28 steps again to the same map (test_sphere.lantern_skipped checks the equality). */
+#define AU_LANTERN_BELOW 1
 
 /* 1 if a flow with the lantern (au_advect_opts.lantern > 0) from the same start could differ from the flow
  * of options fo that made report r, 0 if it would repeat it step for step (AU_LANTERN_BELOW). */
