@@ -415,6 +415,20 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
     /* ... and not where its flow would repeat the first one's (the first flow's map, not the twisted
      * retry's, which was not kept here). */
     if (lantern_due && !lantern_would_act(&o.flow, &rep->flow)) lantern_due = 0, rep->lantern_skipped = 1;
+    /* The staged retry (below) before the lantern's where the map is squeezed enough for it: the staged
+     * flows start from the start, not from the map, and where their map was kept the lantern's had been
+     * made for nothing (octopus: lantern kept, then replaced by the staged map; docs/sphere-retries.md). */
+    const int staged_allowed = o.staged_retry > 0 && !o.flow.weight && !o.flow.face_weight;
+    int staged_done = 0;
+    if (lantern_due && staged_allowed) {
+      int nsq = 0;
+      if (au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED) {
+        staged_retry(m, t, plan, &dom, &o, Pstart, P, rep, &st, msg);
+        staged_done = 1;
+        if (rep->staged == 2) ek = rep->staged_err[1], lantern_due = 0;
+        if (st != AU_W_NOT_CONVERGED) lantern_due = 0;
+      }
+    }
     if (lantern_due) {
       au_advect_report *r2 = malloc(sizeof *r2);
       double *P2 = malloc(sizeof(double) * 3 * (size_t)m->nv);
@@ -436,7 +450,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
     if (twist_gate && !rep->twist && st == AU_W_NOT_CONVERGED && ek > o.retry_above * o.flow.tol &&
         chord_floor_excess(m, P) > o.twist_retry)
       twisted_retry(m, t, plan, &dom, &o, ek, P, rep, &st, msg);
-    if (st == AU_W_NOT_CONVERGED && o.staged_retry > 0 && !o.flow.weight && !o.flow.face_weight) {
+    if (st == AU_W_NOT_CONVERGED && staged_allowed && !staged_done) {
       int nsq = 0;
       if (au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED)
         staged_retry(m, t, plan, &dom, &o, Pstart, P, rep, &st, msg);
