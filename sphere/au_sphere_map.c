@@ -233,6 +233,24 @@ static double chord_floor_excess(const au_mesh *m, const double *P) {
   return excess;
 }
 
+/* The lantern (au_advect_opts.lantern) raises a face's shape restoring only at the steps of a least-shear
+ * flow's spherical part whose vertex error is below this (AU_LANTERN_BELOW in common/au_advect.c), and
+ * only while restoring is on (restore > 0). A flow that never came below it is the lantern flow's step
+ * for step: tpose's strong twisted start stays above 8.3 for its 24 spherical steps, and its lantern
+ * retry ran the same 28 steps again to the same map (test_sphere.lantern_skipped checks the equality). */
+#define AU_LANTERN_BELOW 1
+
+/* 1 if a flow with the lantern (au_advect_opts.lantern > 0) from the same start could differ from the flow
+ * of options fo that made report r, 0 if it would repeat it step for step (AU_LANTERN_BELOW). */
+static int lantern_would_act(const au_advect_opts *fo, const au_advect_report *r) {
+  if (fo->method != AU_ADVECT_LEAST_SHEAR || !(fo->restore > 0) || fo->sphere_areas == 0) return 0;
+  /* The spherical part's steps: those before the chord polish, or all of them (the final measure too). */
+  const int last = r->polish_from > 0 ? r->polish_from - 1 : r->steps;
+  for (int k = 0; k <= last && k <= AU_ADVECT_MAX_STEPS; k++)
+    if (!(r->err[k] >= AU_LANTERN_BELOW)) return 1;
+  return 0;
+}
+
 /* A retry's outcome against the map kept so far (P, its vertex error e by map_vertex_error, *st): a
  * cancelled retry ends the map with its status; one whose map P2 has the lower error e2 replaces P, the
  * report's flow (r2) and the status. Returns 1 if it replaced. */
@@ -393,7 +411,25 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
      * the retry returned the same map (spot, cow, screwdriver, hand_closed) or a worse one (bunny), and its
      * one better map (penguin_hr) was replaced by the twisted retry's (bench/coarse-to-fine.md). */
     double ek = rep->twist == 2 ? rep->twist_err : e0;
-    if (st == AU_W_NOT_CONVERGED && Pstart && !ml_done && rep->twist != 2 && ek > o.retry_above * o.flow.tol) {
+    int lantern_due = st == AU_W_NOT_CONVERGED && Pstart && !ml_done && rep->twist != 2 && ek > o.retry_above * o.flow.tol;
+    /* ... and not where its flow would repeat the first one's (the first flow's map, not the twisted
+     * retry's, which was not kept here). */
+    if (lantern_due && !lantern_would_act(&o.flow, &rep->flow)) lantern_due = 0, rep->lantern_skipped = 1;
+    /* The staged retry (below) before the lantern's where the map is squeezed enough for it: the staged
+     * flows start from the start, not from the map, and where their map was kept the lantern's had been
+     * made for nothing (octopus: lantern kept, then replaced by the staged map; docs/sphere-retries.md). */
+    const int staged_allowed = o.staged_retry > 0 && !o.flow.weight && !o.flow.face_weight;
+    int staged_done = 0;
+    if (lantern_due && staged_allowed) {
+      int nsq = 0;
+      if (au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED) {
+        staged_retry(m, t, plan, &dom, &o, Pstart, P, rep, &st, msg);
+        staged_done = 1;
+        if (rep->staged == 2) ek = rep->staged_err[1], lantern_due = 0;
+        if (st != AU_W_NOT_CONVERGED) lantern_due = 0;
+      }
+    }
+    if (lantern_due) {
       au_advect_report *r2 = malloc(sizeof *r2);
       double *P2 = malloc(sizeof(double) * 3 * (size_t)m->nv);
       au_msg msg2 = {0};
@@ -414,7 +450,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
     if (twist_gate && !rep->twist && st == AU_W_NOT_CONVERGED && ek > o.retry_above * o.flow.tol &&
         chord_floor_excess(m, P) > o.twist_retry)
       twisted_retry(m, t, plan, &dom, &o, ek, P, rep, &st, msg);
-    if (st == AU_W_NOT_CONVERGED && o.staged_retry > 0 && !o.flow.weight && !o.flow.face_weight) {
+    if (st == AU_W_NOT_CONVERGED && staged_allowed && !staged_done) {
       int nsq = 0;
       if (au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED)
         staged_retry(m, t, plan, &dom, &o, Pstart, P, rep, &st, msg);
