@@ -329,7 +329,7 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
   if (st >= 0 && x->o->refine_mesh) st = refine_sphere(x, &so, rep, msg);
   if (st >= 0) {
     au_status s2 = keep_log(r, &rep->flow, msg);
-    r->conv.lantern_retry = rep->retry, r->conv.retry_err[0] = rep->retry_err[0], r->conv.retry_err[1] = rep->retry_err[1];
+    r->conv.lantern_retry = rep->lantern_skipped ? 3 : rep->retry, r->conv.retry_err[0] = rep->retry_err[0], r->conv.retry_err[1] = rep->retry_err[1];
     r->conv.twist_retry = rep->twist, r->conv.twist_faces = rep->twist_faces, r->conv.twist_err = rep->twist_err;
     r->conv.vertex_polish = rep->polish, r->conv.polish_sweeps = rep->polish_sweeps;
     memcpy(r->conv.polish_err, rep->polish_err, sizeof rep->polish_err);

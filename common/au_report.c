@@ -126,8 +126,9 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
   if (info->angle_from > 0) ok = ok && put(conv, "angle_from", num(info->angle_from));
   if (ok && info->retry > 0) {
     cJSON *lr = cJSON_CreateObject();
-    ok = put(conv, "lantern_retry", lr) && put(lr, "kept", cJSON_CreateBool(info->retry == 2)) &&
-         put(lr, "vertex_err_first", num(info->retry_err[0])) && put(lr, "vertex_err_retry", num(info->retry_err[1]));
+    ok = put(conv, "lantern_retry", lr) && put(lr, "kept", cJSON_CreateBool(info->retry == 2));
+    if (info->retry == 3) ok = ok && put(lr, "skipped", cJSON_CreateBool(1));
+    else ok = ok && put(lr, "vertex_err_first", num(info->retry_err[0])) && put(lr, "vertex_err_retry", num(info->retry_err[1]));
   }
   if (ok && info->twist > 0) {
     cJSON *tw = cJSON_CreateObject();

@@ -38,7 +38,8 @@ typedef struct au_report_info {
   double start_jump;           /* the start's mean jump of log r across interior edges (au_advect_report) */
   int resolved;                /* the flow ran its resolved schedule */
   int retry;                   /* sphere's lantern retry (au_sphere_report.retry): 0 none (nothing written);
-                                  1 ran, discarded; 2 ran, kept. Written as convergence.lantern_retry */
+                                  1 ran, discarded; 2 ran, kept; 3 due, skipped (its flow would repeat the
+                                  first). Written as convergence.lantern_retry */
   double retry_err[2];         /* the vertex errors of the first map and of the retry's */
   int twist;                   /* sphere's twisted retry (au_sphere_report.twist): 0 none (nothing written);
                                   1 ran, discarded; 2 ran, kept; 3 the start (the conformal one folded).

@@ -583,7 +583,8 @@ typedef struct au_convergence {
   int angle_from;    /* the step at which the angle steps began; 0: none */
   int resolved;      /* 1 if the flow ran its resolved schedule (a start the mesh resolves well) */
   double start_jump; /* the start's mean jump of log r across interior edges */
-  int lantern_retry; /* sphere: 0 none; 1 the retry ran and was discarded; 2 its map was kept */
+  int lantern_retry; /* sphere: 0 none; 1 the retry ran and was discarded; 2 its map was kept; 3 it was due
+                        but skipped: its flow would have repeated the first one step for step */
   double retry_err[2]; /* the first map's and the retry's vertex error: the mean |log r| of the vertex cells
                           of the chord triangles, or of the spherical ones for a map of spherical areas
                           only (sphere_areas 2, --spherical-areas): the retries compare maps by the areas

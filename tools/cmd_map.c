@@ -255,7 +255,10 @@ static void summary(int cmd, const au_result *r, int spherical, double seconds) 
   if (cmd == CLI_SPHERE) {
     /* The retries that ran: " (lantern retry discarded; twisted start kept)". */
     const char *part[5] = {
-        r->conv.lantern_retry == 2 ? "lantern retry kept" : r->conv.lantern_retry == 1 ? "lantern retry discarded" : "",
+        r->conv.lantern_retry == 3   ? "lantern retry skipped: it would repeat the first flow"
+        : r->conv.lantern_retry == 2 ? "lantern retry kept"
+        : r->conv.lantern_retry == 1 ? "lantern retry discarded"
+                                     : "",
         r->conv.twist_retry == 3   ? "twisted start: the conformal one folded"
         : r->conv.twist_retry == 2 ? "twisted start kept"
         : r->conv.twist_retry == 1 ? "twisted start discarded"

@@ -433,7 +433,8 @@ def summary(cmd, r, seconds, spherical=False):
         conv = r.info["convergence"]
         lr, tw, vp = conv.get("lantern_retry"), conv.get("twisted_start"), conv.get("vertex_polish")
         sr, gp = conv.get("staged_retry"), conv.get("global_polish")
-        parts = ([("lantern retry kept" if lr["kept"] else "lantern retry discarded")] if lr else []) + \
+        parts = ([("lantern retry skipped: it would repeat the first flow" if lr.get("skipped")
+               else "lantern retry kept" if lr["kept"] else "lantern retry discarded")] if lr else []) + \
             ([("twisted start: the conformal one folded" if tw.get("conformal_start_folded")
                else "twisted start kept" if tw["kept"] else "twisted start discarded")] if tw else []) + \
             ([("staged retry kept" if sr["kept"] else "staged retry discarded")] if sr else []) + \
