@@ -31,7 +31,7 @@ static int vertex_tree(const au_topo *t, au_treecotree *tc) {
       if (t->vb[v]) seen[v] = 1, queue[tail++] = v;
   } else {
     int root = 0;
-    while (!t->vused[root]) root++;
+    while (root < nv - 1 && !t->vused[root]) root++; /* a face references some vertex */
     seen[root] = 1, queue[tail++] = root;
   }
   while (head < tail) {

@@ -201,13 +201,14 @@ typedef struct au_gpolish_opts {
   double face_target;    /* see face_window (>= 0) */
   double active;         /* > 0: solve each step for the active vertices only, the rest held where they are: the
                           * vertices that hold all but this part of the sum over vertices of the cost one
-                          * vertex's own Gauss-Newton step would gain, grown by active_rings rings (0..1; 0:
+                          * vertex's own Gauss-Newton step would gain, grown by active_rings rings ([0, 1); 0:
                           * every vertex every step, as au_sphere_gpolish_settings leaves it) */
-  int active_rings;      /* see active (>= 0) */
+  int active_rings;      /* see active (>= 0; 0, as au_sphere_gpolish_settings leaves it) */
   double active_max;     /* see active: where the active vertices are more than this part of all, every vertex
-                          * (0..1) */
+                          * (0..1; 0, as au_sphere_gpolish_settings leaves it: with it, active is off) */
   int active_every;      /* see active: the active vertices are chosen again every this many steps, and after a
-                          * step on them that gains nothing (>= 1 where active > 0) */
+                          * step on them that gains nothing (>= 1 where active > 0; 0, as
+                          * au_sphere_gpolish_settings leaves it) */
 } au_gpolish_opts;
 au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
                                   const au_gpolish_opts *o, int *iters, au_msg *msg);

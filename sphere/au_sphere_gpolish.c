@@ -63,7 +63,7 @@ typedef struct gp {
   int *fidx;            /* [36 nf] add_row's index table of each face's row */
   size_t *vidx_start;   /* [nv + 1] where each cell's row's table starts in vidx */
   int *vidx;
-  int *astart, *adj; /* the edges around each vertex: adj[astart[v]..astart[v+1]-1] */
+  int *astart, *adj; /* the neighbours of each vertex: adj[astart[v]..astart[v+1]-1] */
 } gp;
 
 /* Triple products of every face at P; returns 1 if each is above its least allowed value. */
@@ -488,6 +488,8 @@ static void vertex_gains(const gp *g, const double *H, const double *grad, doubl
     double c = H[g->colstart[2 * v + 2] - 1] * (1 + 1e-9) + 1e-300, g0 = grad[2 * v], g1 = grad[2 * v + 1];
     double det = a * c - b * b;
     gain[v] = det > 0 ? 0.5 * (c * g0 * g0 - 2 * b * g0 * g1 + a * g1 * g1) / det : 0.5 * (g0 * g0 / a + g1 * g1 / c);
+    /* qsort's comparison must be a total order: a NaN gain would break it. */
+    if (!isfinite(gain[v])) gain[v] = 0;
   }
 }
 
@@ -508,11 +510,12 @@ static int choose_active(const gp *g, const int *astart, const int *adj, const d
   double left = sum, thr = INFINITY;
   for (int i = 0; i < nv && left > part * sum; i++) thr = tmp[i], left -= tmp[i];
   for (int v = 0; v < nv; v++) pos[v] = gain[v] >= thr && gain[v] > 0 ? 0 : -1;
-  for (int r = 0; r < rings; r++) {
+  for (int r = 0, grew = 1; r < rings && grew; r++) {
+    grew = 0;
     for (int v = 0; v < nv; v++)
       if (pos[v] == r)
         for (int i = astart[v]; i < astart[v + 1]; i++)
-          if (pos[adj[i]] < 0) pos[adj[i]] = r + 1;
+          if (pos[adj[i]] < 0) pos[adj[i]] = r + 1, grew = 1;
   }
   int m = 0;
   for (int v = 0; v < nv; v++) pos[v] = pos[v] >= 0 ? m++ : -1;
@@ -638,7 +641,7 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     for (int i = 0; i < n; i++) rhs[i] = -grad[i];
     /* active: the vertices whose own steps would gain nearly all there is to gain, and their rings,
      * chosen again every active_every steps and after a step on them that gained nothing. */
-    if (o->active > 0 && (rechoose || since >= o->active_every)) {
+    if (o->active > 0 && o->active_max > 0 && (rechoose || since >= o->active_every)) {
       sys_free(&sub);
       rechoose = 0, since = 0;
       vertex_gains(&g, H, grad, gain);
@@ -648,8 +651,12 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
       }
       if (sub.m > o->active_max * nv || sub.m == 0)
         sys_free(&sub);
-      else if ((st = sub_system(&g, &sub, pos, msg)) != AU_OK)
-        break;
+      else if ((st = sub_system(&g, &sub, pos, msg)) != AU_OK) {
+        /* The active vertices are a speed-up only: where their system cannot be analysed, every vertex. */
+        sys_free(&sub);
+        if (st == AU_E_NOMEM) break;
+        st = AU_OK;
+      }
     }
     since++;
     gp_sys *S = sub.spd ? &sub : &full;

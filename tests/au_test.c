@@ -33,7 +33,7 @@ struct au_mesh *au_test_data_mesh(const char *name) {
   char path[4096];
   snprintf(path, sizeof path, "%s/data/%s.obj", AU_SOURCE_DIR, name);
   au_mesh *m = NULL;
-  au_msg msg;
+  au_msg msg = {0};
   if (au_mesh_read(path, &m, &msg) != AU_OK) fprintf(stderr, "%s: %s\n", path, msg.text);
   return m;
 }
