@@ -167,6 +167,8 @@ typedef struct au_advect_report {
   double start_jump;                    /* the start's mean jump of log r across interior edges (see
                                            au_advect_opts.resolved_jump) */
   int resolved;                         /* 1 if the flow ran the resolved schedule */
+  double start_shear;                   /* the start's mean ln(sigma1 / sigma2) of the map from each surface
+                                           triangle to its domain triangle (see au_advect_opts.restore) */
   int angle_from;                       /* angle_steps: the step at which they began (err and face_err are
                                            the chord triangles' from there), else 0 */
 } au_advect_report;
