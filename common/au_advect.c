@@ -48,13 +48,6 @@
  * fades in proportion below it: at full strength to the end it keeps the areas from converging. */
 #define AU_RESTORE_FADE 0.1
 
-/* A start whose mean shear (ln sigma1/sigma2 of the map from the surface's triangles) exceeds this many
- * times its vertex error gets no shape restoring (see measure_start_jump): restoring aims each face back
- * at the surface's shape by a fixed fraction of the linear motion, which on a start whose triangles are
- * already sheared asks for moves of several triangle sizes; the step control cut bunny's first step from
- * the coarse-to-fine start to 1.4%, and every other restoring step was undone (18 of 39 solves). */
-#define AU_RESTORE_START_SHEAR 1
-
 /* The chord polish, vertex cells above the tolerance: it ends when four steps gained less than this
  * fraction of both the vertex and the per-face error (least_shear_stalled). Lower, a polish that
  * gains almost nothing runs on to the step budget. */
@@ -155,6 +148,11 @@ au_advect_opts au_advect_opts_default(void) {
   o.resolved_decay = 0.25;
   o.resolved_shear = 0.1;
   o.resolved_log_step = 2;
+  /* Restoring aims each face back at the surface's shape by a fixed fraction of the linear motion, which
+   * on a start whose triangles are already sheared asks for moves of several triangle sizes: the step
+   * control cut bunny's first step from the coarse-to-fine start to 1.4%, and every other restoring step
+   * was undone (docs/coarse-to-fine-flow.md). */
+  o.restore_gate = 1;
   return o;
 }
 
@@ -613,7 +611,7 @@ static void measure_start_jump(flow_state *s) {
    * Lambda 0.03-0.55 at 0.6-10) gets no shape restoring, and its chord polish keeps the spherical part's
    * shear weight (docs/coarse-to-fine-flow.md). */
   s->rep->start_shear = start_shear(s);
-  if (s->ls && s->rep->start_shear > AU_RESTORE_START_SHEAR * s->err) s->restore_off = 1, s->near_start = 1;
+  if (s->ls && o->restore_gate > 0 && s->rep->start_shear > o->restore_gate * s->err) s->restore_off = 1, s->near_start = 1;
   /* Equal-area maps only: with a prescribed density the resolved schedule undid many steps and
    * missed the tolerance (docs/flow.md). */
   s->rep->resolved = s->ls && nj > 0 && !o->weight && !o->face_weight && s->rep->start_jump <= o->resolved_jump;

@@ -3,3 +3,9 @@ au_test_module(test_sphere test_sphere.c conformal_ellipsoid balance_centroid ma
 # One thread: the refinement runs three candidates' flows and the global polish, which threaded BLAS on
 # 2 cores slows 2.5x.
 set_tests_properties(test_sphere.refine_spherical_split_limbs8 test_sphere.refine_mesh_limbs4 test_sphere.global_polish_limbs4 test_sphere.multilevel_start_spiky test_sphere.multilevel_start_limbs4 PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_THREAD_LIMIT=1")
+# The coarse-to-fine start of ../shared's bunny and the flow from it (about 10 s): only in the plain build.
+if(NOT AU_SANITIZE)
+  add_test(NAME test_sphere.near_start_bunny COMMAND test_sphere near_start_bunny)
+  set_tests_properties(test_sphere.near_start_bunny PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
+                       ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_THREAD_LIMIT=1")
+endif()
