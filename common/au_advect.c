@@ -148,6 +148,11 @@ au_advect_opts au_advect_opts_default(void) {
   o.resolved_decay = 0.25;
   o.resolved_shear = 0.1;
   o.resolved_log_step = 2;
+  /* Restoring aims each face back at the surface's shape by a fixed fraction of the linear motion, which
+   * on a start whose triangles are already sheared asks for moves of several triangle sizes: the step
+   * control cut bunny's first step from the coarse-to-fine start to 1.4%, and every other restoring step
+   * was undone (docs/coarse-to-fine-flow.md). */
+  o.restore_gate = 1;
   return o;
 }
 
@@ -489,6 +494,7 @@ typedef struct flow_state {
   int retry;        /* the next least-shear solve retries an undone step */
   int restored;     /* the last least-shear solve had shape restoring */
   int restore_off;  /* shape restoring is off for the rest of this run (see solve_least_shear) */
+  int near_start;   /* the start is near equal area and already sheared (see start_shear) */
   int measured_jump;/* rep->start_jump has been measured */
   int exhausted;    /* no stiffer step is worth a try: this part of the flow ends */
   int ang_left;     /* angle steps that remain */
@@ -549,6 +555,41 @@ static au_status flow_targets(flow_state *s) {
   return AU_OK;
 }
 
+/* The start's shear: the mean over faces of ln(sigma1 / sigma2), the singular values of the linear map
+ * from the surface triangle to the domain's chord triangle (param-eval's Lambda). */
+static double start_shear(const flow_state *s) {
+  const double *X = s->m->X, *P = s->P;
+  double sum = 0;
+  int n = 0;
+  for (int f = 0; f < s->nf; f++) {
+    const int *v = s->F + 3 * f;
+    double fr[2][2][2]; /* [surface, domain][edge][x, y] in each triangle's own frame */
+    int ok = 1;
+    for (int q = 0; q < 2 && ok; q++) {
+      double buf[3][3];
+      const double *c[3];
+      for (int k = 0; k < 3; k++) c[k] = q == 0 ? X + 3 * v[k] : au__corner(P, s->F, s->dom->shift, f, k, buf[k]);
+      double e1[3] = {c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]};
+      double e2[3] = {c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]};
+      double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+      double x2 = l1 > 0 ? (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / l1 : 0;
+      double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      double y2 = l1 > 0 ? sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) / l1 : 0;
+      if (!(l1 > 0) || !(y2 > 0)) ok = 0;
+      fr[q][0][0] = l1, fr[q][0][1] = 0, fr[q][1][0] = x2, fr[q][1][1] = y2;
+    }
+    if (!ok) continue;
+    /* J = Dm Sm^-1 with Sm = [s1 s2] (columns the surface's edges), Dm likewise. */
+    double s11 = fr[0][0][0], s12 = fr[0][1][0], s22 = fr[0][1][1];
+    double d11 = fr[1][0][0], d12 = fr[1][1][0], d22 = fr[1][1][1];
+    double J11 = d11 / s11, J12 = (d12 - J11 * s12) / s22, J21 = 0, J22 = d22 / s22;
+    double cf = hypot(J11 + J22, J21 - J12), an = hypot(J11 - J22, J12 + J21);
+    if (!(cf > an)) continue;
+    sum += log((cf + an) / (cf - an)), n++;
+  }
+  return n ? sum / n : 0;
+}
+
 /* The start's resolution, measured once: the mean jump of log r between the two faces of each interior
  * edge. Where it is small the wanted correction is smooth at the mesh's scale, and the flow can drop
  * the shear weight faster and let faces grow more per step (au_advect_opts.resolved_jump). */
@@ -565,6 +606,12 @@ static void measure_start_jump(flow_state *s) {
     if (r0 > 0 && r1 > 0) sj += fabs(log(r0 / r1)), nj++;
   }
   s->rep->start_jump = nj ? sj / nj : 0;
+  /* A start already near equal area whose triangles are already sheared away from the surface's (the
+   * coarse-to-fine start: mean Lambda 0.35-1.2 at vertex error 0.1-0.7, where a conformal start has
+   * Lambda 0.03-0.55 at 0.6-10) gets no shape restoring, and its chord polish keeps the spherical part's
+   * shear weight (docs/coarse-to-fine-flow.md). */
+  s->rep->start_shear = start_shear(s);
+  if (s->ls && o->restore_gate > 0 && s->rep->start_shear > o->restore_gate * s->err) s->restore_off = 1, s->near_start = 1;
   /* Equal-area maps only: with a prescribed density the resolved schedule undid many steps and
    * missed the tolerance (docs/flow.md). */
   s->rep->resolved = s->ls && nj > 0 && !o->weight && !o->face_weight && s->rep->start_jump <= o->resolved_jump;
@@ -710,7 +757,7 @@ static flow_verdict least_shear_done(flow_state *s) {
       s->phase_start = s->k;
       s->rep->polish_from = s->k;
       s->prev_err = s->prev_ferr = s->prev_flog = INFINITY;
-      s->alpha = o->shear;
+      if (!s->near_start) s->alpha = o->shear;
       return FLOW_REMEASURE;
     }
   }

@@ -101,6 +101,11 @@ typedef struct au_advect_opts {
                            0.1 (0..1; 0.1; 0: off): fewer long, thin triangles. Not in the polish nor on
                            planar domains, where it kept the areas from converging; with sphere_areas
                            2, off for the rest of a run once a restoring step was undone */
+  double restore_gate;  /* shape restoring is off for the whole run when the start's mean shear (ln sigma1 /
+                           sigma2 of the map from the surface's triangles, au_advect_report.start_shear)
+                           exceeds this many times its vertex error, and the chord polish then keeps the
+                           spherical part's shear weight: a start already near equal area and already sheared,
+                           such as the coarse-to-fine one (1; 0: never) */
   double lantern;       /* in the spherical part, once the vertex error is below 1: a face's shape restoring
                            is raised to min(1, restore (1 + lantern rho)), rho = l^3 / (16 share), l its
                            longest chord edge and share its target area. l^3 / 16 is the least chord area a
@@ -167,6 +172,8 @@ typedef struct au_advect_report {
   double start_jump;                    /* the start's mean jump of log r across interior edges (see
                                            au_advect_opts.resolved_jump) */
   int resolved;                         /* 1 if the flow ran the resolved schedule */
+  double start_shear;                   /* the start's mean ln(sigma1 / sigma2) of the map from each surface
+                                           triangle to its domain triangle (see au_advect_opts.restore) */
   int angle_from;                       /* angle_steps: the step at which they began (err and face_err are
                                            the chord triangles' from there), else 0 */
 } au_advect_report;

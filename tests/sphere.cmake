@@ -8,4 +8,8 @@ if(NOT AU_SANITIZE)
   add_test(NAME test_sphere.staged_before_lantern COMMAND test_sphere staged_before_lantern)
   set_tests_properties(test_sphere.staged_before_lantern PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
     ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_THREAD_LIMIT=1")
+  # The coarse-to-fine start of ../shared's bunny and the flow from it (about 10 s).
+  add_test(NAME test_sphere.near_start_bunny COMMAND test_sphere near_start_bunny)
+  set_tests_properties(test_sphere.near_start_bunny PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
+                       ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_THREAD_LIMIT=1")
 endif()
