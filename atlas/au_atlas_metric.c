@@ -396,6 +396,23 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
   }
   if (strongest >= 0 && closed) kappa[strongest] += moved;
   if (keep == 1 && fabs(kappa[0]) < 1e-3) keep = 0; /* a flat torus needs no cone */
+  if (oo.quarter && closed) {
+    /* Every vertex a cone (a tetrahedron): the flow pins cones, so nothing can move, and the metric is the
+     * mesh's own only where every vertex's angle sum is already a multiple of pi/2. Otherwise the atlas cannot
+     * come out equal area: refused as a fault of the input (too coarse for quarter turns). */
+    int nused = 0, worst = -1;
+    for (int v = 0; v < nv; v++) nused += t->vused[v] != 0;
+    for (int i = 0; keep == nused && i < keep; i++)
+      if (fabs(kappa[i] - K[cv[i]]) > 1e-9 && (worst < 0 || fabs(kappa[i] - K[cv[i]]) > fabs(kappa[worst] - K[cv[worst]])))
+        worst = i;
+    if (worst >= 0) {
+      st = au_msg_set(msg, AU_E_DEGENERATE, "quarter: every one of the %d vertices is a cone, so the flow has none to move, "
+                      "and vertex %d's angle sum %.6g deg is not a multiple of 90 degrees: no equal-area atlas with "
+                      "quarter-turn seams (refine the mesh, or drop --quarter)", nused, cv[worst],
+                      (2 * AU_PI - K[cv[worst]]) * 180 / AU_PI);
+      goto done;
+    }
+  }
   for (int i = 0; i < keep; i++)
     if (kappa[i] >= 2 * AU_PI) {
       st = au_msg_set(msg, AU_E_NUMERIC, "cone at vertex %d would have angle %g (<= 0): more cones are needed (max_cones %d)",
