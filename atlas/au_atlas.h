@@ -48,6 +48,10 @@ typedef struct au_atlas_opts {
 
 /* The defaults above. */
 au_atlas_opts au_atlas_opts_default(void);
+/* AU_OK when every field of o is usable (max_cones >= 0, u_range and tol finite and > 0, quarter 0 or 1,
+ * max_newton >= 1), else AU_E_ARG naming the first that is not. au_atlas_place_cones and au_atlas_cetm check
+ * their options so. */
+au_status au_atlas_opts_check(const au_atlas_opts *o, au_msg *msg);
 
 /* Cones: vertex indices and angles (Theta, radians; 2*pi is no cone). */
 typedef struct au_atlas_cones {
@@ -204,6 +208,10 @@ typedef struct au_atlas_flow_opts {
                       of it (1e-3) */
 } au_atlas_flow_opts;
 au_atlas_flow_opts au_atlas_flow_opts_default(void);
+/* AU_OK when every field of o is usable (max_steps >= 0; face_tol, angles, angles_face_tol, angles_vertex_tol
+ * finite and >= 0; shear finite and > 0; settle in [0, 1)), else AU_E_ARG naming the first that is not.
+ * au_atlas_flow checks its options so. */
+au_status au_atlas_flow_opts_check(const au_atlas_flow_opts *o, au_msg *msg);
 typedef struct au_atlas_flow_info {
   int steps;
   double err0, err; /* per-face mean |r - 1| before and after */

@@ -20,6 +20,17 @@ au_atlas_opts au_atlas_opts_default(void) {
   return o;
 }
 
+au_status au_atlas_opts_check(const au_atlas_opts *o, au_msg *msg) {
+  if (!o) return au_msg_set(msg, AU_E_ARG, "atlas options: NULL");
+  if (o->max_cones < 0) return au_msg_set(msg, AU_E_ARG, "atlas options: max_cones %d: expected >= 0", o->max_cones);
+  if (!(o->u_range > 0) || !isfinite(o->u_range))
+    return au_msg_set(msg, AU_E_ARG, "atlas options: u_range %g: expected a finite value > 0", o->u_range);
+  if (o->quarter != 0 && o->quarter != 1) return au_msg_set(msg, AU_E_ARG, "atlas options: quarter %d: expected 0 or 1", o->quarter);
+  if (o->max_newton < 1) return au_msg_set(msg, AU_E_ARG, "atlas options: max_newton %d: expected >= 1", o->max_newton);
+  if (!(o->tol > 0) || !isfinite(o->tol)) return au_msg_set(msg, AU_E_ARG, "atlas options: tol %g: expected a finite value > 0", o->tol);
+  return AU_OK;
+}
+
 void au_atlas_cones_clear(au_atlas_cones *c) {
   if (!c) return;
   free(c->v);
@@ -248,6 +259,8 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
   if (!m || !t || !c || t->nv != m->nv || t->nf != m->nf) return au_msg_set(msg, AU_E_ARG, "au_atlas_place_cones: bad arguments");
   memset(c, 0, sizeof *c);
   au_atlas_opts oo = o ? *o : au_atlas_opts_default();
+  au_status sc = au_atlas_opts_check(&oo, msg);
+  if (sc != AU_OK) return sc;
   int nv = m->nv, nf = m->nf, closed = t->nloops == 0;
   if (oo.max_cones < (closed ? 1 : 0)) return au_msg_set(msg, AU_E_ARG, "max_cones %d: a closed surface needs a cone", oo.max_cones);
   if (oo.max_cones > nv) oo.max_cones = nv; /* no more cones than vertices; keeps 2 max_cones below INT_MAX */
@@ -451,8 +464,11 @@ au_status au_atlas_cetm(const au_mesh *m, const au_topo *t, const au_atlas_cones
   if (!m || !t || !u || t->nv != m->nv || t->nf != m->nf || (c && c->n > 0 && (!c->v || !c->angle)))
     return au_msg_set(msg, AU_E_ARG, "au_atlas_cetm: bad arguments");
   au_atlas_opts oo = o ? *o : au_atlas_opts_default();
-  int nv = m->nv, nf = m->nf, closed = t->nloops == 0, nc = c ? c->n : 0;
   if (info) memset(info, 0, sizeof *info);
+  au_status sc = au_atlas_opts_check(&oo, msg);
+  if (sc != AU_OK) return sc;
+  if (c && c->n < 0) return au_msg_set(msg, AU_E_ARG, "au_atlas_cetm: %d cones", c->n);
+  int nv = m->nv, nf = m->nf, closed = t->nloops == 0, nc = c ? c->n : 0;
   double *theta = malloc((size_t)nv * sizeof *theta);
   unsigned char *fixed = malloc((size_t)nv);
   if (!theta || !fixed) {
