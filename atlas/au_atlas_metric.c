@@ -185,6 +185,22 @@ static double rounded_range(const au_topo *t, int n, const double *u0, const dou
   return hi - lo;
 }
 
+/* Range of cur + q (G_i - G_j) over used vertices (i or j < 0: that term left out): one candidate change of
+ * quarter_choose from the current flattening cur, in O(nv) instead of summing every cone's response again. */
+static double moved_range(const au_topo *t, const double *cur, const double *G, int i, int j) {
+  const double q = AU_PI / 2;
+  const double *gi = i >= 0 ? G + (size_t)i * t->nv : NULL, *gj = j >= 0 ? G + (size_t)j * t->nv : NULL;
+  double lo = 1e300, hi = -1e300;
+  for (int v = 0; v < t->nv; v++) {
+    if (!t->vused[v]) continue;
+    double x = cur[v];
+    if (gi) x += q * gi[v];
+    if (gj) x -= q * gj[v];
+    lo = x < lo ? x : lo, hi = x > hi ? x : hi;
+  }
+  return hi - lo;
+}
+
 /* Quarter curvatures for the cones cv (continuous curvatures kappa): each rounded down or up (the flattening
  * is linear in them: u = u0 + sum_i (q r_i - kappa_i) G_i, G_i the response to cone i), starting from the
  * nearest with the Gauss-Bonnet total kept, then changed greedily, one cone up and another down (on an open
@@ -218,6 +234,8 @@ static au_status quarter_choose(const au_topo *t, const unsigned char *fixed, co
     lo[i] = (int)floor(kappa[i] / q);
   }
   double best = rounded_range(t, n, X, X + nv, r, kappa, u);
+  /* u holds the current flattening; each candidate is measured from it (moved_range), and u is summed again
+   * from all responses once a pass, after the change is made. */
   for (int search = best > keep; search;) {
     int bi = -1, bj = -1;
     double bval = best * (1 - 1e-6);
@@ -225,26 +243,20 @@ static au_status quarter_choose(const au_topo *t, const unsigned char *fixed, co
       if (r[i] != lo[i] || r[i] + 1 >= 4) continue; /* i goes up: its angle stays positive */
       for (int j = closed ? 0 : -1; j < n; j++) {
         if (j == i || (j >= 0 && r[j] != lo[j] + 1)) continue; /* j goes down */
-        r[i]++;
-        if (j >= 0) r[j]--;
-        double v = rounded_range(t, n, X, X + nv, r, kappa, u);
-        r[i]--;
-        if (j >= 0) r[j]++;
+        double v = moved_range(t, u, X + nv, i, j);
         if (v < bval) bval = v, bi = i, bj = j;
       }
     }
     if (!closed)
       for (int j = 0; j < n; j++) {
         if (r[j] != lo[j] + 1) continue;
-        r[j]--;
-        double v = rounded_range(t, n, X, X + nv, r, kappa, u);
-        r[j]++;
+        double v = moved_range(t, u, X + nv, -1, j);
         if (v < bval) bval = v, bi = -1, bj = j;
       }
     if (bi < 0 && bj < 0) break;
     if (bi >= 0) r[bi]++;
     if (bj >= 0) r[bj]--;
-    best = bval;
+    best = rounded_range(t, n, X, X + nv, r, kappa, u);
   }
   *range = rounded_range(t, n, X, X + nv, r, kappa, u);
   for (int i = 0; i < n; i++) kappa[i] = q * r[i];
