@@ -206,27 +206,29 @@ static double moved_range(const au_topo *t, const double *cur, const double *G, 
  * nearest with the Gauss-Bonnet total kept, then changed greedily, one cone up and another down (on an open
  * surface also one alone), while that narrows the range of u: the nearest rounding of each cone alone can
  * leave a wide range that the flow then cannot undo. Returns the range in *range and the rounded curvatures
- * in kappa; u receives the flattening. */
-static au_status quarter_choose(const au_topo *t, const unsigned char *fixed, const double *w, const double *K, int n,
-                                const int *cv, double *kappa, int closed, double keep, double *range, double *u,
-                                au_msg *msg) {
+ * in kappa; u receives the flattening.
+ * s: the Laplacian factored with the held vertices (the same for every call of one placement); X [nv * (n + 1)]:
+ * column 0 the flattening with the continuous curvatures, column 1 + i the response to cone i. Cones keep their
+ * vertices from call to call and the held vertices do not change, so the responses of the first *nresp cones
+ * are kept from the calls before and only column 0 and the new cones' are solved; *nresp becomes n. */
+static au_status quarter_choose(const au_topo *t, au_solver *s, const double *K, int n, const int *cv, double *kappa,
+                                int closed, double keep, double *range, double *u, double *X, int *nresp, au_msg *msg) {
   const double q = AU_PI / 2;
-  int nv = t->nv;
-  au_solver *s = NULL;
-  double *B = calloc((size_t)nv * (n + 1), sizeof *B), *X = calloc((size_t)nv * (n + 1), sizeof *X);
+  int nv = t->nv, k0 = *nresp, nnew = n - k0;
+  double *B = calloc((size_t)nv * (nnew > 0 ? nnew : 1), sizeof *B);
   int *r = malloc((size_t)(n > 0 ? n : 1) * sizeof *r), *lo = malloc((size_t)(n > 0 ? n : 1) * sizeof *lo);
-  double *rk = malloc((size_t)(n > 0 ? n : 1) * sizeof *rk);
+  double *rk = malloc((size_t)(n > 0 ? n : 1) * sizeof *rk), *b0 = calloc((size_t)nv, sizeof *b0);
   au_status st = AU_OK;
-  if (!B || !X || !r || !lo || !rk) {
+  if (!B || !r || !lo || !rk || !b0) {
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
     goto done;
   }
-  if ((st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &s, msg)) != AU_OK) goto done;
-  if ((st = au_solver_factor(s, w, NULL, msg)) != AU_OK) goto done;
-  /* Column 0: the flattening with the continuous curvatures; column 1 + i: the response to cone i. */
-  for (int v = 0; v < nv; v++) B[v] = -K[v];
-  for (int i = 0; i < n; i++) B[cv[i]] += kappa[i], B[(size_t)(i + 1) * nv + cv[i]] = 1;
-  if ((st = au_solver_solve(s, n + 1, B, X, msg)) != AU_OK) goto done;
+  for (int v = 0; v < nv; v++) b0[v] = -K[v];
+  for (int i = 0; i < n; i++) b0[cv[i]] += kappa[i];
+  if ((st = au_solver_solve(s, 1, b0, X, msg)) != AU_OK) goto done;
+  for (int i = k0; i < n; i++) B[(size_t)(i - k0) * nv + cv[i]] = 1;
+  if (nnew > 0 && (st = au_solver_solve(s, nnew, B, X + (size_t)(k0 + 1) * nv, msg)) != AU_OK) goto done;
+  *nresp = n;
   memcpy(rk, kappa, (size_t)n * sizeof *rk);
   quarter_round(rk, n, closed);
   for (int i = 0; i < n; i++) {
@@ -261,8 +263,7 @@ static au_status quarter_choose(const au_topo *t, const unsigned char *fixed, co
   *range = rounded_range(t, n, X, X + nv, r, kappa, u);
   for (int i = 0; i < n; i++) kappa[i] = q * r[i];
 done:
-  au_solver_free(&s);
-  free(B), free(X), free(r), free(lo), free(rk);
+  free(B), free(r), free(lo), free(rk), free(b0);
   return st;
 }
 
@@ -357,20 +358,29 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
      * stays above u_range a cone is added where u is most extreme and the curvatures solved again. */
     unsigned char *fq = malloc((size_t)nv);
     double *kq = malloc((size_t)cap * sizeof *kq), *kprev = malloc((size_t)cap * sizeof *kprev);
-    if (!fq || !kq || !kprev) {
-      free(fq), free(kq), free(kprev);
+    /* Zeroed: au_solver_solve reads the held vertices' values from its x. */
+    double *X = calloc((size_t)nv * ((size_t)cap + 1), sizeof *X);
+    au_solver *sq = NULL;
+    int nresp = 0;
+    if (!fq || !kq || !kprev || !X) {
+      free(fq), free(kq), free(kprev), free(X);
       st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
       goto done;
     }
+    /* quarter_choose's Laplacian holds the boundary (and one vertex of a closed surface) in every round: one
+     * factorization serves them all. */
+    int ref = 0;
+    while (!t->vused[ref]) ref++;
+    for (int v = 0; v < nv; v++) fq[v] = !t->vused[v] || t->vb[v];
+    if (closed) fq[ref] = 1;
+    if ((st = au_solver_create(nv, t->ne, t->E, fq, AU_ORDER_FAST, &sq, msg)) == AU_OK) st = au_solver_factor(sq, w, NULL, msg);
     int over = 1, added = 0;
-    for (;;) {
-      int ref = 0;
-      while (!t->vused[ref]) ref++;
+    for (; st == AU_OK;) {
       for (int v = 0; v < nv; v++) fq[v] = !t->vused[v] || t->vb[v];
       if (closed) fq[ref] = 1;
       double range = 0;
       memcpy(kq, kappa, (size_t)n * sizeof *kq);
-      if ((st = quarter_choose(t, fq, w, K, n, cv, kq, closed, oo.u_range, &range, u, msg)) != AU_OK) break;
+      if ((st = quarter_choose(t, sq, K, n, cv, kq, closed, oo.u_range, &range, u, X, &nresp, msg)) != AU_OK) break;
       if (added && kq[n - 1] == 0) {
         /* The new cone came out flat: adding more where u is extreme does not narrow the range. */
         n--;
@@ -400,7 +410,8 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
       apply_laplacian(t, w, u, Lu);
       for (int i = 0; i < n; i++) kappa[i] = K[cv[i]] + Lu[cv[i]];
     }
-    free(fq), free(kq), free(kprev);
+    au_solver_free(&sq);
+    free(fq), free(kq), free(kprev), free(X);
     if (st != AU_OK) goto done;
   }
   /* Cones that came out flat are no cones; on a closed surface their (small) curvature moves to the
