@@ -48,6 +48,10 @@ typedef struct au_atlas_opts {
 
 /* The defaults above. */
 au_atlas_opts au_atlas_opts_default(void);
+/* AU_OK when every field of o is usable (max_cones >= 0, u_range and tol finite and > 0, quarter 0 or 1,
+ * max_newton >= 1), else AU_E_ARG naming the first that is not. au_atlas_place_cones and au_atlas_cetm check
+ * their options so. */
+au_status au_atlas_opts_check(const au_atlas_opts *o, au_msg *msg);
 
 /* Cones: vertex indices and angles (Theta, radians; 2*pi is no cone). */
 typedef struct au_atlas_cones {
@@ -61,7 +65,9 @@ void au_atlas_cones_clear(au_atlas_cones *c);
 
 /* Place cones on the validated mesh m (topology t) as described above. On success c owns its arrays
  * (au_atlas_cones_clear); a disk or annulus may get no cone (n = 0) when the boundary alone flattens
- * it within u_range. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD. */
+ * it within u_range. With quarter, a closed mesh whose every vertex is a cone (the flow then moves nothing) and
+ * one of whose angle sums is not a multiple of pi/2 has no equal-area atlas: AU_E_DEGENERATE, msg names the
+ * vertex (docs/atlas-quarter-limits.md). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_DEGENERATE. */
 au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atlas_opts *o, au_atlas_cones *c,
                                au_msg *msg);
 
@@ -128,7 +134,9 @@ typedef struct au_atlas_holonomy_info {
  * until every angle keeps a quarter of the smallest angle of the start and the residual falls; to 1e-11 rad.
  * The lengths are no longer conformal to the mesh's. elen is changed only on success. Returns AU_OK (also when
  * there is no loop); AU_W_NOT_CONVERGED (a degenerate triangle, or no step that keeps the triangles valid:
- * elen unchanged, msg says so); AU_E_ARG; AU_E_NOMEM; AU_E_NOT_SPD; AU_E_INTERNAL. */
+ * elen unchanged, msg says so); AU_E_ARG (a length not finite and > 0, a cone not at an interior vertex or
+ * with an angle not finite and > 0, two cones at one vertex, loops that do not fit t's genus and boundary
+ * loops); AU_E_NOMEM; AU_E_NOT_SPD. */
 au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, double *elen,
                                 au_atlas_holonomy_info *info, au_msg *msg);
 
@@ -140,7 +148,8 @@ au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atl
  * every angle kept at least pi/2 and none flat, greedily while the sum of the squared distances falls by a fifth;
  * then (always) cones move to a neighbouring vertex (none next to another cone, the boundary or the held vertex;
  * at most three edges a cone), greedily while it falls by 2%. *nchanged (may be NULL): the turns and moves made;
- * the caller solves the metric again when it is > 0. Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD. */
+ * the caller solves the metric again when it is > 0. Returns AU_OK, AU_E_ARG (the inputs refused as by
+ * au_atlas_holonomy_fix), AU_E_NOMEM, AU_E_NOT_SPD. */
 au_status au_atlas_holonomy_balance(const au_mesh *m, const au_topo *t, au_atlas_cones *c, const double *elen,
                                     int turns, int *nchanged, au_msg *msg);
 
@@ -204,6 +213,10 @@ typedef struct au_atlas_flow_opts {
                       of it (1e-3) */
 } au_atlas_flow_opts;
 au_atlas_flow_opts au_atlas_flow_opts_default(void);
+/* AU_OK when every field of o is usable (max_steps >= 0; face_tol, angles, angles_face_tol, angles_vertex_tol
+ * finite and >= 0; shear finite and > 0; settle in [0, 1)), else AU_E_ARG naming the first that is not.
+ * au_atlas_flow checks its options so. */
+au_status au_atlas_flow_opts_check(const au_atlas_flow_opts *o, au_msg *msg);
 typedef struct au_atlas_flow_info {
   int steps;
   double err0, err; /* per-face mean |r - 1| before and after */

@@ -25,6 +25,25 @@ au_atlas_flow_opts au_atlas_flow_opts_default(void) {
   return o;
 }
 
+au_status au_atlas_flow_opts_check(const au_atlas_flow_opts *o, au_msg *msg) {
+  if (!o) return au_msg_set(msg, AU_E_ARG, "atlas flow options: NULL");
+  if (o->max_steps < 0) return au_msg_set(msg, AU_E_ARG, "atlas flow options: max_steps %d: expected >= 0", o->max_steps);
+  const struct {
+    const char *name;
+    double v;
+  } nonneg[] = {{"face_tol", o->face_tol}, {"angles", o->angles}, {"angles_face_tol", o->angles_face_tol},
+                {"angles_vertex_tol", o->angles_vertex_tol}};
+  for (size_t i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
+    if (!(nonneg[i].v >= 0) || !isfinite(nonneg[i].v))
+      return au_msg_set(msg, AU_E_ARG, "atlas flow options: %s %g: expected a finite value >= 0", nonneg[i].name, nonneg[i].v);
+  /* The Dirichlet weight is the damping that grows on a stall: 0 would never grow. */
+  if (!(o->shear > 0) || !isfinite(o->shear))
+    return au_msg_set(msg, AU_E_ARG, "atlas flow options: shear %g: expected a finite value > 0", o->shear);
+  if (!(o->settle >= 0 && o->settle < 1))
+    return au_msg_set(msg, AU_E_ARG, "atlas flow options: settle %g: expected a value in [0, 1)", o->settle);
+  return AU_OK;
+}
+
 /* The corner positions q = R p + t of every corner. */
 static void corners(int nf, const int *F, const double *p, const double *rot, const double *tr, double *q) {
   for (int c = 0; c < 3 * nf; c++) {
@@ -142,8 +161,12 @@ static int jitter(int nv, int nf, const int *F, const unsigned char *pin, double
 
 au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                         const au_atlas_flow_opts *opts, au_atlas_flow_info *info, au_msg *msg) {
-  if (!m || !t || !L || !L->vt) return au_msg_set(msg, AU_E_ARG, "au_atlas_flow: bad arguments");
+  if (!m || !t || !L || !L->vt || !L->Ft || t->nv != m->nv || t->nf != m->nf || (c && c->n > 0 && (!c->v || !c->angle)))
+    return au_msg_set(msg, AU_E_ARG, "au_atlas_flow: bad arguments");
   au_atlas_flow_opts o = opts ? *opts : au_atlas_flow_opts_default();
+  if (info) memset(info, 0, sizeof *info);
+  au_status sc = au_atlas_flow_opts_check(&o, msg);
+  if (sc != AU_OK) return sc;
   const int nv = m->nv, nf = m->nf, *F = m->F, *Ft = L->Ft, n = 2 * nv;
   double *vt = L->vt;
   if (info) memset(info, 0, sizeof *info);

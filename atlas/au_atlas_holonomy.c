@@ -41,6 +41,27 @@ void au_atlas_edge_lengths(const au_mesh *m, const au_topo *t, const double *u, 
   }
 }
 
+/* The inputs of the holonomy stage: every edge length finite and > 0, the cones at distinct interior vertices
+ * with finite positive angles. AU_OK or AU_E_ARG naming the first fault (who: the function). */
+static au_status check_inputs(const char *who, const au_topo *t, const au_atlas_cones *c, const double *elen,
+                              au_msg *msg) {
+  for (int e = 0; e < t->ne; e++)
+    if (!(elen[e] > 0) || !isfinite(elen[e]))
+      return au_msg_set(msg, AU_E_ARG, "%s: edge %d (%d, %d) has length %g: expected a finite length > 0", who, e,
+                        t->E[2 * e], t->E[2 * e + 1], elen[e]);
+  if (!c) return AU_OK;
+  if (c->n < 0 || (c->n > 0 && (!c->v || !c->angle))) return au_msg_set(msg, AU_E_ARG, "%s: bad cones (%d)", who, c->n);
+  for (int i = 0; i < c->n; i++) {
+    int v = c->v[i];
+    if (v < 0 || v >= t->nv || !t->vused[v] || t->vb[v] || !(c->angle[i] > 0) || !isfinite(c->angle[i]))
+      return au_msg_set(msg, AU_E_ARG, "%s: cone %d: vertex %d with angle %g is not an interior vertex with a positive angle",
+                        who, i, v, c->angle[i]);
+    for (int j = 0; j < i; j++)
+      if (c->v[j] == v) return au_msg_set(msg, AU_E_ARG, "%s: cones %d and %d are both at vertex %d", who, j, i, v);
+  }
+  return AU_OK;
+}
+
 /* Angles and cotangents of every corner from the log edge lengths lam; returns the smallest angle, or -1 when a
  * triangle breaks the triangle inequality (it gets the extended angles 0, 0, pi and no cotangent weight, the
  * convex extension of Springborn, Schroeder & Pinkall 2008, so that a conformal solve can go on from it). */
@@ -134,6 +155,10 @@ static au_status loops(const au_topo *t, int *corner, signed char *sign, int *nt
   lstart[0] = *nterm;
   for (int j = 0; j < tc->ngen && j < maxloops; j++) {
     int np = au_treecotree_dual_loop(t, tc, j, edges, faces);
+    if (np < 2) { /* a dual loop crosses at least two faces; anything else is a topology that does not fit the mesh */
+      st = au_msg_set(msg, AU_E_ARG, "holonomy: generator loop %d has length %d (expected >= 2)", j, np);
+      goto done;
+    }
     /* Face faces[i] of the loop is entered through edges[i] and left through edges[i + 1]. */
     for (int i = 0; i < np; i++) {
       int f = faces[i], kin = opposite(t, f, edges[i]), kout = opposite(t, f, edges[(i + 1) % np]);
@@ -159,6 +184,8 @@ au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atl
   if (info) *info = in;
   if (!m || !t || !elen || t->nv != m->nv || t->nf != m->nf)
     return au_msg_set(msg, AU_E_ARG, "au_atlas_holonomy_fix: bad arguments");
+  au_status sc = check_inputs("au_atlas_holonomy_fix", t, c, elen, msg);
+  if (sc != AU_OK) return sc;
   const int nv = m->nv, nf = m->nf, ne = t->ne, closed = t->nloops == 0;
   const int K = 2 * t->genus + (t->nloops > 0 ? t->nloops - 1 : 0);
   in.loops = K;
@@ -214,8 +241,9 @@ au_status au_atlas_holonomy_fix(const au_mesh *m, const au_topo *t, const au_atl
     if (st == AU_E_NOMEM) goto nomem;
     goto done;
   }
-  if (got != K) {
-    st = au_msg_set(msg, AU_E_INTERNAL, "holonomy: %d generator loops found, %d expected", got, K);
+  if (got != K) { /* the topology's genus and loops are not the mesh's */
+    st = au_msg_set(msg, AU_E_ARG, "holonomy: %d generator loops found, %d expected from genus %d and %d boundary loops", got,
+                    K, t->genus, t->nloops);
     goto done;
   }
   for (int j = 0; j < K; j++) {
@@ -363,6 +391,8 @@ au_status au_atlas_holonomy_balance(const au_mesh *m, const au_topo *t, au_atlas
   if (nchanged) *nchanged = 0;
   if (!m || !t || !c || !elen || t->nv != m->nv || t->nf != m->nf)
     return au_msg_set(msg, AU_E_ARG, "au_atlas_holonomy_balance: bad arguments");
+  au_status sc = check_inputs("au_atlas_holonomy_balance", t, c, elen, msg);
+  if (sc != AU_OK) return sc;
   const int nv = m->nv, nf = m->nf, ne = t->ne, closed = t->nloops == 0, n = c->n;
   const int K = 2 * t->genus + (t->nloops > 0 ? t->nloops - 1 : 0);
   if (K == 0 || n == 0) return AU_OK;
@@ -388,8 +418,13 @@ au_status au_atlas_holonomy_balance(const au_mesh *m, const au_topo *t, au_atlas
   int nterm = 0, got = 0;
   au_msg lm;
   au_status sl = loops(t, corner, sign, &nterm, lstart, K, &got, &lm);
-  if (sl != AU_OK || got != K) { /* no loops, nothing predicted */
-    st = sl == AU_E_NOMEM ? au_msg_set(msg, AU_E_NOMEM, "out of memory balancing the holonomy") : AU_OK;
+  if (sl != AU_OK) {
+    st = sl == AU_E_NOMEM ? au_msg_set(msg, AU_E_NOMEM, "out of memory balancing the holonomy") : au_msg_set(msg, sl, "%s", lm.text);
+    goto done;
+  }
+  if (got != K) { /* the topology's genus and loops are not the mesh's */
+    st = au_msg_set(msg, AU_E_ARG, "holonomy: %d generator loops found, %d expected from genus %d and %d boundary loops", got,
+                    K, t->genus, t->nloops);
     goto done;
   }
   /* d H_k / d Theta_v = -zeta_k(v), zeta_k = L^-1 B^T h_k: a change of the angle targets moves the conformal

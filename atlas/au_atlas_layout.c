@@ -1010,6 +1010,10 @@ au_status au_atlas_layout_make(const au_mesh *m, const au_topo *t, const au_atla
   if (!m || !t || !len || !L || t->nv != m->nv || t->nf != m->nf || !(gap >= 0) || gap >= 0.25)
     return au_msg_set(msg, AU_E_ARG, "au_atlas_layout_make: bad arguments");
   memset(L, 0, sizeof *L);
+  for (int e = 0; e < t->ne; e++)
+    if (!(len[e] > 0) || !isfinite(len[e]))
+      return au_msg_set(msg, AU_E_ARG, "au_atlas_layout_make: edge %d (%d, %d) has length %g: expected a finite length > 0", e,
+                        t->E[2 * e], t->E[2 * e + 1], len[e]);
   const int nv = m->nv, nf = m->nf, ne = t->ne, *F = m->F, nc = c ? c->n : 0;
   au_status st = AU_OK;
   double *elen = malloc((size_t)ne * sizeof *elen), *dist = malloc((size_t)nv * sizeof *dist);

@@ -20,6 +20,17 @@ au_atlas_opts au_atlas_opts_default(void) {
   return o;
 }
 
+au_status au_atlas_opts_check(const au_atlas_opts *o, au_msg *msg) {
+  if (!o) return au_msg_set(msg, AU_E_ARG, "atlas options: NULL");
+  if (o->max_cones < 0) return au_msg_set(msg, AU_E_ARG, "atlas options: max_cones %d: expected >= 0", o->max_cones);
+  if (!(o->u_range > 0) || !isfinite(o->u_range))
+    return au_msg_set(msg, AU_E_ARG, "atlas options: u_range %g: expected a finite value > 0", o->u_range);
+  if (o->quarter != 0 && o->quarter != 1) return au_msg_set(msg, AU_E_ARG, "atlas options: quarter %d: expected 0 or 1", o->quarter);
+  if (o->max_newton < 1) return au_msg_set(msg, AU_E_ARG, "atlas options: max_newton %d: expected >= 1", o->max_newton);
+  if (!(o->tol > 0) || !isfinite(o->tol)) return au_msg_set(msg, AU_E_ARG, "atlas options: tol %g: expected a finite value > 0", o->tol);
+  return AU_OK;
+}
+
 void au_atlas_cones_clear(au_atlas_cones *c) {
   if (!c) return;
   free(c->v);
@@ -174,32 +185,50 @@ static double rounded_range(const au_topo *t, int n, const double *u0, const dou
   return hi - lo;
 }
 
+/* Range of cur + q (G_i - G_j) over used vertices (i or j < 0: that term left out): one candidate change of
+ * quarter_choose from the current flattening cur, in O(nv) instead of summing every cone's response again. */
+static double moved_range(const au_topo *t, const double *cur, const double *G, int i, int j) {
+  const double q = AU_PI / 2;
+  const double *gi = i >= 0 ? G + (size_t)i * t->nv : NULL, *gj = j >= 0 ? G + (size_t)j * t->nv : NULL;
+  double lo = 1e300, hi = -1e300;
+  for (int v = 0; v < t->nv; v++) {
+    if (!t->vused[v]) continue;
+    double x = cur[v];
+    if (gi) x += q * gi[v];
+    if (gj) x -= q * gj[v];
+    lo = x < lo ? x : lo, hi = x > hi ? x : hi;
+  }
+  return hi - lo;
+}
+
 /* Quarter curvatures for the cones cv (continuous curvatures kappa): each rounded down or up (the flattening
  * is linear in them: u = u0 + sum_i (q r_i - kappa_i) G_i, G_i the response to cone i), starting from the
  * nearest with the Gauss-Bonnet total kept, then changed greedily, one cone up and another down (on an open
  * surface also one alone), while that narrows the range of u: the nearest rounding of each cone alone can
  * leave a wide range that the flow then cannot undo. Returns the range in *range and the rounded curvatures
- * in kappa; u receives the flattening. */
-static au_status quarter_choose(const au_topo *t, const unsigned char *fixed, const double *w, const double *K, int n,
-                                const int *cv, double *kappa, int closed, double keep, double *range, double *u,
-                                au_msg *msg) {
+ * in kappa; u receives the flattening.
+ * s: the Laplacian factored with the held vertices (the same for every call of one placement); X [nv * (n + 1)]:
+ * column 0 the flattening with the continuous curvatures, column 1 + i the response to cone i. Cones keep their
+ * vertices from call to call and the held vertices do not change, so the responses of the first *nresp cones
+ * are kept from the calls before and only column 0 and the new cones' are solved; *nresp becomes n. */
+static au_status quarter_choose(const au_topo *t, au_solver *s, const double *K, int n, const int *cv, double *kappa,
+                                int closed, double keep, double *range, double *u, double *X, int *nresp, au_msg *msg) {
   const double q = AU_PI / 2;
-  int nv = t->nv;
-  au_solver *s = NULL;
-  double *B = calloc((size_t)nv * (n + 1), sizeof *B), *X = calloc((size_t)nv * (n + 1), sizeof *X);
+  int nv = t->nv, k0 = *nresp, nnew = n - k0;
+  double *B = calloc((size_t)nv * (nnew > 0 ? nnew : 1), sizeof *B);
   int *r = malloc((size_t)(n > 0 ? n : 1) * sizeof *r), *lo = malloc((size_t)(n > 0 ? n : 1) * sizeof *lo);
-  double *rk = malloc((size_t)(n > 0 ? n : 1) * sizeof *rk);
+  double *rk = malloc((size_t)(n > 0 ? n : 1) * sizeof *rk), *b0 = calloc((size_t)nv, sizeof *b0);
   au_status st = AU_OK;
-  if (!B || !X || !r || !lo || !rk) {
+  if (!B || !r || !lo || !rk || !b0) {
     st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
     goto done;
   }
-  if ((st = au_solver_create(nv, t->ne, t->E, fixed, AU_ORDER_FAST, &s, msg)) != AU_OK) goto done;
-  if ((st = au_solver_factor(s, w, NULL, msg)) != AU_OK) goto done;
-  /* Column 0: the flattening with the continuous curvatures; column 1 + i: the response to cone i. */
-  for (int v = 0; v < nv; v++) B[v] = -K[v];
-  for (int i = 0; i < n; i++) B[cv[i]] += kappa[i], B[(size_t)(i + 1) * nv + cv[i]] = 1;
-  if ((st = au_solver_solve(s, n + 1, B, X, msg)) != AU_OK) goto done;
+  for (int v = 0; v < nv; v++) b0[v] = -K[v];
+  for (int i = 0; i < n; i++) b0[cv[i]] += kappa[i];
+  if ((st = au_solver_solve(s, 1, b0, X, msg)) != AU_OK) goto done;
+  for (int i = k0; i < n; i++) B[(size_t)(i - k0) * nv + cv[i]] = 1;
+  if (nnew > 0 && (st = au_solver_solve(s, nnew, B, X + (size_t)(k0 + 1) * nv, msg)) != AU_OK) goto done;
+  *nresp = n;
   memcpy(rk, kappa, (size_t)n * sizeof *rk);
   quarter_round(rk, n, closed);
   for (int i = 0; i < n; i++) {
@@ -207,6 +236,8 @@ static au_status quarter_choose(const au_topo *t, const unsigned char *fixed, co
     lo[i] = (int)floor(kappa[i] / q);
   }
   double best = rounded_range(t, n, X, X + nv, r, kappa, u);
+  /* u holds the current flattening; each candidate is measured from it (moved_range), and u is summed again
+   * from all responses once a pass, after the change is made. */
   for (int search = best > keep; search;) {
     int bi = -1, bj = -1;
     double bval = best * (1 - 1e-6);
@@ -214,32 +245,25 @@ static au_status quarter_choose(const au_topo *t, const unsigned char *fixed, co
       if (r[i] != lo[i] || r[i] + 1 >= 4) continue; /* i goes up: its angle stays positive */
       for (int j = closed ? 0 : -1; j < n; j++) {
         if (j == i || (j >= 0 && r[j] != lo[j] + 1)) continue; /* j goes down */
-        r[i]++;
-        if (j >= 0) r[j]--;
-        double v = rounded_range(t, n, X, X + nv, r, kappa, u);
-        r[i]--;
-        if (j >= 0) r[j]++;
+        double v = moved_range(t, u, X + nv, i, j);
         if (v < bval) bval = v, bi = i, bj = j;
       }
     }
     if (!closed)
       for (int j = 0; j < n; j++) {
         if (r[j] != lo[j] + 1) continue;
-        r[j]--;
-        double v = rounded_range(t, n, X, X + nv, r, kappa, u);
-        r[j]++;
+        double v = moved_range(t, u, X + nv, -1, j);
         if (v < bval) bval = v, bi = -1, bj = j;
       }
     if (bi < 0 && bj < 0) break;
     if (bi >= 0) r[bi]++;
     if (bj >= 0) r[bj]--;
-    best = bval;
+    best = rounded_range(t, n, X, X + nv, r, kappa, u);
   }
   *range = rounded_range(t, n, X, X + nv, r, kappa, u);
   for (int i = 0; i < n; i++) kappa[i] = q * r[i];
 done:
-  au_solver_free(&s);
-  free(B), free(X), free(r), free(lo), free(rk);
+  free(B), free(r), free(lo), free(rk), free(b0);
   return st;
 }
 
@@ -248,6 +272,8 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
   if (!m || !t || !c || t->nv != m->nv || t->nf != m->nf) return au_msg_set(msg, AU_E_ARG, "au_atlas_place_cones: bad arguments");
   memset(c, 0, sizeof *c);
   au_atlas_opts oo = o ? *o : au_atlas_opts_default();
+  au_status sc = au_atlas_opts_check(&oo, msg);
+  if (sc != AU_OK) return sc;
   int nv = m->nv, nf = m->nf, closed = t->nloops == 0;
   if (oo.max_cones < (closed ? 1 : 0)) return au_msg_set(msg, AU_E_ARG, "max_cones %d: a closed surface needs a cone", oo.max_cones);
   if (oo.max_cones > nv) oo.max_cones = nv; /* no more cones than vertices; keeps 2 max_cones below INT_MAX */
@@ -332,20 +358,29 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
      * stays above u_range a cone is added where u is most extreme and the curvatures solved again. */
     unsigned char *fq = malloc((size_t)nv);
     double *kq = malloc((size_t)cap * sizeof *kq), *kprev = malloc((size_t)cap * sizeof *kprev);
-    if (!fq || !kq || !kprev) {
-      free(fq), free(kq), free(kprev);
+    /* Zeroed: au_solver_solve reads the held vertices' values from its x. */
+    double *X = calloc((size_t)nv * ((size_t)cap + 1), sizeof *X);
+    au_solver *sq = NULL;
+    int nresp = 0;
+    if (!fq || !kq || !kprev || !X) {
+      free(fq), free(kq), free(kprev), free(X);
       st = au_msg_set(msg, AU_E_NOMEM, "out of memory placing cones");
       goto done;
     }
+    /* quarter_choose's Laplacian holds the boundary (and one vertex of a closed surface) in every round: one
+     * factorization serves them all. */
+    int ref = 0;
+    while (!t->vused[ref]) ref++;
+    for (int v = 0; v < nv; v++) fq[v] = !t->vused[v] || t->vb[v];
+    if (closed) fq[ref] = 1;
+    if ((st = au_solver_create(nv, t->ne, t->E, fq, AU_ORDER_FAST, &sq, msg)) == AU_OK) st = au_solver_factor(sq, w, NULL, msg);
     int over = 1, added = 0;
-    for (;;) {
-      int ref = 0;
-      while (!t->vused[ref]) ref++;
+    for (; st == AU_OK;) {
       for (int v = 0; v < nv; v++) fq[v] = !t->vused[v] || t->vb[v];
       if (closed) fq[ref] = 1;
       double range = 0;
       memcpy(kq, kappa, (size_t)n * sizeof *kq);
-      if ((st = quarter_choose(t, fq, w, K, n, cv, kq, closed, oo.u_range, &range, u, msg)) != AU_OK) break;
+      if ((st = quarter_choose(t, sq, K, n, cv, kq, closed, oo.u_range, &range, u, X, &nresp, msg)) != AU_OK) break;
       if (added && kq[n - 1] == 0) {
         /* The new cone came out flat: adding more where u is extreme does not narrow the range. */
         n--;
@@ -375,7 +410,8 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
       apply_laplacian(t, w, u, Lu);
       for (int i = 0; i < n; i++) kappa[i] = K[cv[i]] + Lu[cv[i]];
     }
-    free(fq), free(kq), free(kprev);
+    au_solver_free(&sq);
+    free(fq), free(kq), free(kprev), free(X);
     if (st != AU_OK) goto done;
   }
   /* Cones that came out flat are no cones; on a closed surface their (small) curvature moves to the
@@ -396,6 +432,23 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
   }
   if (strongest >= 0 && closed) kappa[strongest] += moved;
   if (keep == 1 && fabs(kappa[0]) < 1e-3) keep = 0; /* a flat torus needs no cone */
+  if (oo.quarter && closed) {
+    /* Every vertex a cone (a tetrahedron): the flow pins cones, so nothing can move, and the metric is the
+     * mesh's own only where every vertex's angle sum is already a multiple of pi/2. Otherwise the atlas cannot
+     * come out equal area: refused as a fault of the input (too coarse for quarter turns). */
+    int nused = 0, worst = -1;
+    for (int v = 0; v < nv; v++) nused += t->vused[v] != 0;
+    for (int i = 0; keep == nused && i < keep; i++)
+      if (fabs(kappa[i] - K[cv[i]]) > 1e-9 && (worst < 0 || fabs(kappa[i] - K[cv[i]]) > fabs(kappa[worst] - K[cv[worst]])))
+        worst = i;
+    if (worst >= 0) {
+      st = au_msg_set(msg, AU_E_DEGENERATE, "quarter: every one of the %d vertices is a cone, so the flow has none to move, "
+                      "and vertex %d's angle sum %.6g deg is not a multiple of 90 degrees: no equal-area atlas with "
+                      "quarter-turn seams (refine the mesh, or drop --quarter)", nused, cv[worst],
+                      (2 * AU_PI - K[cv[worst]]) * 180 / AU_PI);
+      goto done;
+    }
+  }
   for (int i = 0; i < keep; i++)
     if (kappa[i] >= 2 * AU_PI) {
       st = au_msg_set(msg, AU_E_NUMERIC, "cone at vertex %d would have angle %g (<= 0): more cones are needed (max_cones %d)",
@@ -434,8 +487,11 @@ au_status au_atlas_cetm(const au_mesh *m, const au_topo *t, const au_atlas_cones
   if (!m || !t || !u || t->nv != m->nv || t->nf != m->nf || (c && c->n > 0 && (!c->v || !c->angle)))
     return au_msg_set(msg, AU_E_ARG, "au_atlas_cetm: bad arguments");
   au_atlas_opts oo = o ? *o : au_atlas_opts_default();
-  int nv = m->nv, nf = m->nf, closed = t->nloops == 0, nc = c ? c->n : 0;
   if (info) memset(info, 0, sizeof *info);
+  au_status sc = au_atlas_opts_check(&oo, msg);
+  if (sc != AU_OK) return sc;
+  if (c && c->n < 0) return au_msg_set(msg, AU_E_ARG, "au_atlas_cetm: %d cones", c->n);
+  int nv = m->nv, nf = m->nf, closed = t->nloops == 0, nc = c ? c->n : 0;
   double *theta = malloc((size_t)nv * sizeof *theta);
   unsigned char *fixed = malloc((size_t)nv);
   if (!theta || !fixed) {

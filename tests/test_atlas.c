@@ -352,12 +352,119 @@ static int flow_open(void) {
   return check_flow(read_data("genus2_2loops"), 2, 2, 0.012);
 }
 
+/* Nonsense options and inputs of the module's stages (not reachable through the public API, whose options are
+ * checked): AU_E_ARG naming the fault, nothing changed, never a silent result. Each case was accepted before
+ * the checks (NaN tolerances made the loops stop at once; non-finite lengths went into Newton's method). */
+static int bad_inputs(void) {
+  au_mesh *m = read_data("torus_r3");
+  AU_CHECK(m);
+  au_topo *t = NULL;
+  au_msg msg;
+  au_mesh_expect x = au_mesh_expect_default();
+  x.genus = 1;
+  AU_CHECK_STATUS(au_mesh_validate(m, &x, &t, &msg), AU_OK, &msg);
+  const int ne = t->ne;
+  double *u = malloc((size_t)m->nv * sizeof *u), *len = malloc((size_t)ne * sizeof *len);
+  double *len0 = malloc((size_t)ne * sizeof *len0);
+  AU_CHECK(u && len && len0);
+  /* The metric's options. */
+  au_atlas_opts o = au_atlas_opts_default();
+  AU_CHECK_STATUS(au_atlas_opts_check(&o, &msg), AU_OK, &msg);
+  au_atlas_cones c;
+  memset(&c, 0, sizeof c);
+  o.max_cones = -1;
+  AU_CHECK_STATUS(au_atlas_place_cones(m, t, &o, &c, &msg), AU_E_ARG, &msg);
+  AU_CHECK(strstr(msg.text, "max_cones -1"));
+  o = au_atlas_opts_default(), o.u_range = NAN;
+  AU_CHECK_STATUS(au_atlas_place_cones(m, t, &o, &c, &msg), AU_E_ARG, &msg);
+  AU_CHECK(strstr(msg.text, "u_range"));
+  o = au_atlas_opts_default(), o.quarter = 7;
+  AU_CHECK_STATUS(au_atlas_place_cones(m, t, &o, &c, &msg), AU_E_ARG, &msg);
+  AU_CHECK(c.n == 0 && !c.v);
+  AU_CHECK_STATUS(au_atlas_place_cones(m, t, NULL, &c, &msg), AU_OK, &msg);
+  double tols[3] = {NAN, -1e-10, INFINITY};
+  for (int i = 0; i < 3; i++) {
+    o = au_atlas_opts_default(), o.tol = tols[i];
+    AU_CHECK_STATUS(au_atlas_cetm(m, t, &c, &o, u, NULL, &msg), AU_E_ARG, &msg);
+    AU_CHECK(strstr(msg.text, "tol"));
+  }
+  o = au_atlas_opts_default(), o.max_newton = 0;
+  AU_CHECK_STATUS(au_atlas_cetm(m, t, &c, &o, u, NULL, &msg), AU_E_ARG, &msg);
+  AU_CHECK_STATUS(au_atlas_cetm(m, t, &c, NULL, u, NULL, &msg), AU_OK, &msg);
+  au_atlas_edge_lengths(m, t, u, len);
+  memcpy(len0, len, (size_t)ne * sizeof *len0);
+  /* The holonomy stage's lengths and cones: refused, the lengths left as they were. */
+  double badlen[4] = {NAN, 0, -1, INFINITY};
+  au_atlas_holonomy_info hi;
+  for (int i = 0; i < 4; i++) {
+    len[ne / 2] = badlen[i];
+    AU_CHECK_STATUS(au_atlas_holonomy_fix(m, t, &c, len, &hi, &msg), AU_E_ARG, &msg);
+    AU_CHECK(strstr(msg.text, "finite length"));
+    AU_CHECK_INT(hi.fixed, ==, 0);
+    AU_CHECK_STATUS(au_atlas_holonomy_balance(m, t, &c, len, 1, NULL, &msg), AU_E_ARG, &msg);
+    au_atlas_layout L;
+    AU_CHECK_STATUS(au_atlas_layout_make(m, t, &c, len, 2.0 / 1024, 0, 1, &L, &msg), AU_E_ARG, &msg);
+    len[ne / 2] = len0[ne / 2];
+  }
+  /* Cones: two at one vertex, one past the vertices, a NaN angle (curvatures +-0.1 sum to 0, as on a torus). */
+  int bv[2] = {m->F[0], m->F[0]};
+  double ba[2] = {2 * PI - 0.1, 2 * PI + 0.1};
+  au_atlas_cones bc = {2, bv, ba};
+  AU_CHECK_STATUS(au_atlas_holonomy_fix(m, t, &bc, len, &hi, &msg), AU_E_ARG, &msg);
+  AU_CHECK(strstr(msg.text, "both at vertex"));
+  bv[1] = m->nv;
+  AU_CHECK_STATUS(au_atlas_holonomy_balance(m, t, &bc, len, 1, NULL, &msg), AU_E_ARG, &msg);
+  bv[1] = m->F[1], ba[0] = NAN;
+  AU_CHECK_STATUS(au_atlas_holonomy_fix(m, t, &bc, len, &hi, &msg), AU_E_ARG, &msg);
+  AU_CHECK(strstr(msg.text, "positive angle"));
+  /* A topology that does not fit the mesh (genus 2 said of a torus): 4 loops expected, 2 found. */
+  t->genus = 2;
+  AU_CHECK_STATUS(au_atlas_holonomy_fix(m, t, &c, len, &hi, &msg), AU_E_ARG, &msg);
+  AU_CHECK(strstr(msg.text, "2 generator loops found, 4 expected"));
+  t->genus = 1;
+  for (int e = 0; e < ne; e++) AU_CHECK(len[e] == len0[e]);
+  AU_CHECK_STATUS(au_atlas_holonomy_fix(m, t, &c, len, &hi, &msg), AU_OK, &msg);
+  /* The flow's options, on a real layout: refused before anything moves. */
+  au_atlas_layout L;
+  AU_CHECK_STATUS(au_atlas_layout_make(m, t, &c, len, 2.0 / 1024, 0, 0, &L, &msg), AU_OK, &msg);
+  double *vt0 = malloc(2 * (size_t)L.nvt * sizeof *vt0);
+  AU_CHECK(vt0);
+  memcpy(vt0, L.vt, 2 * (size_t)L.nvt * sizeof *vt0);
+  for (int k = 0; k < 8; k++) {
+    au_atlas_flow_opts fo = au_atlas_flow_opts_default();
+    const char *what = "";
+    switch (k) {
+    case 0: fo.max_steps = -1, what = "max_steps"; break;
+    case 1: fo.face_tol = NAN, what = "face_tol"; break;
+    case 2: fo.shear = 0, what = "shear"; break;
+    case 3: fo.angles = -0.064, what = "angles"; break;
+    case 4: fo.angles_face_tol = INFINITY, what = "angles_face_tol"; break;
+    case 5: fo.angles_vertex_tol = NAN, what = "angles_vertex_tol"; break;
+    case 6: fo.settle = 1, what = "settle"; break;
+    default: fo.shear = NAN, what = "shear"; break;
+    }
+    au_atlas_flow_info fi;
+    AU_CHECK_STATUS(au_atlas_flow(m, t, &c, &L, &fo, &fi, &msg), AU_E_ARG, &msg);
+    AU_CHECK(strstr(msg.text, what));
+    AU_CHECK_INT(fi.steps, ==, 0);
+  }
+  AU_CHECK(memcmp(vt0, L.vt, 2 * (size_t)L.nvt * sizeof *vt0) == 0);
+  free(vt0);
+  au_atlas_layout_free(&L);
+  au_atlas_cones_clear(&c);
+  free(u), free(len), free(len0);
+  au_topo_free(&t);
+  au_mesh_free(&m);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"metric_sphere", metric_sphere}, {"metric_quarter", metric_quarter}, {"metric_torus", metric_torus},
       {"metric_genus", metric_genus},   {"metric_open", metric_open},       {"metric_bad_cones", metric_bad_cones},
       {"layout_sphere", layout_sphere}, {"layout_torus", layout_torus},     {"layout_genus", layout_genus},
       {"layout_open", layout_open},     {"flow_closed", flow_closed},       {"flow_open", flow_open},
+      {"bad_inputs", bad_inputs},
   };
   return au_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }

@@ -142,6 +142,19 @@ data)
   check "$T/o/tet.obj" 2
   $PY -c 'import json,sys; f=json.load(open(sys.argv[1]))["flow"]; sys.exit(0 if f["face_error"] <= 1e-9 else "flow %r" % f)' "$REP" \
     || fail "the tetrahedron's atlas is not exactly equal area"
+  # With --quarter its angle sums (270, 150, 150, 150 degrees) cannot all stay, and with every vertex a pinned
+  # cone the flow has nothing to move (it was left at per-face 0.179): refused, naming a vertex, nothing written.
+  run atlas "$T/o/tet.obj" "$T/o/tetq.obj" --quarter
+  rm -f "$OUT" "$REP" "$T/o/tet.obj"
+  expect_rejected "every one of the 4 vertices is a cone.*vertex 1's angle sum 150 deg"
+  # A regular tetrahedron's angle sums are 180 degrees, quarter turns already: one cone each, exactly equal area.
+  printf 'v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n' > "$T/reg.obj"
+  run atlas "$T/reg.obj" "$OUT" --report "$REP" --quarter
+  expect_status 0
+  expect_err " cones=4 "
+  check "$T/reg.obj" 2 quarter
+  $PY -c 'import json,sys; f=json.load(open(sys.argv[1]))["flow"]; sys.exit(0 if f["face_error"] <= 1e-9 else "flow %r" % f)' "$REP" \
+    || fail "the regular tetrahedron's quarter atlas is not exactly equal area"
   # --init-only: the conformal start, not equal area.
   IN=$(stage "$SRC/data/ellipsoid.obj")
   run atlas "$IN" "$OUT" --report "$REP" --init-only
