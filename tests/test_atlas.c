@@ -13,15 +13,6 @@
 
 #define PI 3.14159265358979323846
 
-static au_mesh *read_data(const char *name) {
-  char path[4096];
-  snprintf(path, sizeof path, "%s/data/%s.obj", AU_SOURCE_DIR, name);
-  au_mesh *m = NULL;
-  au_msg msg;
-  if (au_mesh_read(path, &m, &msg) != AU_OK) fprintf(stderr, "%s: %s\n", path, msg.text);
-  return m;
-}
-
 /* The surface of a plate of nx x 3 unit cubes with holes at cubes (1, 1), (3, 1), ... (genus = their
  * number), each cube face cut into s x s quads of two triangles, outward-oriented. */
 static au_mesh *holed_plate(int holes, int s) {
@@ -135,17 +126,17 @@ static int check_metric(au_mesh *m, int genus, int loops, int quarter, int place
 
 static int metric_sphere(void) {
   int n = 0;
-  if (check_metric(read_data("ellipsoid"), 0, 0, 0, 1, &n)) return 1;
+  if (check_metric(au_test_data_mesh("ellipsoid"), 0, 0, 0, 1, &n)) return 1;
   AU_CHECK_INT(n, >=, 2); /* 4 pi of curvature needs more than one cone of a positive angle */
-  return check_metric(read_data("bumpy_star"), 0, 0, 0, 1, NULL);
+  return check_metric(au_test_data_mesh("bumpy_star"), 0, 0, 0, 1, NULL);
 }
 
 static int metric_quarter(void) {
-  if (check_metric(read_data("ellipsoid"), 0, 0, 1, 1, NULL)) return 1;
+  if (check_metric(au_test_data_mesh("ellipsoid"), 0, 0, 1, 1, NULL)) return 1;
   return check_metric(holed_plate(2, 3), 2, 0, 1, 1, NULL);
 }
 
-static int metric_torus(void) { return check_metric(read_data("torus_r3"), 1, 0, 0, 1, NULL); }
+static int metric_torus(void) { return check_metric(au_test_data_mesh("torus_r3"), 1, 0, 0, 1, NULL); }
 
 static int metric_genus(void) {
   /* The plate's cube corners carry curvature +-pi/2; cones collect it. Genus 2 and 3. */
@@ -155,13 +146,13 @@ static int metric_genus(void) {
 
 static int metric_open(void) {
   /* A disk flattens with its boundary taking the curvature, cones or not; so does an annulus. */
-  if (check_metric(read_data("disk_bump"), 0, 1, 0, 0, NULL)) return 1;
-  if (check_metric(read_data("disk_bump"), 0, 1, 0, 1, NULL)) return 1;
-  return check_metric(read_data("annulus_bump"), 0, 2, 0, 1, NULL);
+  if (check_metric(au_test_data_mesh("disk_bump"), 0, 1, 0, 0, NULL)) return 1;
+  if (check_metric(au_test_data_mesh("disk_bump"), 0, 1, 0, 1, NULL)) return 1;
+  return check_metric(au_test_data_mesh("annulus_bump"), 0, 2, 0, 1, NULL);
 }
 
 static int metric_bad_cones(void) {
-  au_mesh *m = read_data("ellipsoid");
+  au_mesh *m = au_test_data_mesh("ellipsoid");
   AU_CHECK(m);
   au_topo *t = NULL;
   au_msg msg;
@@ -182,7 +173,7 @@ static int metric_bad_cones(void) {
   au_topo_free(&t);
   au_mesh_free(&m);
   /* A cone on a boundary vertex. */
-  m = read_data("disk_bump");
+  m = au_test_data_mesh("disk_bump");
   AU_CHECK(m);
   au_mesh_expect x = au_mesh_expect_default();
   x.loops = 1;
@@ -275,16 +266,16 @@ static int check_layout(au_mesh *m, int genus, int loops, int quarter, double mi
 static int layout_sphere(void) {
   /* One chart each (a cut tree through the cones); the star's arms make the layout overlap itself, which
    * splits it into charts that still meet at multiples of 90 degrees with quarter cones. */
-  if (check_layout(read_data("ellipsoid"), 0, 0, 0, 0.15, NULL)) return 1;
-  if (check_layout(read_data("ellipsoid"), 0, 0, 1, 0.15, NULL)) return 1;
+  if (check_layout(au_test_data_mesh("ellipsoid"), 0, 0, 0, 0.15, NULL)) return 1;
+  if (check_layout(au_test_data_mesh("ellipsoid"), 0, 0, 1, 0.15, NULL)) return 1;
   au_atlas_layout L;
-  if (check_layout(read_data("bumpy_star"), 0, 0, 1, 0.1, &L)) return 1;
+  if (check_layout(au_test_data_mesh("bumpy_star"), 0, 0, 1, 0.1, &L)) return 1;
   if (getenv("AU_ATLAS_PROBE")) fprintf(stderr, "bumpy_star quarter: %d charts\n", L.ncharts);
   au_atlas_layout_free(&L);
   return 0;
 }
 
-static int layout_torus(void) { return check_layout(read_data("torus_r3"), 1, 0, 0, 0.25, NULL); }
+static int layout_torus(void) { return check_layout(au_test_data_mesh("torus_r3"), 1, 0, 0, 0.25, NULL); }
 
 static int layout_genus(void) {
   if (check_layout(holed_plate(2, 3), 2, 0, 0, 0.2, NULL)) return 1;
@@ -295,10 +286,10 @@ static int layout_genus(void) {
 static int layout_open(void) {
   au_atlas_layout L;
   /* A disk is one chart with no cut edge. */
-  if (check_layout(read_data("disk_bump"), 0, 1, 0, 0.3, &L)) return 1;
+  if (check_layout(au_test_data_mesh("disk_bump"), 0, 1, 0, 0.3, &L)) return 1;
   AU_CHECK_INT(L.ncharts, ==, 1);
   au_atlas_layout_free(&L);
-  if (check_layout(read_data("annulus_bump"), 0, 2, 0, 0.3, &L)) return 1;
+  if (check_layout(au_test_data_mesh("annulus_bump"), 0, 2, 0, 0.3, &L)) return 1;
   AU_CHECK_INT(L.ncharts, ==, 1);
   AU_CHECK_INT(L.ncut, >=, 1);
   au_atlas_layout_free(&L);
@@ -343,20 +334,20 @@ static int check_flow(au_mesh *m, int genus, int loops, double max_err) {
 }
 
 static int flow_closed(void) {
-  if (check_flow(read_data("ellipsoid"), 0, 0, 0.012)) return 1;
-  return check_flow(read_data("genus2"), 2, 0, 0.012);
+  if (check_flow(au_test_data_mesh("ellipsoid"), 0, 0, 0.012)) return 1;
+  return check_flow(au_test_data_mesh("genus2"), 2, 0, 0.012);
 }
 
 static int flow_open(void) {
-  if (check_flow(read_data("disk_bump"), 0, 1, 0.012)) return 1;
-  return check_flow(read_data("genus2_2loops"), 2, 2, 0.012);
+  if (check_flow(au_test_data_mesh("disk_bump"), 0, 1, 0.012)) return 1;
+  return check_flow(au_test_data_mesh("genus2_2loops"), 2, 2, 0.012);
 }
 
 /* Nonsense options and inputs of the module's stages (not reachable through the public API, whose options are
  * checked): AU_E_ARG naming the fault, nothing changed, never a silent result. Each case was accepted before
  * the checks (NaN tolerances made the loops stop at once; non-finite lengths went into Newton's method). */
 static int bad_inputs(void) {
-  au_mesh *m = read_data("torus_r3");
+  au_mesh *m = au_test_data_mesh("torus_r3");
   AU_CHECK(m);
   au_topo *t = NULL;
   au_msg msg;
