@@ -66,8 +66,8 @@ void au_atlas_cones_clear(au_atlas_cones *c);
 /* Place cones on the validated mesh m (topology t) as described above. On success c owns its arrays
  * (au_atlas_cones_clear); a disk or annulus may get no cone (n = 0) when the boundary alone flattens
  * it within u_range. With quarter, a closed mesh whose every vertex is a cone (the flow then moves nothing) and
- * one of whose angle sums is not a multiple of pi/2 has no equal-area atlas: AU_E_DEGENERATE, msg names the
- * vertex (docs/atlas-quarter-limits.md). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_DEGENERATE. */
+ * one of whose angle sums is not a multiple of pi/2 has no equal-area atlas: AU_E_TOO_COARSE, msg names the
+ * vertex (docs/atlas-quarter-limits.md). Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_NOT_SPD, AU_E_TOO_COARSE. */
 au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atlas_opts *o, au_atlas_cones *c,
                                au_msg *msg);
 

@@ -161,15 +161,14 @@ static int jitter(int nv, int nf, const int *F, const unsigned char *pin, double
 
 au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                         const au_atlas_flow_opts *opts, au_atlas_flow_info *info, au_msg *msg) {
+  if (info) memset(info, 0, sizeof *info);
   if (!m || !t || !L || !L->vt || !L->Ft || t->nv != m->nv || t->nf != m->nf || (c && c->n > 0 && (!c->v || !c->angle)))
     return au_msg_set(msg, AU_E_ARG, "au_atlas_flow: bad arguments");
   au_atlas_flow_opts o = opts ? *opts : au_atlas_flow_opts_default();
-  if (info) memset(info, 0, sizeof *info);
   au_status sc = au_atlas_flow_opts_check(&o, msg);
   if (sc != AU_OK) return sc;
   const int nv = m->nv, nf = m->nf, *F = m->F, *Ft = L->Ft, n = 2 * nv;
   double *vt = L->vt;
-  if (info) memset(info, 0, sizeof *info);
   au_status st = AU_OK;
   int *home = malloc((size_t)nv * sizeof *home), *colstart = NULL, *rows = NULL;
   double *p = calloc((size_t)n, sizeof *p), *rot = malloc(12 * (size_t)nf * sizeof *rot);

@@ -162,6 +162,10 @@ static au_status loops(const au_topo *t, int *corner, signed char *sign, int *nt
     /* Face faces[i] of the loop is entered through edges[i] and left through edges[i + 1]. */
     for (int i = 0; i < np; i++) {
       int f = faces[i], kin = opposite(t, f, edges[i]), kout = opposite(t, f, edges[(i + 1) % np]);
+      if (kin < 0 || kout < 0 || kin == kout) {
+        st = au_msg_set(msg, AU_E_ARG, "holonomy: generator loop %d leaves face %d by an edge not its own", j, f);
+        goto done;
+      }
       int k = 3 - kin - kout;
       corner[*nterm] = 3 * f + k;
       /* The shared vertex is on the left when the loop enters opposite k + 2 and leaves opposite k + 1 (the

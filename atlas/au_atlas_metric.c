@@ -442,7 +442,7 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
       if (fabs(kappa[i] - K[cv[i]]) > 1e-9 && (worst < 0 || fabs(kappa[i] - K[cv[i]]) > fabs(kappa[worst] - K[cv[worst]])))
         worst = i;
     if (worst >= 0) {
-      st = au_msg_set(msg, AU_E_DEGENERATE, "quarter: every one of the %d vertices is a cone, so the flow has none to move, "
+      st = au_msg_set(msg, AU_E_TOO_COARSE, "quarter: every one of the %d vertices is a cone, so the flow has none to move, "
                       "and vertex %d's angle sum %.6g deg is not a multiple of 90 degrees: no equal-area atlas with "
                       "quarter-turn seams (refine the mesh, or drop --quarter)", nused, cv[worst],
                       (2 * AU_PI - K[cv[worst]]) * 180 / AU_PI);
@@ -508,9 +508,17 @@ au_status au_atlas_cetm(const au_mesh *m, const au_topo *t, const au_atlas_cones
                       v, c->angle[i]);
       break;
     }
+    /* A vertex given twice would count both curvatures in Gauss-Bonnet's sum but keep one angle. */
+    if (fixed[v] == 2) {
+      st = au_msg_set(msg, AU_E_ARG, "cone %d: vertex %d is already a cone", i, v);
+      break;
+    }
+    fixed[v] = 2;
     theta[v] = c->angle[i];
     ksum += 2 * AU_PI - c->angle[i];
   }
+  for (int i = 0; i < nc; i++)
+    if (c->v[i] >= 0 && c->v[i] < nv && fixed[c->v[i]] == 2) fixed[c->v[i]] = 0; /* cones are interior vertices */
   if (st == AU_OK && closed && fabs(ksum - 2 * AU_PI * t->euler) > 1e-9)
     st = au_msg_set(msg, AU_E_ARG, "the cones' curvatures sum to %.12g, Gauss-Bonnet wants 2*pi*chi = %.12g (chi %d)",
                     ksum, 2 * AU_PI * t->euler, t->euler);

@@ -882,7 +882,9 @@ static au_status solve_least_shear(flow_state *s, flow_solved *out) {
   double restore = sph_areas && !s->retry && !s->restore_off ? o->restore * fmin(1, s->err / AU_RESTORE_FADE) : 0;
   s->restored = restore > 0;
   s->retry = 0;
-  const double lantern = restore > 0 && s->err < AU_LANTERN_BELOW ? o->lantern : 0;
+  const int lantern_on = restore > 0 && s->err < AU_LANTERN_BELOW;
+  if (lantern_on) s->rep->lantern_steps++;
+  const double lantern = lantern_on ? o->lantern : 0;
   st = au__lm_step(*s->lmp, s->dom, s->P, s->dA_f, s->Gf, s->alpha, AU_ROTATION_EPS, sph_areas, restore, lantern, s->D, s->msg);
   if (st != AU_E_NOT_SPD) return st;
   /* Rounding made the system indefinite: retry stiffer at the next step number, or, as stiff as it
@@ -1399,7 +1401,7 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
     return au_msg_set(msg, AU_E_ARG, "advect: bad arguments");
   au_advect_opts o = opts ? *opts : au_advect_opts_default();
   if (o.max_steps < 0 || o.max_steps > AU_ADVECT_MAX_STEPS || o.schedule_steps < 1 || !(o.max_move > 0 && o.max_move < 0.5) ||
-      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.lantern >= 0) ||
+      !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.restore_gate >= 0) || !(o.lantern >= 0) ||
       o.angle_steps < 0 || !(o.angle_faces >= 0) || !(o.angle_cells >= 0) || !(o.angle_trust > 0) || !(o.angle_switch >= 0) ||
       !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) || !(o.face_shear_tail >= 0) ||
       !(o.resolved_log_step > 0))

@@ -173,7 +173,11 @@ typedef struct au_advect_report {
                                            au_advect_opts.resolved_jump) */
   int resolved;                         /* 1 if the flow ran the resolved schedule */
   double start_shear;                   /* the start's mean ln(sigma1 / sigma2) of the map from each surface
-                                           triangle to its domain triangle (see au_advect_opts.restore) */
+                                           triangle to its domain triangle (see au_advect_opts.restore_gate) */
+  int lantern_steps;                    /* the steps solved with shape restoring on and the vertex error
+                                           below where the lantern acts: where a flow with the lantern
+                                           (au_advect_opts.lantern > 0) differs from one without; 0: the
+                                           lantern would change nothing */
   int angle_from;                       /* angle_steps: the step at which they began (err and face_err are
                                            the chord triangles' from there), else 0 */
 } au_advect_report;

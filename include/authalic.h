@@ -90,7 +90,8 @@ extern "C" {
   X(AU_E_BOUNDARY, -111, "wrong number of boundary loops")                        \
   X(AU_E_GENUS, -112, "wrong genus")                                              \
   X(AU_E_DEGENERATE, -113, "zero-area face")                                      \
-  X(AU_E_DENSITY, -114, "bad density values")
+  X(AU_E_DENSITY, -114, "bad density values")                                     \
+  X(AU_E_TOO_COARSE, -115, "mesh too coarse for the options")
 
 typedef enum au_status {
 #define AU_STATUS_ENUM(name, value, text) name = value,
@@ -1028,7 +1029,9 @@ typedef struct au_atlas_result {
  * check; warnings say more), AU_W_NOT_CONVERGED (the metric missed its tolerance: the atlas is still
  * fold-free and overlap-free but its seams match less exactly), AU_E_ARG (bad options or cones: msg
  * says which), AU_E_NOMEM, AU_E_NOT_SPD, AU_E_NUMERIC, AU_E_FOLD (the layout folded or overlapped),
- * or an input error of the check (several components, non-manifold, non-orientable...). */
+ * AU_E_TOO_COARSE (with quarter: a closed mesh whose every vertex is a cone, one of whose angle sums is
+ * not a multiple of pi/2: msg names the vertex), or an input error of the check (several components,
+ * non-manifold, non-orientable...). */
 AU_API au_status au_atlas(const double *V, int nv, const int *F, int nf, const au_atlas_options *o,
                           au_atlas_result **out, au_msg *msg);
 AU_API void au_atlas_result_free(au_atlas_result **r);

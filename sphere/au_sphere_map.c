@@ -233,23 +233,12 @@ static double chord_floor_excess(const au_mesh *m, const double *P) {
   return excess;
 }
 
-/* The lantern (au_advect_opts.lantern) raises a face's shape restoring only at the steps of a least-shear
- * flow's spherical part whose vertex error is below this (AU_LANTERN_BELOW in common/au_advect.c), and
- * only while restoring is on (restore > 0). A flow that never came below it is the lantern flow's step
- * for step: tpose's strong twisted start stays above 8.3 for its 24 spherical steps, and its lantern
- * retry ran the same 28 steps again to the same map (test_sphere.lantern_skipped checks the equality). */
-#define AU_LANTERN_BELOW 1
-
 /* 1 if a flow with the lantern (au_advect_opts.lantern > 0) from the same start could differ from the flow
- * of options fo that made report r, 0 if it would repeat it step for step (AU_LANTERN_BELOW). */
-static int lantern_would_act(const au_advect_opts *fo, const au_advect_report *r) {
-  if (fo->method != AU_ADVECT_LEAST_SHEAR || !(fo->restore > 0) || fo->sphere_areas == 0) return 0;
-  /* The spherical part's steps: those before the chord polish, or all of them (the final measure too). */
-  const int last = r->polish_from > 0 ? r->polish_from - 1 : r->steps;
-  for (int k = 0; k <= last && k <= AU_ADVECT_MAX_STEPS; k++)
-    if (!(r->err[k] >= AU_LANTERN_BELOW)) return 1;
-  return 0;
-}
+ * that made report r, 0 if it would repeat it step for step. The lantern raises a face's shape restoring
+ * only at the steps solved with restoring on and the vertex error low enough (r->lantern_steps counts
+ * them): tpose's strong twisted start stays above that for its 24 spherical steps, and its lantern retry
+ * ran the same 28 steps again to the same map (test_sphere.lantern_skipped checks the equality). */
+static int lantern_would_act(const au_advect_report *r) { return r->lantern_steps > 0; }
 
 /* A retry's outcome against the map kept so far (P, its vertex error e by map_vertex_error, *st): a
  * cancelled retry ends the map with its status; one whose map P2 has the lower error e2 replaces P, the
@@ -414,7 +403,7 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
     int lantern_due = st == AU_W_NOT_CONVERGED && Pstart && !ml_done && rep->twist != 2 && ek > o.retry_above * o.flow.tol;
     /* ... and not where its flow would repeat the first one's (the first flow's map, not the twisted
      * retry's, which was not kept here). */
-    if (lantern_due && !lantern_would_act(&o.flow, &rep->flow)) lantern_due = 0, rep->lantern_skipped = 1;
+    if (lantern_due && !lantern_would_act(&rep->flow)) lantern_due = 0, rep->lantern_skipped = 1;
     /* The staged retry (below) before the lantern's where the map is squeezed enough for it: the staged
      * flows start from the start, not from the map, and where their map was kept the lantern's had been
      * made for nothing (octopus: lantern kept, then replaced by the staged map; docs/sphere-retries.md). */

@@ -239,6 +239,10 @@ cones)
   printf '100 -5\n' >"$T/in/bad_line.txt"
   run atlas "$IN" "$OUT" --cones "$T/in/bad_line.txt"
   expect_rejected "bad_line.txt:1: expected a vertex 0..1041 and a positive angle"
+  # One vertex twice: its two curvatures would pass Gauss-Bonnet's sum while the metric keeps one angle.
+  printf '100 300\n100 240\n' >"$T/in/twice.txt"
+  run atlas "$IN" "$OUT" --cones "$T/in/twice.txt"
+  expect_rejected "vertex 100 is already a cone"
   ;;
 usage)
   IN=$(stage "$SRC/data/ellipsoid.obj")
