@@ -377,7 +377,6 @@ au_status au_atlas_place_cones(const au_mesh *m, const au_topo *t, const au_atla
     int over = 1, added = 0;
     for (; st == AU_OK;) {
       for (int v = 0; v < nv; v++) fq[v] = !t->vused[v] || t->vb[v];
-      if (closed) fq[ref] = 1;
       double range = 0;
       memcpy(kq, kappa, (size_t)n * sizeof *kq);
       if ((st = quarter_choose(t, sq, K, n, cv, kq, closed, oo.u_range, &range, u, X, &nresp, msg)) != AU_OK) break;

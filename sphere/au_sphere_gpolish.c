@@ -562,15 +562,37 @@ au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, do
   return o;
 }
 
+/* Written as "x >= 0" so that a NaN option fails too. */
+static int opts_valid(const au_gpolish_opts *o) {
+  return o && o->max_iter >= 0 && o->cell_weight >= 0 && o->barrier >= 0 && o->barrier_weight >= 0 && o->min_orient >= 0 &&
+         o->angle_weight >= 0 && o->robust >= 0 && o->min_gain >= 0 && o->min_gain < 1 && o->face_window >= 0 &&
+         o->face_window <= GP_GAIN_WINDOW && o->face_gain >= 0 && o->face_gain < 1 && o->face_target >= 0 &&
+         o->active >= 0 && o->active < 1 && o->active_rings >= 0 && o->active_max >= 0 && o->active_max <= 1 &&
+         !(o->active > 0 && o->active_every < 1);
+}
+
+/* The active vertices (au_gpolish_opts.active) chosen again from this step's system: *sub gets their
+ * analysed system, or none (sub->spd NULL: every vertex) where they are too many, none, or their system
+ * cannot be analysed: they are a speed-up only. Fails only for want of memory. */
+static au_status rechoose_active(gp *g, const au_gpolish_opts *o, const double *H, const double *grad, gp_sys *sub,
+                                 double *gain, double *tmp, int *pos, au_msg *msg) {
+  sys_free(sub);
+  vertex_gains(g, H, grad, gain);
+  if (!choose_active(g, g->astart, g->adj, gain, o->active, o->active_rings, sub, pos, tmp))
+    return au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
+  if (sub->m > o->active_max * g->nv || sub->m == 0) {
+    sys_free(sub);
+    return AU_OK;
+  }
+  au_status st = sub_system(g, sub, pos, msg);
+  if (st != AU_OK) sys_free(sub);
+  return st == AU_E_NOMEM ? st : AU_OK;
+}
+
 au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
                                   const au_gpolish_opts *o, int *iters, au_msg *msg) {
   if (iters) *iters = 0;
-  if (!m || !t || !P || !o || o->max_iter < 0 || !(o->cell_weight >= 0) || !(o->barrier >= 0) ||
-      !(o->barrier_weight >= 0) || !(o->min_orient >= 0) || !(o->angle_weight >= 0) || !(o->robust >= 0) ||
-      !(o->min_gain >= 0 && o->min_gain < 1) || o->face_window < 0 || o->face_window > GP_GAIN_WINDOW ||
-      !(o->face_gain >= 0 && o->face_gain < 1) || !(o->face_target >= 0) || !(o->active >= 0 && o->active < 1) ||
-      o->active_rings < 0 || !(o->active_max >= 0 && o->active_max <= 1) || (o->active > 0 && o->active_every < 1))
-    return au_msg_set(msg, AU_E_ARG, "global polish: bad arguments");
+  if (!m || !t || !P || !opts_valid(o)) return au_msg_set(msg, AU_E_ARG, "global polish: bad arguments");
   const int nv = m->nv, nf = m->nf, n = 2 * nv, *F = m->F;
   gp g = {.nv = nv, .nf = nf, .F = F, .wv = o->cell_weight, .mu = o->barrier_weight, .delta = o->robust};
   double *share = malloc(sizeof(double) * (size_t)nf), *cshare = calloc((size_t)nv, sizeof(double));
@@ -642,21 +664,8 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     /* active: the vertices whose own steps would gain nearly all there is to gain, and their rings,
      * chosen again every active_every steps and after a step on them that gained nothing. */
     if (o->active > 0 && o->active_max > 0 && (rechoose || since >= o->active_every)) {
-      sys_free(&sub);
       rechoose = 0, since = 0;
-      vertex_gains(&g, H, grad, gain);
-      if (!choose_active(&g, g.astart, g.adj, gain, o->active, o->active_rings, &sub, pos, tmp)) {
-        st = au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
-        break;
-      }
-      if (sub.m > o->active_max * nv || sub.m == 0)
-        sys_free(&sub);
-      else if ((st = sub_system(&g, &sub, pos, msg)) != AU_OK) {
-        /* The active vertices are a speed-up only: where their system cannot be analysed, every vertex. */
-        sys_free(&sub);
-        if (st == AU_E_NOMEM) break;
-        st = AU_OK;
-      }
+      if ((st = rechoose_active(&g, o, H, grad, &sub, gain, tmp, pos, msg)) != AU_OK) break;
     }
     since++;
     gp_sys *S = sub.spd ? &sub : &full;
