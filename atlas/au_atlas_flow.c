@@ -159,6 +159,45 @@ static int jitter(int nv, int nf, const int *F, const unsigned char *pin, double
   return 0;
 }
 
+/* The step system's pattern: 2x2 blocks between the vertices of each face and the diagonal, upper
+ * triangle, by columns (n = 2 nv unknowns). 0 for want of memory (nothing left allocated). */
+static int face_block_pattern(int nf, const int *F, int n, int **colstart_out, int **rows_out) {
+  int *cnt = calloc((size_t)n + 1, sizeof *cnt), *tmp = malloc(36 * (size_t)nf * sizeof *tmp * 2);
+  int *rr = NULL, *fill = NULL, *colstart = NULL, *rows = NULL, ok = 0;
+  if (!cnt || !tmp) goto done;
+  size_t np = 0;
+  for (int f = 0; f < nf; f++)
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++)
+        for (int a = 0; a < 2; a++)
+          for (int bb = 0; bb < 2; bb++) {
+            int r = 2 * F[3 * f + i] + a, col = 2 * F[3 * f + j] + bb;
+            if (r > col) continue;
+            tmp[2 * np] = col, tmp[2 * np + 1] = r, np++;
+          }
+  for (int i = 0; i < n; i++) tmp[2 * np] = i, tmp[2 * np + 1] = i, np++;
+  /* Sort (col, row) pairs by a counting sort on col, then rows within each column. */
+  for (size_t k = 0; k < np; k++) cnt[tmp[2 * k] + 1]++;
+  for (int i = 0; i < n; i++) cnt[i + 1] += cnt[i];
+  rr = malloc(np * sizeof *rr), fill = calloc((size_t)n, sizeof *fill);
+  colstart = malloc(((size_t)n + 1) * sizeof *colstart), rows = malloc(np * sizeof *rows);
+  if (!rr || !fill || !colstart || !rows) goto done;
+  for (size_t k = 0; k < np; k++) rr[cnt[tmp[2 * k]] + fill[tmp[2 * k]]++] = tmp[2 * k + 1];
+  int nn = 0;
+  colstart[0] = 0;
+  for (int j = 0; j < n; j++) {
+    qsort(rr + cnt[j], (size_t)(cnt[j + 1] - cnt[j]), sizeof *rr, au__cmp_int);
+    for (int k = cnt[j]; k < cnt[j + 1]; k++)
+      if (k == cnt[j] || rr[k] != rr[k - 1]) rows[nn++] = rr[k];
+    colstart[j + 1] = nn;
+  }
+  *colstart_out = colstart, *rows_out = rows, ok = 1;
+done:
+  if (!ok) free(colstart), free(rows);
+  free(cnt), free(tmp), free(rr), free(fill);
+  return ok;
+}
+
 au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones *c, au_atlas_layout *L,
                         const au_atlas_flow_opts *opts, au_atlas_flow_info *info, au_msg *msg) {
   if (info) memset(info, 0, sizeof *info);
@@ -256,52 +295,9 @@ au_status au_atlas_flow(const au_mesh *m, const au_topo *t, const au_atlas_cones
     tr[2 * cc + 1] = vt[2 * Ft[cc] + 1] - (R[2] * x[0] + R[3] * x[1]);
   }
   corners(nf, F, p, rot, tr, q);
-  /* The pattern: 2x2 blocks between the vertices of each face, upper triangle. */
-  {
-    int *cnt = calloc((size_t)n + 1, sizeof *cnt);
-    int *tmp = malloc(36 * (size_t)nf * sizeof *tmp * 2);
-    if (!cnt || !tmp) {
-      free(cnt), free(tmp);
-      st = au_msg_set(msg, AU_E_NOMEM, "out of memory for the atlas flow");
-      goto done;
-    }
-    size_t np = 0;
-    for (int f = 0; f < nf; f++)
-      for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-          for (int a = 0; a < 2; a++)
-            for (int bb = 0; bb < 2; bb++) {
-              int r = 2 * F[3 * f + i] + a, col = 2 * F[3 * f + j] + bb;
-              if (r > col) continue;
-              tmp[2 * np] = col, tmp[2 * np + 1] = r, np++;
-            }
-    for (int i = 0; i < n; i++) tmp[2 * np] = i, tmp[2 * np + 1] = i, np++;
-    /* Sort (col, row) pairs by a counting sort on col, then rows within each column. */
-    for (size_t k = 0; k < np; k++) cnt[tmp[2 * k] + 1]++;
-    for (int i = 0; i < n; i++) cnt[i + 1] += cnt[i];
-    int *rr = malloc(np * sizeof *rr), *fill = calloc((size_t)n, sizeof *fill);
-    if (!rr || !fill) {
-      free(cnt), free(tmp), free(rr), free(fill);
-      st = au_msg_set(msg, AU_E_NOMEM, "out of memory for the atlas flow");
-      goto done;
-    }
-    for (size_t k = 0; k < np; k++) rr[cnt[tmp[2 * k]] + fill[tmp[2 * k]]++] = tmp[2 * k + 1];
-    colstart = malloc(((size_t)n + 1) * sizeof *colstart);
-    rows = malloc(np * sizeof *rows);
-    if (!colstart || !rows) {
-      free(cnt), free(tmp), free(rr), free(fill);
-      st = au_msg_set(msg, AU_E_NOMEM, "out of memory for the atlas flow");
-      goto done;
-    }
-    int nn = 0;
-    colstart[0] = 0;
-    for (int j = 0; j < n; j++) {
-      qsort(rr + cnt[j], (size_t)(cnt[j + 1] - cnt[j]), sizeof *rr, au__cmp_int);
-      for (int k = cnt[j]; k < cnt[j + 1]; k++)
-        if (k == cnt[j] || rr[k] != rr[k - 1]) rows[nn++] = rr[k];
-      colstart[j + 1] = nn;
-    }
-    free(cnt), free(tmp), free(rr), free(fill);
+  if (!face_block_pattern(nf, F, n, &colstart, &rows)) {
+    st = au_msg_set(msg, AU_E_NOMEM, "out of memory for the atlas flow");
+    goto done;
   }
   if ((st = au_spd_create(n, colstart, rows, NULL, &spd, msg)) != AU_OK) goto done;
 
