@@ -339,6 +339,103 @@ done:
   free(P2), free(Pb), free(w), free(as), free(ad), free(r2);
 }
 
+/* The start: coarse-to-fine where asked (one that fails leaves the conformal start to make the map: no
+ * mesh is refused for its start), else the conformal start; where every conformal attempt folds, the
+ * strong twisted start; then balanced. *ml_done: the coarse-to-fine start made it; *strong: the strong
+ * twisted start did, with this many sheared faces. */
+static au_status sphere_start(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
+                              au_sphere_report *rep, int *ml_done, int *strong, au_msg *msg) {
+  au_status st = AU_OK;
+  *ml_done = 0, *strong = 0;
+  if (o->start == AU_SPHERE_START_MULTILEVEL && !o->flow.face_weight) {
+    au_msg msg1 = {0};
+    au_status s1 = au_sphere_multilevel(m, t, o, P, &rep->ml, &msg1);
+    if (s1 == AU_OK) *ml_done = 1, rep->start = AU_SPHERE_START_MULTILEVEL;
+    else if (s1 == AU_E_CANCELLED || s1 == AU_E_NOMEM) {
+      if (msg) *msg = msg1;
+      return s1;
+    } else
+      rep->ml_fallback = msg1;
+  }
+  if (!*ml_done) st = au_sphere_conformal(m, t, P, msg);
+  if (st == AU_E_FOLD && o->twist_retry > 0) {
+    /* Every conformal attempt folded (nested protrusions squeezed past any coordinate): the strong
+     * twisted start, if it does not fold, is the start. */
+    au_msg msg1 = {0};
+    int nsheared = 0;
+    if (au_sphere_twisted_strong(m, t, P, &nsheared, &msg1) == AU_OK && nsheared > 0) st = AU_OK, *strong = nsheared;
+  }
+  if (st == AU_OK && o->balance && !*ml_done) st = au_sphere_balance(m, t, P, msg);
+  return st;
+}
+
+/* The lantern retry (au_sphere_opts.lantern_retry): the flow again from the start with the lantern on;
+ * the better map kept. *ek: the kept map's vertex error. */
+static void lantern_retry(const au_mesh *m, const au_topo *t, au_advect_plan *plan, const au_advect_domain *dom,
+                          const au_sphere_opts *o, const double *Pstart, double *P, double *ek, au_sphere_report *rep,
+                          au_status *st, au_msg *msg) {
+  au_advect_report *r2 = malloc(sizeof *r2);
+  double *P2 = malloc(sizeof(double) * 3 * (size_t)m->nv);
+  au_msg msg2 = {0};
+  if (r2 && P2) {
+    au_advect_opts o2 = o->flow;
+    o2.lantern = o->lantern_retry;
+    memcpy(P2, Pstart, sizeof(double) * 3 * (size_t)m->nv);
+    au_status st2 = au_advect_run_plan(plan, dom, &o2, P2, r2, &msg2);
+    double e1 = st2 == AU_OK || st2 == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o->flow, P2) : INFINITY;
+    rep->retry_err[0] = *ek, rep->retry_err[1] = e1;
+    rep->retry = 1 + keep_better(m->nv, st2, e1, P2, r2, &msg2, *ek, P, rep, st, msg);
+    if (rep->retry == 2) *ek = e1;
+    if (rep->twist == 3) rep->twist_err = *ek;
+  }
+  free(r2), free(P2);
+}
+
+/* The retries, for a first flow that missed its tolerance (*st AU_W_NOT_CONVERGED, its map's vertex error
+ * e0): each runs only where the map before it misses the tolerance well, and its map is kept only where it
+ * is better (docs/sphere-stages.md, docs/sphere-retries.md). Pstart: the start (NULL: no lantern retry). */
+static void sphere_retries(const au_mesh *m, const au_topo *t, au_advect_plan *plan, const au_advect_domain *dom,
+                           const au_sphere_opts *o, const double *Pstart, int ml_done, int strong, double e0, double *P,
+                           au_sphere_report *rep, au_status *st, au_msg *msg) {
+  const double well = o->retry_above * o->flow.tol;
+  /* The twisted retry (au_sphere_opts.twist_retry): from the twisted start, for a map that misses its
+   * tolerance well with much of its chord area on the floor (the floor excess is the gate: nearly every
+   * mesh has faces to shear, near the puncture if nowhere else). It comes before the lantern retry, which
+   * then runs only if the twisted map was not kept: after the first flow the generated limbs' excess is
+   * 0.11-0.36 and the shared meshes' at most 0.019 (screwdriver), and on every mesh past the gate the
+   * lantern's map was discarded and the twisted one kept (limbs4, limbs8, coil, hammer), so the lantern's
+   * flow was spent for nothing there (docs/sphere-stages.md). */
+  const int twist_gate = !strong && o->twist_retry > 0 && e0 > well;
+  if (twist_gate && chord_floor_excess(m, P) > o->twist_retry) twisted_retry(m, t, plan, dom, o, e0, P, rep, st, msg);
+  /* The lantern retry: only for a map that misses its tolerance well, and not from the coarse-to-fine
+   * start, which squeezes no protrusion for the lantern to open: from it the retry returned the same map
+   * (spot, cow, screwdriver, hand_closed) or a worse one (bunny), and its one better map (penguin_hr) was
+   * replaced by the twisted retry's (bench/coarse-to-fine.md). */
+  double ek = rep->twist == 2 ? rep->twist_err : e0;
+  int lantern_due = *st == AU_W_NOT_CONVERGED && Pstart && !ml_done && rep->twist != 2 && ek > well;
+  /* ... and not where its flow would repeat the first one's (the first flow's map, not the twisted
+   * retry's, which was not kept here). */
+  if (lantern_due && !lantern_would_act(&rep->flow)) lantern_due = 0, rep->lantern_skipped = 1;
+  /* The staged retry (below) before the lantern's where the map is squeezed enough for it: the staged
+   * flows start from the start, not from the map, and where their map was kept the lantern's had been
+   * made for nothing (octopus: lantern kept, then replaced by the staged map; docs/sphere-retries.md). */
+  const int staged_allowed = o->staged_retry > 0 && !o->flow.weight && !o->flow.face_weight;
+  int staged_done = 0, nsq = 0;
+  if (lantern_due && staged_allowed && au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED) {
+    staged_retry(m, t, plan, dom, o, Pstart, P, rep, st, msg);
+    staged_done = 1;
+    if (rep->staged == 2) ek = rep->staged_err[1], lantern_due = 0;
+    if (*st != AU_W_NOT_CONVERGED) lantern_due = 0;
+  }
+  if (lantern_due) lantern_retry(m, t, plan, dom, o, Pstart, P, &ek, rep, st, msg);
+  /* A map the lantern did not bring within the gate may still have its floor excess past it. */
+  if (twist_gate && !rep->twist && *st == AU_W_NOT_CONVERGED && ek > well && chord_floor_excess(m, P) > o->twist_retry)
+    twisted_retry(m, t, plan, dom, o, ek, P, rep, st, msg);
+  if (*st == AU_W_NOT_CONVERGED && staged_allowed && !staged_done &&
+      au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED)
+    staged_retry(m, t, plan, dom, o, Pstart, P, rep, st, msg);
+}
+
 au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *opts, double *P, double *P0,
                         au_sphere_report *rep, au_msg *msg) {
   if (!m || !t || !P) return au_msg_set(msg, AU_E_ARG, "sphere: bad arguments");
@@ -346,104 +443,26 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
   au_sphere_report local;
   if (!rep) rep = &local;
   memset(rep, 0, sizeof *rep);
+  const size_t bytes = sizeof(double) * 3 * (size_t)m->nv;
   double t0 = now_s();
-  /* The flow's analysis needs only the mesh: it runs in a second thread beside the conformal start. */
+  /* The flow's analysis needs only the mesh: it runs in a second thread beside the start. */
   au_advect_plan *plan = NULL;
   au_status st = au_advect_plan_start(m, t, &o.flow, &plan, msg);
-  int ml_done = 0;
-  if (st == AU_OK && o.start == AU_SPHERE_START_MULTILEVEL && !o.flow.face_weight) {
-    /* A coarse-to-fine start that fails (an empty kernel to rounding, a coarse map refused) leaves the
-     * conformal start to make the map: no mesh is refused for its start. */
-    au_msg msg1 = {0};
-    au_status s1 = au_sphere_multilevel(m, t, &o, P, &rep->ml, &msg1);
-    if (s1 == AU_OK) ml_done = 1, rep->start = AU_SPHERE_START_MULTILEVEL;
-    else if (s1 == AU_E_CANCELLED || s1 == AU_E_NOMEM) {
-      st = s1;
-      if (msg) *msg = msg1;
-    } else
-      rep->ml_fallback = msg1;
-  }
-  if (st == AU_OK && !ml_done) st = au_sphere_conformal(m, t, P, msg);
-  int strong = 0;
-  if (st == AU_E_FOLD && o.twist_retry > 0) {
-    /* Every conformal attempt folded (nested protrusions squeezed past any coordinate): the strong
-     * twisted start, if it does not fold, is the start. */
-    au_msg msg1 = {0};
-    int nsheared = 0;
-    if (au_sphere_twisted_strong(m, t, P, &nsheared, &msg1) == AU_OK && nsheared > 0)
-      st = AU_OK, strong = nsheared;
-  }
-  if (st == AU_OK && o.balance && !ml_done) st = au_sphere_balance(m, t, P, msg);
+  int ml_done = 0, strong = 0;
+  if (st == AU_OK) st = sphere_start(m, t, &o, P, rep, &ml_done, &strong, msg);
   rep->t_init = now_s() - t0;
   if (st == AU_OK) {
-    if (P0) memcpy(P0, P, sizeof(double) * 3 * (size_t)m->nv);
+    if (P0) memcpy(P0, P, bytes);
     au_advect_domain dom = au_sphere_domain();
     t0 = now_s();
+    /* The lantern retry starts from the start. */
     double *Pstart = NULL;
-    const int retry = o.lantern_retry > 0 && o.flow.lantern == 0;
-    if (retry && !(Pstart = malloc(sizeof(double) * 3 * (size_t)m->nv))) st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
-    if (Pstart) memcpy(Pstart, P, sizeof(double) * 3 * (size_t)m->nv);
+    if (o.lantern_retry > 0 && o.flow.lantern == 0 && !(Pstart = malloc(bytes))) st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
+    if (Pstart) memcpy(Pstart, P, bytes);
     if (st == AU_OK) st = au_advect_run_plan(plan, &dom, &o.flow, P, &rep->flow, msg);
     double e0 = st == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o.flow, P) : 0;
     if (strong && (st == AU_OK || st == AU_W_NOT_CONVERGED)) rep->twist = 3, rep->twist_faces = strong, rep->twist_err = e0;
-    /* The twisted retry (au_sphere_opts.twist_retry): from the twisted start, for a map that misses its
-     * tolerance well with much of its chord area on the floor (the floor excess is the gate: nearly every
-     * mesh has faces to shear, near the puncture if nowhere else). It comes before the lantern retry, which
-     * then runs only if the twisted map was not kept: after the first flow the generated limbs' excess is
-     * 0.11-0.36 and the shared meshes' at most 0.019 (screwdriver), and on every mesh past the gate the
-     * lantern's map was discarded and the twisted one kept (limbs4, limbs8, coil, hammer), so the lantern's
-     * flow was spent for nothing there (docs/sphere-stages.md). */
-    const int twist_gate = st == AU_W_NOT_CONVERGED && !strong && o.twist_retry > 0 && e0 > o.retry_above * o.flow.tol;
-    if (twist_gate && chord_floor_excess(m, P) > o.twist_retry) twisted_retry(m, t, plan, &dom, &o, e0, P, rep, &st, msg);
-    /* The lantern retry (au_sphere_opts.lantern_retry): only for a map that misses its tolerance well,
-     * and not from the coarse-to-fine start, which squeezes no protrusion for the lantern to open: from it
-     * the retry returned the same map (spot, cow, screwdriver, hand_closed) or a worse one (bunny), and its
-     * one better map (penguin_hr) was replaced by the twisted retry's (bench/coarse-to-fine.md). */
-    double ek = rep->twist == 2 ? rep->twist_err : e0;
-    int lantern_due = st == AU_W_NOT_CONVERGED && Pstart && !ml_done && rep->twist != 2 && ek > o.retry_above * o.flow.tol;
-    /* ... and not where its flow would repeat the first one's (the first flow's map, not the twisted
-     * retry's, which was not kept here). */
-    if (lantern_due && !lantern_would_act(&rep->flow)) lantern_due = 0, rep->lantern_skipped = 1;
-    /* The staged retry (below) before the lantern's where the map is squeezed enough for it: the staged
-     * flows start from the start, not from the map, and where their map was kept the lantern's had been
-     * made for nothing (octopus: lantern kept, then replaced by the staged map; docs/sphere-retries.md). */
-    const int staged_allowed = o.staged_retry > 0 && !o.flow.weight && !o.flow.face_weight;
-    int staged_done = 0;
-    if (lantern_due && staged_allowed) {
-      int nsq = 0;
-      if (au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED) {
-        staged_retry(m, t, plan, &dom, &o, Pstart, P, rep, &st, msg);
-        staged_done = 1;
-        if (rep->staged == 2) ek = rep->staged_err[1], lantern_due = 0;
-        if (st != AU_W_NOT_CONVERGED) lantern_due = 0;
-      }
-    }
-    if (lantern_due) {
-      au_advect_report *r2 = malloc(sizeof *r2);
-      double *P2 = malloc(sizeof(double) * 3 * (size_t)m->nv);
-      au_msg msg2 = {0};
-      if (r2 && P2) {
-        au_advect_opts o2 = o.flow;
-        o2.lantern = o.lantern_retry;
-        memcpy(P2, Pstart, sizeof(double) * 3 * (size_t)m->nv);
-        au_status st2 = au_advect_run_plan(plan, &dom, &o2, P2, r2, &msg2);
-        double e1 = st2 == AU_OK || st2 == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o.flow, P2) : INFINITY;
-        rep->retry_err[0] = ek, rep->retry_err[1] = e1;
-        rep->retry = 1 + keep_better(m->nv, st2, e1, P2, r2, &msg2, ek, P, rep, &st, msg);
-        if (rep->retry == 2) ek = e1;
-        if (rep->twist == 3) rep->twist_err = ek;
-      }
-      free(r2), free(P2);
-    }
-    /* A map the lantern did not bring within the gate may still have its floor excess past it. */
-    if (twist_gate && !rep->twist && st == AU_W_NOT_CONVERGED && ek > o.retry_above * o.flow.tol &&
-        chord_floor_excess(m, P) > o.twist_retry)
-      twisted_retry(m, t, plan, &dom, &o, ek, P, rep, &st, msg);
-    if (st == AU_W_NOT_CONVERGED && staged_allowed && !staged_done) {
-      int nsq = 0;
-      if (au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED)
-        staged_retry(m, t, plan, &dom, &o, Pstart, P, rep, &st, msg);
-    }
+    if (st == AU_W_NOT_CONVERGED) sphere_retries(m, t, plan, &dom, &o, Pstart, ml_done, strong, e0, P, rep, &st, msg);
     free(Pstart);
     if (st == AU_W_NOT_CONVERGED && o.vertex_polish > 0) {
       au_status sp = au_sphere_polish_map(m, t, &o, P, rep, msg);
