@@ -458,6 +458,29 @@ static void json_num(char *s, size_t n, double v) {
   else snprintf(s, n, "null");
 }
 
+/* The samples as CSV: a header, then one row per grid cell (its row, column, the longitude and latitude of
+ * its centre, then its K columns). */
+static au_status write_samples_csv(const tex_args *a, int K, const double *out, au_msg *msg) {
+  size_t n = (size_t)a->W * a->H, cap = 256 + n * (size_t)(40 + 26 * K), len = 0;
+  char *text = malloc(cap);
+  if (!text) return au_msg_set(msg, AU_E_NOMEM, "out of memory for the samples");
+  len += (size_t)snprintf(text, cap, "row,col,lon,lat,x,y,z");
+  if (a->normals) len += (size_t)snprintf(text + len, cap - len, ",nx,ny,nz");
+  for (int k = 0; k < a->nattr; k++) len += (size_t)snprintf(text + len, cap - len, ",attr%d", k);
+  len += (size_t)snprintf(text + len, cap - len, "\n");
+  for (int r = 0; r < a->H; r++)
+    for (int c = 0; c < a->W; c++) {
+      double lon = -180 + 360 * (c + 0.5) / a->W, lat = asin(1 - 2 * (r + 0.5) / a->H) * 180 / M_PI;
+      len += (size_t)snprintf(text + len, cap - len, "%d,%d,%.12g,%.12g", r, c, lon, lat);
+      const double *v = out + ((size_t)r * a->W + c) * K;
+      for (int k = 0; k < K; k++) len += (size_t)snprintf(text + len, cap - len, ",%.17g", v[k]);
+      len += (size_t)snprintf(text + len, cap - len, "\n");
+    }
+  au_status st = len < cap ? au_write_text(a->out, text, len, msg) : AU_E_INTERNAL;
+  free(text);
+  return st;
+}
+
 static int run_sample(const tex_args *a) {
   double t_start = cli_now();
   double t_read = 0, t_check = 0;
@@ -468,7 +491,6 @@ static int run_sample(const tex_args *a) {
   au_locator *loc = NULL;
   double *P = NULL, *bary = NULL, *out = NULL, *A = NULL, *tmp = NULL, *area = NULL;
   int *face = NULL;
-  char *text = NULL;
   au_msg msg = {{0}};
   au_status st;
   au_metrics met;
@@ -555,25 +577,7 @@ static int run_sample(const tex_args *a) {
     long shape[3] = {a->H, a->W, K};
     rc = write_done(&w, a->out, au_npy_write(a->out, 3, shape, out, &msg), &msg);
   } else {
-    size_t cap = 256 + n * (size_t)(40 + 26 * K), len = 0;
-    text = malloc(cap);
-    if (!text) {
-      rc = write_done(&w, a->out, AU_E_NOMEM, NULL);
-      goto done;
-    }
-    len += (size_t)snprintf(text, cap, "row,col,lon,lat,x,y,z");
-    if (a->normals) len += (size_t)snprintf(text + len, cap - len, ",nx,ny,nz");
-    for (int k = 0; k < a->nattr; k++) len += (size_t)snprintf(text + len, cap - len, ",attr%d", k);
-    len += (size_t)snprintf(text + len, cap - len, "\n");
-    for (int r = 0; r < a->H; r++)
-      for (int c = 0; c < a->W; c++) {
-        double lon = -180 + 360 * (c + 0.5) / a->W, lat = asin(1 - 2 * (r + 0.5) / a->H) * 180 / M_PI;
-        len += (size_t)snprintf(text + len, cap - len, "%d,%d,%.12g,%.12g", r, c, lon, lat);
-        const double *v = out + ((size_t)r * a->W + c) * K;
-        for (int k = 0; k < K; k++) len += (size_t)snprintf(text + len, cap - len, ",%.17g", v[k]);
-        len += (size_t)snprintf(text + len, cap - len, "\n");
-      }
-    rc = write_done(&w, a->out, len < cap ? au_write_text(a->out, text, len, &msg) : AU_E_INTERNAL, &msg);
+    rc = write_done(&w, a->out, write_samples_csv(a, K, out, &msg), &msg);
   }
   if (rc >= 0) goto done;
   if (a->report) {
@@ -606,7 +610,7 @@ static int run_sample(const tex_args *a) {
 done:
   au_locator_free(&loc);
   au_mesh_free(&m);
-  free(P), free(A), free(face), free(bary), free(out), free(tmp), free(area), free(text);
+  free(P), free(A), free(face), free(bary), free(out), free(tmp), free(area);
   return rc;
 }
 
