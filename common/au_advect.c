@@ -141,7 +141,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.shear_tail = 0.01;
   o.sphere_areas = 1;
   o.face_gain = 0.1;
-  o.shorter_moves = 1;
+  o.shorter_moves = 0;
   o.restore = 0.1;
   o.lantern = 0;
   o.angle_steps = 0;

@@ -87,7 +87,8 @@ typedef struct au_advect_opts {
   int shorter_moves;    /* 1: a step without shape restoring that made the per-face error worse is first
                            taken again at half, then a quarter, of its move along the same solved direction
                            (no factorization), and only then solved again stiffer; 0: solved again stiffer
-                           at once (1; docs/flow-undone.md) */
+                           at once (0: on the shared meshes it saved 1.7% of the factorizations, and two maps
+                           ended worse through the global polish; docs/flow-undone.md) */
 
   /* ---- sphere only (least shear) ---- */
   int sphere_areas;     /* 1: the flow drives the areas of the spherical triangles, then polishes those of
