@@ -722,8 +722,9 @@ static flow_verdict decide_faces(flow_state *s) {
 
 /* Least shear: Levenberg-Marquardt control of the shear weight. A step that made the per-face mean
  * |log r| worse is undone and redone stiffer (the mean |r - 1| barely sees a squeezed face grow and
- * punishes an overgrown one without bound, so it undid good steps). Past AU_SHEAR_MAX, or with the
- * budget spent, no stiffer step is worth a try: this part of the flow ends at the last accepted map.
+ * punishes an overgrown one without bound, so it undid good steps); with shorter_moves, first taken
+ * again shorter along its solved direction (no solve). Past AU_SHEAR_MAX, or with the budget spent, no
+ * stiffer step is worth a try: this part of the flow ends at the last accepted map.
  * Returns 1 if the step was undone. */
 static int least_shear_undo(flow_state *s) {
   if (!(s->k > 0 && !(s->flog <= s->prev_flog * (1 + AU_SAME_REL)))) return 0;
