@@ -67,11 +67,6 @@
 /* An undone least-shear step is retried with the shear weight this many times stiffer. */
 #define AU_SHEAR_UNDO_FACTOR 4
 
-/* Before that retry (a new factorization), the same solved direction is taken again at this fraction
- * of the move, then at its square, and kept if it passes the same test: the step control and the
- * measure only. */
-#define AU_SHORTEN 0.5
-
 /* An accepted least-shear step halves the shear weight (Levenberg-Marquardt style), down to its floor. */
 #define AU_SHEAR_DECAY 0.5
 
@@ -141,7 +136,6 @@ au_advect_opts au_advect_opts_default(void) {
   o.shear_tail = 0.01;
   o.sphere_areas = 1;
   o.face_gain = 0.1;
-  o.shorter_moves = 0;
   o.restore = 0.1;
   o.lantern = 0;
   o.angle_steps = 0;
@@ -498,11 +492,6 @@ typedef struct flow_state {
   double alpha;     /* the least-shear step's shear weight */
   double prev_err, prev_ferr, prev_flog; /* the last measure that led to a step */
   int retry;        /* the next least-shear solve retries an undone step */
-  double alpha_solved; /* the shear weight of the last least-shear solve */
-  double rise_full; /* how much the last solved direction, taken in full, raised the per-face mean |log r| */
-  double shorten;   /* the fraction of its solved direction the last least-shear move took (1: all of it) */
-  int short_k;      /* the step number at which the solved direction is taken again, shorter (-1: none) */
-  flow_phase short_phase; /* ... and in which phase */
   int restored;     /* the last least-shear solve had shape restoring */
   int restore_off;  /* shape restoring is off for the rest of this run (see solve_least_shear) */
   int near_start;   /* the start is near equal area and already sheared (see start_shear) */
@@ -667,9 +656,6 @@ static au_status measure_map(flow_state *s) {
   return AU_OK;
 }
 
-/* Whether this round's move takes the last solved direction again, shorter (least_shear_undo). */
-static int shortened_due(const flow_state *s) { return s->short_k == s->k && s->phase == s->short_phase; }
-
 /* Go back to the map before the last step. */
 static void undo_step(flow_state *s) {
   memcpy(s->P, s->Pold, sizeof(double) * 3 * s->nv);
@@ -722,35 +708,16 @@ static flow_verdict decide_faces(flow_state *s) {
 
 /* Least shear: Levenberg-Marquardt control of the shear weight. A step that made the per-face mean
  * |log r| worse is undone and redone stiffer (the mean |r - 1| barely sees a squeezed face grow and
- * punishes an overgrown one without bound, so it undid good steps); with shorter_moves, first taken
- * again shorter along its solved direction (no solve). Past AU_SHEAR_MAX, or with the budget spent, no
- * stiffer step is worth a try: this part of the flow ends at the last accepted map.
+ * punishes an overgrown one without bound, so it undid good steps). Past AU_SHEAR_MAX, or with the
+ * budget spent, no stiffer step is worth a try: this part of the flow ends at the last accepted map.
  * Returns 1 if the step was undone. */
 static int least_shear_undo(flow_state *s) {
   if (!(s->k > 0 && !(s->flog <= s->prev_flog * (1 + AU_SAME_REL)))) return 0;
-  const int stiffer = s->alpha_solved * AU_SHEAR_UNDO_FACTOR <= AU_SHEAR_MAX && s->k + s->rep->undone <= s->o->max_steps;
-  /* The shorter moves: half, then a quarter, the second only where the error along the direction,
-   * taken as a parabola through the full and the half move, descends at the start (then the half
-   * move's rise is below a quarter of the full one's). */
-  const double rise = s->flog - s->prev_flog;
-  if (s->shorten == 1) s->rise_full = rise;
-  /* Not a step with shape restoring: its retry solves without it, a direction of its own, and the
-   * restoring one taken shorter kept fighting the areas (penguin_hr's lantern flow stalled at vertex
-   * error 0.41 against 0.031). */
-  const int shorter = s->o->shorter_moves && !s->restored && (s->shorten == 1 || (s->shorten == AU_SHORTEN && rise < 0.25 * s->rise_full));
-  /* The weight: a stiffer retry's, which the measure of the map before the step decays once more;
-   * after a shorter move that is kept the next solve has that weight too (its accept decays it again). */
-  if (stiffer) s->alpha = s->alpha_solved * AU_SHEAR_UNDO_FACTOR / (shorter ? AU_SHEAR_DECAY : 1);
-  if (stiffer && shorter) {
-    memcpy(s->P, s->Pold, sizeof(double) * 3 * s->nv);
-    s->shorten *= AU_SHORTEN;
-    s->short_k = s->k - 1, s->short_phase = s->phase;
-    s->rep->shortened++;
-    return 1;
-  }
   undo_step(s);
   s->retry = 1;
-  if (!stiffer) s->exhausted = 1;
+  if (s->alpha * AU_SHEAR_UNDO_FACTOR <= AU_SHEAR_MAX && s->k + s->rep->undone <= s->o->max_steps)
+    s->alpha *= AU_SHEAR_UNDO_FACTOR;
+  else s->exhausted = 1;
   return 1;
 }
 
@@ -812,7 +779,7 @@ static flow_verdict decide_least_shear(flow_state *s) {
    * step has been undone. Its floor is shear_tail, or face_shear_tail (if set) once the vertex cells
    * meet tol. */
   const double least = o->face_shear_tail > 0 && err <= o->tol ? o->face_shear_tail : o->shear_tail;
-  if (k > 0) s->alpha = fmax((s->rep->resolved && !s->rep->undone && !s->rep->shortened ? o->resolved_decay : AU_SHEAR_DECAY) * s->alpha, least);
+  if (k > 0) s->alpha = fmax((s->rep->resolved && !s->rep->undone ? o->resolved_decay : AU_SHEAR_DECAY) * s->alpha, least);
   s->prev_flog = s->flog;
   const int stalled = least_shear_stalled(s);
   /* The spherical part ends when its vertex cells meet tol (the chord polish refines the faces from
@@ -894,9 +861,6 @@ static au_status solve_least_shear(flow_state *s, flow_solved *out) {
   const int nf = s->nf, sph_areas = s->phase == FLOW_SPHERICAL;
   au_status st = AU_OK;
   *out = SOLVED_MOVE;
-  /* A shortened move reuses D as it was solved: nothing to solve. */
-  if (shortened_due(s)) return AU_OK;
-  s->shorten = 1, s->short_k = -1;
   least_shear_targets(s);
   if (!*s->lmp && (st = au__lm_create(s->m, s->t, s->lmp, s->msg)) != AU_OK) return st;
   /* Face weights: the target areas (the faces' shares of the surface), at most AU_WEIGHT_CAP times the
@@ -921,7 +885,6 @@ static au_status solve_least_shear(flow_state *s, flow_solved *out) {
   const int lantern_on = restore > 0 && s->err < AU_LANTERN_BELOW;
   if (lantern_on) s->rep->lantern_steps++;
   const double lantern = lantern_on ? o->lantern : 0;
-  s->alpha_solved = s->alpha;
   st = au__lm_step(*s->lmp, s->dom, s->P, s->dA_f, s->Gf, s->alpha, AU_ROTATION_EPS, sph_areas, restore, lantern, s->D, s->msg);
   if (st != AU_E_NOT_SPD) return st;
   /* Rounding made the system indefinite: retry stiffer at the next step number, or, as stiff as it
@@ -1107,11 +1070,6 @@ static int move_and_check(flow_state *s) {
 static void take_step(flow_state *s) {
   const int nv = s->nv;
   step_fractions(s);
-  if (shortened_due(s)) {
-    for (int i = 0; i < nv; i++) s->lim[i] *= s->shorten;
-    s->rep->frac[s->k] *= s->shorten;
-    s->short_k = -1;
-  }
   memcpy(s->Pold, s->P, sizeof(double) * 3 * nv);
   for (int f = 0; f < s->nf; f++) s->orient_old[f] = face_orient(s->P, s->F, s->dom->shift, f, s->sph);
   for (int tries = 0; move_and_check(s); tries++) {
@@ -1139,7 +1097,6 @@ static au_status flow_begin(flow_state *s) {
   }
   s->phase = !s->ls ? FLOW_CELLS : s->sph && s->o->sphere_areas ? FLOW_SPHERICAL : FLOW_CHORD;
   s->alpha = s->o->shear;
-  s->shorten = 1, s->short_k = -1;
   s->prev_err = s->prev_ferr = s->prev_flog = INFINITY;
   s->ang_prev = INFINITY;
   return AU_OK;
@@ -1447,7 +1404,7 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
       !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.restore_gate >= 0) || !(o.lantern >= 0) ||
       o.angle_steps < 0 || !(o.angle_faces >= 0) || !(o.angle_cells >= 0) || !(o.angle_trust > 0) || !(o.angle_switch >= 0) ||
       !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) || !(o.face_shear_tail >= 0) ||
-      !(o.resolved_log_step > 0) || (o.shorter_moves != 0 && o.shorter_moves != 1))
+      !(o.resolved_log_step > 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
   if (o.weight && o.face_weight) return au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");
   /* The Poisson method's systems (au_gn.c, the cotan stiffness) read the corners unshifted. */

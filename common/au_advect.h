@@ -84,11 +84,6 @@ typedef struct au_advect_opts {
                            error by at least this fraction in four steps (in the sphere's chord polish: a
                            quarter of it in one step) (0.1; 0 <= x < 1): the refinement must be worth its
                            steps; 0.02 refines as long as anything happens */
-  int shorter_moves;    /* 1: a step without shape restoring that made the per-face error worse is first
-                           taken again at half, then a quarter, of its move along the same solved direction
-                           (no factorization), and only then solved again stiffer; 0: solved again stiffer
-                           at once (0: on the shared meshes it saved 1.7% of the factorizations, and two maps
-                           ended worse through the global polish; docs/flow-undone.md) */
 
   /* ---- sphere only (least shear) ---- */
   int sphere_areas;     /* 1: the flow drives the areas of the spherical triangles, then polishes those of
@@ -174,8 +169,6 @@ typedef struct au_advect_report {
                                            (err and face_err are spherical before it), else 0 */
   int undone;                           /* steps solved, then undone for making the areas worse (not in
                                            steps: the solves are steps + undone) */
-  int shortened;                        /* moves that made the areas worse, undone and taken again shorter
-                                           along the same solved direction (no solve: not in undone) */
   double start_jump;                    /* the start's mean jump of log r across interior edges (see
                                            au_advect_opts.resolved_jump) */
   int resolved;                         /* 1 if the flow ran the resolved schedule */

@@ -515,47 +515,6 @@ static int undone_steps_leave_no_trace(void) {
   return 0;
 }
 
-/* A least-shear step that made the per-face error worse is first taken again shorter along its solved
- * direction (half, then a quarter: no solve), and only then solved again stiffer (a factorization):
- * docs/flow-undone.md. spiky_ico's flow alone (no retry, no polish, a budget of 120 solves so that the
- * polish ends by its own tests): measured 67 steps and 4 undone (71 solves) with 12 shorter moves,
- * against 66 steps and 14 undone (80 solves) with shorter_moves 0, at vertex 0.0320 against 0.0315 and
- * per-face 0.0718 against 0.0716. */
-static int shorter_moves(void) {
-  loaded L;
-  if (load("spiky_ico.obj", 1, &L)) return 1;
-  au_msg msg = {{0}};
-  au_sphere_opts o = au_sphere_opts_default();
-  o.lantern_retry = 0, o.twist_retry = 0, o.staged_retry = 0, o.vertex_polish = 0, o.global_polish = 0;
-  o.flow.max_steps = 120;
-  for (int shorter = 1; shorter >= 0; shorter--) {
-    o.flow.shorter_moves = shorter;
-    au_sphere_report rep;
-    au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, &rep, &msg);
-    AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
-    const au_advect_report *r = &rep.flow;
-    au_metrics q;
-    AU_CHECK_STATUS(au_metrics_compute(L.m->nv, L.m->nf, L.m->X, L.P, L.m->F, AU_DOMAIN_SPHERE, &q, NULL, NULL), AU_OK,
-                    (au_msg *)NULL);
-    fprintf(stderr, "spiky_ico, shorter_moves %d: %d steps, %d undone, %d shorter; vertex %.5f, per-face %.5f\n",
-            shorter, r->steps, r->undone, r->shortened, q.vertex_logr_mean_abs, q.r_mean_abs_dev);
-    AU_CHECK_INT(q.folds, ==, 0);
-    AU_CHECK_DBL(q.vertex_logr_mean_abs, <=, 0.035);
-    AU_CHECK_DBL(q.r_mean_abs_dev, <=, 0.08);
-    if (shorter) {
-      AU_CHECK_INT(r->shortened, >, 0);
-      AU_CHECK_INT(r->steps + r->undone, <=, 75);
-    } else {
-      AU_CHECK_INT(r->shortened, ==, 0);
-      AU_CHECK_INT(r->steps + r->undone, >, 75);
-    }
-  }
-  o.flow.shorter_moves = 2;
-  AU_CHECK_STATUS(au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg), AU_E_ARG, &msg);
-  unload(&L);
-  return 0;
-}
-
 /* The chord-area polish runs only where the chord triangles' areas fall behind the spherical ones':
  * not on the smooth ellipsoid (measured: no polish, 17 steps), but on spiky_ico's needles. */
 static int polish_when_needed(void) {
@@ -937,10 +896,6 @@ static int global_polish_limbs4(void) {
   au_msg msg = {{0}};
   au_sphere_opts o = au_sphere_opts_default();
   o.global_polish = 0; /* the map the vertex polish leaves */
-  /* The figures below are this polish's from the map the flow left before its shorter moves
-   * (docs/flow-undone.md): from today's map the squares' polish reaches per-face 0.0670 where the robust
-   * one stops at 0.0717, and the per-face window stops where the tolerance does (step 25). */
-  o.flow.shorter_moves = 0;
   au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg);
   AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
   const int nv = L.m->nv, nf = L.m->nf, *F = L.m->F;
@@ -1402,7 +1357,7 @@ int main(int argc, char **argv) {
       {"conformal_ellipsoid", conformal_ellipsoid}, {"balance_centroid", balance_centroid},
       {"map_ellipsoid", map_ellipsoid},             {"resolved_schedule", resolved_schedule},
       {"map_spiky", map_spiky},
-      {"map_bumpy", map_bumpy}, {"map_dumbbell", map_dumbbell}, {"polish_when_needed", polish_when_needed}, {"order_independent", order_independent}, {"plan_in_thread", plan_in_thread}, {"undone_steps_leave_no_trace", undone_steps_leave_no_trace}, {"shorter_moves", shorter_moves}, {"phase_transitions", phase_transitions},                     {"restore_shapes", restore_shapes}, {"lantern_retry", lantern_retry}, {"lantern_skipped", lantern_skipped}, {"staged_before_lantern", staged_before_lantern}, {"vertex_polish", vertex_polish}, {"vertex_polish_spherical", vertex_polish_spherical}, {"angle_steps", angle_steps},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
+      {"map_bumpy", map_bumpy}, {"map_dumbbell", map_dumbbell}, {"polish_when_needed", polish_when_needed}, {"order_independent", order_independent}, {"plan_in_thread", plan_in_thread}, {"undone_steps_leave_no_trace", undone_steps_leave_no_trace}, {"phase_transitions", phase_transitions},                     {"restore_shapes", restore_shapes}, {"lantern_retry", lantern_retry}, {"lantern_skipped", lantern_skipped}, {"staged_before_lantern", staged_before_lantern}, {"vertex_polish", vertex_polish}, {"vertex_polish_spherical", vertex_polish_spherical}, {"angle_steps", angle_steps},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
       {"folded_start_refused", folded_start_refused}, {"compressed_start_limbs8", compressed_start_limbs8},
       {"refine_mesh_limbs4", refine_mesh_limbs4}, {"refine_spherical_split_limbs8", refine_spherical_split_limbs8},
       {"global_polish_limbs4", global_polish_limbs4}, {"global_polish_active_limbs4", global_polish_active_limbs4}, {"twisted_start", twisted_start},
