@@ -148,8 +148,9 @@ au_advect_opts au_advect_opts_default(void) {
   o.resolved_decay = 0.25;
   o.resolved_shear = 0.1;
   o.resolved_log_step = 2;
-  /* bunny 9 steps and 10 factorizations instead of 10 and 11, maxplanck, ferret_brain_sim, lion_statue one
-   * step fewer, each within 5% of its per-face and vertex error (docs/flow-tail.md). */
+  /* bunny 9 steps and 10 factorizations instead of 10 and 11; maxplanck, ferret_brain_sim, lion_statue, brain
+   * one step fewer, armadillo 9; within 5% of their per-face and vertex errors but brain's vertex (0.0011 ->
+   * 0.0015) and penguin_hr (docs/flow-tail.md). */
   o.sphere_resolved_schedule_steps = 3;
   o.sphere_resolved_log_step = 2.5;
   o.sphere_resolved_shear_tail = 0.007;
@@ -781,8 +782,8 @@ static flow_verdict decide_least_shear(flow_state *s) {
     return begin_angles(s);
   if (least_shear_undo(s)) return FLOW_REDO;
   /* An accepted step lets the next be bolder. The resolved schedule drops the weight faster, until a
-   * step has been undone. Its floor is shear_tail, or face_shear_tail (if set) once the vertex cells
-   * meet tol. */
+   * step has been undone. Its floor is shear_tail (on the sphere's resolved schedule, until then,
+   * sphere_resolved_shear_tail), or face_shear_tail (if set) once the vertex cells meet tol. */
   const double tail = s->rep->resolved && s->sph && !s->rep->undone ? o->sphere_resolved_shear_tail : o->shear_tail;
   const double least = o->face_shear_tail > 0 && err <= o->tol ? o->face_shear_tail : tail;
   if (k > 0) s->alpha = fmax((s->rep->resolved && !s->rep->undone ? o->resolved_decay : AU_SHEAR_DECAY) * s->alpha, least);
@@ -832,7 +833,8 @@ static au_status solve_angles(flow_state *s, flow_solved *out) {
 }
 
 /* The least-shear step's wanted per-face area changes dA_f: targets on the geometric schedule, each
- * ratio moving at most e^max_log_step (on the resolved schedule e^resolved_log_step). */
+ * ratio moving at most e^max_log_step (on the resolved schedule e^resolved_log_step; on the sphere's,
+ * until a step is undone, sphere_resolved_schedule_steps and e^sphere_resolved_log_step). */
 static void least_shear_targets(flow_state *s) {
   const au_advect_opts *o = s->o;
   const int nf = s->nf, k = s->k;
