@@ -148,6 +148,12 @@ au_advect_opts au_advect_opts_default(void) {
   o.resolved_decay = 0.25;
   o.resolved_shear = 0.1;
   o.resolved_log_step = 2;
+  /* bunny 9 steps and 10 factorizations instead of 10 and 11; maxplanck, ferret_brain_sim, lion_statue, brain
+   * one step fewer, armadillo 9; within 5% of their per-face and vertex errors but brain's vertex (0.0011 ->
+   * 0.0015) and penguin_hr (docs/flow-tail.md). */
+  o.sphere_resolved_schedule_steps = 3;
+  o.sphere_resolved_log_step = 2.5;
+  o.sphere_resolved_shear_tail = 0.007;
   /* Restoring aims each face back at the surface's shape by a fixed fraction of the linear motion, which
    * on a start whose triangles are already sheared asks for moves of several triangle sizes: the step
    * control cut bunny's first step from the coarse-to-fine start to 1.4%, and every other restoring step
@@ -776,9 +782,10 @@ static flow_verdict decide_least_shear(flow_state *s) {
     return begin_angles(s);
   if (least_shear_undo(s)) return FLOW_REDO;
   /* An accepted step lets the next be bolder. The resolved schedule drops the weight faster, until a
-   * step has been undone. Its floor is shear_tail, or face_shear_tail (if set) once the vertex cells
-   * meet tol. */
-  const double least = o->face_shear_tail > 0 && err <= o->tol ? o->face_shear_tail : o->shear_tail;
+   * step has been undone. Its floor is shear_tail (on the sphere's resolved schedule, until then,
+   * sphere_resolved_shear_tail), or face_shear_tail (if set) once the vertex cells meet tol. */
+  const double tail = s->rep->resolved && s->sph && !s->rep->undone ? o->sphere_resolved_shear_tail : o->shear_tail;
+  const double least = o->face_shear_tail > 0 && err <= o->tol ? o->face_shear_tail : tail;
   if (k > 0) s->alpha = fmax((s->rep->resolved && !s->rep->undone ? o->resolved_decay : AU_SHEAR_DECAY) * s->alpha, least);
   s->prev_flog = s->flog;
   const int stalled = least_shear_stalled(s);
@@ -826,14 +833,17 @@ static au_status solve_angles(flow_state *s, flow_solved *out) {
 }
 
 /* The least-shear step's wanted per-face area changes dA_f: targets on the geometric schedule, each
- * ratio moving at most e^max_log_step (on the resolved schedule e^resolved_log_step). */
+ * ratio moving at most e^max_log_step (on the resolved schedule e^resolved_log_step; on the sphere's,
+ * until a step is undone, sphere_resolved_schedule_steps and e^sphere_resolved_log_step). */
 static void least_shear_targets(flow_state *s) {
   const au_advect_opts *o = s->o;
   const int nf = s->nf, k = s->k;
   const double *af = s->af, *As = s->As, *fw = s->fw, scale = s->scale, SO = s->SO;
   double *dA_f = s->dA_f;
-  double sch = k < o->schedule_steps ? 1.0 / (double)(o->schedule_steps - k) : 1.0, sum_new = 0;
-  const double cap = s->rep->resolved ? o->resolved_log_step : o->max_log_step;
+  const int sph_resolved = s->rep->resolved && s->sph && !s->rep->undone;
+  const int K = sph_resolved ? o->sphere_resolved_schedule_steps : o->schedule_steps;
+  double sch = k < K ? 1.0 / (double)(K - k) : 1.0, sum_new = 0;
+  const double cap = sph_resolved ? o->sphere_resolved_log_step : s->rep->resolved ? o->resolved_log_step : o->max_log_step;
   for (int f = 0; f < nf; f++) {
     double lr = sch * log(As[f] * fw[f] * scale / af[f]);
     if (lr > cap) lr = cap;
@@ -1404,7 +1414,8 @@ au_status au_advect_run_plan(au_advect_plan *plan, const au_advect_domain *dom, 
       !(o.tol >= 0) || !(o.face_gain >= 0 && o.face_gain < 1) || !(o.restore >= 0 && o.restore <= 1) || !(o.restore_gate >= 0) || !(o.lantern >= 0) ||
       o.angle_steps < 0 || !(o.angle_faces >= 0) || !(o.angle_cells >= 0) || !(o.angle_trust > 0) || !(o.angle_switch >= 0) ||
       !(o.polish_gap >= 0) || !(o.resolved_jump >= 0) || !(o.resolved_decay > 0 && o.resolved_decay <= 1) || !(o.resolved_shear >= 0) || !(o.face_shear_tail >= 0) ||
-      !(o.resolved_log_step > 0))
+      !(o.resolved_log_step > 0) || o.sphere_resolved_schedule_steps < 1 || !(o.sphere_resolved_log_step > 0) ||
+      !(o.sphere_resolved_shear_tail >= 0))
     return au_msg_set(msg, AU_E_ARG, "advect: options out of range");
   if (o.weight && o.face_weight) return au_msg_set(msg, AU_E_ARG, "advect: give a per-vertex or a per-face density, not both");
   /* The Poisson method's systems (au_gn.c, the cotan stiffness) read the corners unshifted. */

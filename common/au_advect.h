@@ -131,6 +131,14 @@ typedef struct au_advect_opts {
                                step (then by 0.5 as usual) (0 < x <= 1, 0.25) */
   double resolved_log_step; /* a face's area changes by at most this factor's log in one step, instead of
                                max_log_step (2) */
+  /* On the sphere the resolved schedule is shorter, until a step has been undone: past its first steps the
+   * error is held by the growth cap on the most squeezed faces, not by the schedule (docs/flow-tail.md).
+   * Planar domains and the torus keep the fields above. */
+  int sphere_resolved_schedule_steps; /* K of eq. 19 for the per-face targets, instead of schedule_steps (3) */
+  double sphere_resolved_log_step;    /* instead of resolved_log_step (2.5) */
+  double sphere_resolved_shear_tail;  /* the shear weight's floor, instead of shear_tail (0.007): the shorter
+                                         schedule lands its last step from further out, and a lower floor takes
+                                         more of the per-face error out in each tail step */
 
   /* ---- the angle steps (least shear, au_ang.c) ---- */
   int angle_steps;      /* after the flow, at most this many angle steps: each a Gauss-Newton step towards

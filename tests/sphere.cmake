@@ -12,4 +12,8 @@ if(NOT AU_SANITIZE)
   add_test(NAME test_sphere.near_start_bunny COMMAND test_sphere near_start_bunny)
   set_tests_properties(test_sphere.near_start_bunny PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
                        ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_THREAD_LIMIT=1")
+  # ../shared's bunny on the sphere's shorter resolved schedule (about 4 s on a loaded machine).
+  add_test(NAME test_sphere.resolved_bunny COMMAND test_sphere resolved_bunny)
+  set_tests_properties(test_sphere.resolved_bunny PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
+                       ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_THREAD_LIMIT=1")
 endif()
