@@ -176,8 +176,7 @@ au_status au_sphere_vertex_polish(const au_mesh *m, const au_topo *t, const doub
  * max_iter, until five in a row gain less than 0.01% each, the vertex cells' mean |log ratio| is at
  * most tol, or (min_gain) ten steps have gained too little of what a user measures (a map already there is left alone). face_w: per-face target density (NULL:
  * equal area). P: in/out, nv x 3 unit vectors, fold-free; stays so. A vertex with more than 64 faces
- * leaves P unchanged. *iters (may be NULL): steps taken. With active > 0 a step may solve for some
- * vertices only, the others held exactly (docs/sphere-polish-active.md; the sphere map leaves it off).
+ * leaves P unchanged. *iters (may be NULL): steps taken.
  * Returns AU_OK, AU_E_ARG, AU_E_NOMEM, AU_E_CANCELLED (P as after the last step, fold-free). */
 typedef struct au_gpolish_opts {
   int max_iter;          /* at most this many steps */
@@ -199,16 +198,6 @@ typedef struct au_gpolish_opts {
                           * already at the tolerance when the polish starts is left as it is */
   double face_gain;      /* see face_window (0..1) */
   double face_target;    /* see face_window (>= 0) */
-  double active;         /* > 0: solve each step for the active vertices only, the rest held where they are: the
-                          * vertices that hold all but this part of the sum over vertices of the cost one
-                          * vertex's own Gauss-Newton step would gain, grown by active_rings rings ([0, 1); 0:
-                          * every vertex every step, as au_sphere_gpolish_settings leaves it) */
-  int active_rings;      /* see active (>= 0; 0, as au_sphere_gpolish_settings leaves it) */
-  double active_max;     /* see active: where the active vertices are more than this part of all, every vertex
-                          * (0..1; 0, as au_sphere_gpolish_settings leaves it: with it, active is off) */
-  int active_every;      /* see active: the active vertices are chosen again every this many steps, and after a
-                          * step on them that gains nothing (>= 1 where active > 0; 0, as
-                          * au_sphere_gpolish_settings leaves it) */
 } au_gpolish_opts;
 au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
                                   const au_gpolish_opts *o, int *iters, au_msg *msg);

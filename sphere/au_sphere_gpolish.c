@@ -16,10 +16,7 @@
  * or tried again with more damping; every map it returns is fold-free.
  *
  * The normal matrix J^T J couples vertices two rings apart (a vertex cell's residual involves the
- * faces around it); its pattern is analyzed once and refactored for every damping tried. With
- * au_gpolish_opts.active a step solves for the active vertices only, on that pattern restricted to them
- * (analyzed again for each choice); measured, it lowers the cost as fast but not the errors a user
- * reads, which are spread over the map (docs/sphere-polish-active.md), so the sphere map leaves it off. The derivative
+ * faces around it); its pattern is analyzed once and refactored for every damping tried. The derivative
  * of the chord triangles' total, which only rescales all shares alike, is left out of J. */
 #include <math.h>
 #include <stdlib.h>
@@ -63,7 +60,6 @@ typedef struct gp {
   int *fidx;            /* [36 nf] add_row's index table of each face's row */
   size_t *vidx_start;   /* [nv + 1] where each cell's row's table starts in vidx */
   int *vidx;
-  int *astart, *adj; /* the neighbours of each vertex: adj[astart[v]..astart[v+1]-1] */
 } gp;
 
 /* Triple products of every face at P; returns 1 if each is above its least allowed value. */
@@ -353,8 +349,7 @@ static int build_pattern(gp *g, const au_topo *t) {
     }
   }
   if (ok) g->colstart[2 * nv] = (int)nz;
-  g->astart = astart, g->adj = adj;
-  free(mark), free(list);
+  free(astart), free(adj), free(mark), free(list);
   return ok;
 }
 
@@ -401,22 +396,6 @@ static int surface_terms(gp *g, const double *X, const double *face_w, double *s
   return 1;
 }
 
-/* The system a step solves: every vertex's two unknowns (act NULL: the pattern g->colstart, g->rows), or
- * the active vertices' act[0..m-1] (ascending), on the full pattern restricted to them (colstart, rows;
- * map[k] is the full pattern's index of entry k); rhs and dx are its own [2m]. */
-typedef struct gp_sys {
-  int m;
-  int *act, *colstart, *rows, *map;
-  double *rhs, *dx;
-  au_spd *spd;
-} gp_sys;
-
-static void sys_free(gp_sys *s) {
-  au_spd_free(&s->spd);
-  free(s->act), free(s->colstart), free(s->rows), free(s->map), free(s->rhs), free(s->dx);
-  memset(s, 0, sizeof *s);
-}
-
 /* Y: P moved by s dx in its tangent bases B, back on the sphere; a vertex with no move stays exactly. */
 static void move_along(int nv, const double *P, const double *B, const double *dx, double s, double *Y) {
   for (int v = 0; v < nv; v++) {
@@ -432,29 +411,19 @@ static void move_along(int nv, const double *P, const double *B, const double *d
   }
 }
 
-/* One damped step from P on the system S: (H + lam diag H) dx = rhs on its unknowns (the others' moves
- * 0), then dx halved until no triple product falls below its least; the moved map in Y (g->orient at
- * Y). Returns 1 with Y, 0 if every halving turned a face, -1 if the solve failed. */
-static int damped_step(gp *g, gp_sys *S, const double *H, const double *rhs, double lam, const double *P,
+/* One damped step from P: (H + lam diag H) dx = rhs on the system spd (g's pattern), then dx halved
+ * until no triple product falls below its least; the moved map in Y (g->orient at Y). Returns 1 with Y,
+ * 0 if every halving turned a face, -1 if the solve failed. */
+static int damped_step(gp *g, au_spd *spd, const double *H, const double *rhs, double lam, const double *P,
                        const double *B, double *dx, double *Y) {
-  const int n = 2 * S->m, *cs = S->act ? S->colstart : g->colstart;
-  double *val = au_spd_values(S->spd);
-  if (S->act)
-    for (int k = 0; k < cs[n]; k++) val[k] = H[S->map[k]];
-  else
-    memcpy(val, H, sizeof(double) * (size_t)cs[n]);
+  const int n = 2 * g->nv, *cs = g->colstart;
+  double *val = au_spd_values(spd);
+  memcpy(val, H, sizeof(double) * (size_t)cs[n]);
   for (int j = 0; j < n; j++) {
     int d = cs[j + 1] - 1; /* the diagonal closes each column */
     val[d] = val[d] * (1 + lam) + 1e-300;
   }
-  if (au_spd_factor(S->spd, NULL) != AU_OK) return -1;
-  if (S->act) {
-    for (int i = 0; i < S->m; i++) S->rhs[2 * i] = rhs[2 * S->act[i]], S->rhs[2 * i + 1] = rhs[2 * S->act[i] + 1];
-    if (au_spd_solve(S->spd, S->rhs, S->dx, NULL) != AU_OK) return -1;
-    memset(dx, 0, sizeof(double) * 2 * (size_t)g->nv);
-    for (int i = 0; i < S->m; i++) dx[2 * S->act[i]] = S->dx[2 * i], dx[2 * S->act[i] + 1] = S->dx[2 * i + 1];
-  } else if (au_spd_solve(S->spd, rhs, dx, NULL) != AU_OK)
-    return -1;
+  if (au_spd_factor(spd, NULL) != AU_OK || au_spd_solve(spd, rhs, dx, NULL) != AU_OK) return -1;
   double s = 1;
   for (int h = 0; h < GP_HALVINGS; h++, s *= 0.5) {
     move_along(g->nv, P, B, dx, s, Y);
@@ -463,12 +432,12 @@ static int damped_step(gp *g, gp_sys *S, const double *H, const double *rhs, dou
   return 0;
 }
 
-/* Damped steps on S from lam up (4x each) until one lowers the cost below c0: 1 with Y, its cost *c1
- * and chord total *Cs1, and *lam 4x the accepted damping; 0 if none did (or a solve failed). */
-static int try_steps(gp *g, gp_sys *S, const double *H, const double *rhs, double *lam, const double *P,
+/* Damped steps from lam up (4x each) until one lowers the cost below c0: 1 with Y, its cost *c1 and
+ * chord total *Cs1, and *lam 4x the accepted damping; 0 if none did (or a solve failed). */
+static int try_steps(gp *g, au_spd *spd, const double *H, const double *rhs, double *lam, const double *P,
                      const double *B, double *dx, double *Y, double c0, double *c1, double *Cs1) {
   for (int tr = 0; tr < GP_DAMP_TRIES; tr++, *lam *= 4) {
-    int ok = damped_step(g, S, H, rhs, *lam, P, B, dx, Y);
+    int ok = damped_step(g, spd, H, rhs, *lam, P, B, dx, Y);
     if (ok < 0) return 0;
     if (!ok) continue;
     *c1 = cost(g, Y, Cs1);
@@ -480,85 +449,12 @@ static int try_steps(gp *g, gp_sys *S, const double *H, const double *rhs, doubl
   return 0;
 }
 
-/* What one vertex's own Gauss-Newton step would gain, vertex by vertex: g^T Hvv^-1 g / 2 over its 2 x 2
- * diagonal block of H and its part of the gradient (cost units, whatever the mesh's scale). */
-static void vertex_gains(const gp *g, const double *H, const double *grad, double *gain) {
-  for (int v = 0; v < g->nv; v++) {
-    double a = H[g->colstart[2 * v + 1] - 1] * (1 + 1e-9) + 1e-300, b = H[g->colstart[2 * v + 2] - 2];
-    double c = H[g->colstart[2 * v + 2] - 1] * (1 + 1e-9) + 1e-300, g0 = grad[2 * v], g1 = grad[2 * v + 1];
-    double det = a * c - b * b;
-    gain[v] = det > 0 ? 0.5 * (c * g0 * g0 - 2 * b * g0 * g1 + a * g1 * g1) / det : 0.5 * (g0 * g0 / a + g1 * g1 / c);
-    /* qsort's comparison must be a total order: a NaN gain would break it. */
-    if (!isfinite(gain[v])) gain[v] = 0;
-  }
-}
-
-static int cmp_desc(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x < y) - (x > y);
-}
-
-/* The active vertices: those of largest gain[] that together leave at most part of its sum to the rest,
- * grown by rings rings over the edges (astart, adj); into S->act (ascending), S->m. pos [nv]: each
- * vertex's index in S->act, or -1. Returns 0 out of memory. */
-static int choose_active(const gp *g, const int *astart, const int *adj, const double *gain, double part, int rings,
-                         gp_sys *S, int *pos, double *tmp) {
-  const int nv = g->nv;
-  double sum = 0;
-  for (int v = 0; v < nv; v++) tmp[v] = gain[v], sum += gain[v];
-  qsort(tmp, (size_t)nv, sizeof(double), cmp_desc);
-  double left = sum, thr = INFINITY;
-  for (int i = 0; i < nv && left > part * sum; i++) thr = tmp[i], left -= tmp[i];
-  for (int v = 0; v < nv; v++) pos[v] = gain[v] >= thr && gain[v] > 0 ? 0 : -1;
-  for (int r = 0, grew = 1; r < rings && grew; r++) {
-    grew = 0;
-    for (int v = 0; v < nv; v++)
-      if (pos[v] == r)
-        for (int i = astart[v]; i < astart[v + 1]; i++)
-          if (pos[adj[i]] < 0) pos[adj[i]] = r + 1, grew = 1;
-  }
-  int m = 0;
-  for (int v = 0; v < nv; v++) pos[v] = pos[v] >= 0 ? m++ : -1;
-  S->m = m;
-  S->act = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1));
-  if (!S->act) return 0;
-  for (int v = 0; v < nv; v++)
-    if (pos[v] >= 0) S->act[pos[v]] = v;
-  return 1;
-}
-
-/* S's pattern: the full one's entries between active vertices (pos as choose_active left it), in the
- * same order (the active vertices ascending keep each column's rows sorted and its diagonal last), and
- * its analysis. Returns AU_OK, AU_E_NOMEM, AU_E_NUMERIC. */
-static au_status sub_system(const gp *g, gp_sys *S, const int *pos, au_msg *msg) {
-  const int m = S->m;
-  size_t nz = 0;
-  for (int i = 0; i < m; i++)
-    for (int c = 0; c < 2; c++)
-      for (int p = g->colstart[2 * S->act[i] + c]; p < g->colstart[2 * S->act[i] + c + 1]; p++) nz += pos[g->rows[p] / 2] >= 0;
-  S->colstart = malloc(sizeof(int) * (2 * (size_t)m + 1));
-  S->rows = malloc(sizeof(int) * (nz > 0 ? nz : 1)), S->map = malloc(sizeof(int) * (nz > 0 ? nz : 1));
-  S->rhs = malloc(sizeof(double) * 2 * (size_t)(m > 0 ? m : 1)), S->dx = malloc(sizeof(double) * 2 * (size_t)(m > 0 ? m : 1));
-  if (!S->colstart || !S->rows || !S->map || !S->rhs || !S->dx) return au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
-  int k = 0;
-  for (int i = 0; i < m; i++)
-    for (int c = 0; c < 2; c++) {
-      S->colstart[2 * i + c] = k;
-      for (int p = g->colstart[2 * S->act[i] + c]; p < g->colstart[2 * S->act[i] + c + 1]; p++) {
-        int r = g->rows[p], q = pos[r / 2];
-        if (q >= 0) S->rows[k] = 2 * q + (r & 1), S->map[k++] = p;
-      }
-    }
-  S->colstart[2 * m] = k;
-  return au_spd_create(2 * m, S->colstart, S->rows, NULL, &S->spd, msg);
-}
-
 /* The cells weigh 3 against the faces, as the vertex error is the harder of the two to bring down; the
  * barrier acts from 0.15 of a face's share above its least triple product, the vertex polish's tenth of
  * the share; its weight matters little. Measured on the refined limbs4 and coil and on cow
  * (docs/sphere.md). */
 au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, double tol, const int *cancel) {
-  au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, angle_weight, 0, tol, cancel, 0, 0, 0, 0, 0, 0, 0, 0};
+  au_gpolish_opts o = {max_iter, 3, 0.15, 0.05, 0.1, angle_weight, 0, tol, cancel, 0, 0, 0, 0};
   return o;
 }
 
@@ -566,27 +462,7 @@ au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, do
 static int opts_valid(const au_gpolish_opts *o) {
   return o && o->max_iter >= 0 && o->cell_weight >= 0 && o->barrier >= 0 && o->barrier_weight >= 0 && o->min_orient >= 0 &&
          o->angle_weight >= 0 && o->robust >= 0 && o->min_gain >= 0 && o->min_gain < 1 && o->face_window >= 0 &&
-         o->face_window <= GP_GAIN_WINDOW && o->face_gain >= 0 && o->face_gain < 1 && o->face_target >= 0 &&
-         o->active >= 0 && o->active < 1 && o->active_rings >= 0 && o->active_max >= 0 && o->active_max <= 1 &&
-         !(o->active > 0 && o->active_every < 1);
-}
-
-/* The active vertices (au_gpolish_opts.active) chosen again from this step's system: *sub gets their
- * analysed system, or none (sub->spd NULL: every vertex) where they are too many, none, or their system
- * cannot be analysed: they are a speed-up only. Fails only for want of memory. */
-static au_status rechoose_active(gp *g, const au_gpolish_opts *o, const double *H, const double *grad, gp_sys *sub,
-                                 double *gain, double *tmp, int *pos, au_msg *msg) {
-  sys_free(sub);
-  vertex_gains(g, H, grad, gain);
-  if (!choose_active(g, g->astart, g->adj, gain, o->active, o->active_rings, sub, pos, tmp))
-    return au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
-  if (sub->m > o->active_max * g->nv || sub->m == 0) {
-    sys_free(sub);
-    return AU_OK;
-  }
-  au_status st = sub_system(g, sub, pos, msg);
-  if (st != AU_OK) sys_free(sub);
-  return st == AU_E_NOMEM ? st : AU_OK;
+         o->face_window <= GP_GAIN_WINDOW && o->face_gain >= 0 && o->face_gain < 1 && o->face_target >= 0;
 }
 
 au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const double *face_w, double *P,
@@ -604,9 +480,7 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
   double *H = NULL;
   g.C = malloc(sizeof(double) * (size_t)nf), g.cell = malloc(sizeof(double) * (size_t)nv);
   g.orient = malloc(sizeof(double) * (size_t)nf), g.Gf = malloc(sizeof(double) * 9 * (size_t)nf);
-  gp_sys full = {.m = nv}, sub = {0};
-  double *gain = NULL, *tmp = NULL;
-  int *pos = NULL;
+  au_spd *spd = NULL;
   au_status st = AU_OK;
   if (!share || !cshare || !lo || !tau || !B || !Y || !grad || !dx || !rhs || !vf_start || !vf || !g.C ||
       !g.cell || !g.orient || !g.Gf || !build_pattern(&g, t)) {
@@ -634,14 +508,6 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
   }
   c0 = cost(&g, P, &Cs);
   if (!isfinite(c0) || g.verr <= o->tol) goto done;
-  if (o->active > 0) {
-    gain = malloc(sizeof(double) * (size_t)nv), tmp = malloc(sizeof(double) * (size_t)nv), pos = malloc(sizeof(int) * (size_t)nv);
-    if (!gain || !tmp || !pos) {
-      st = au_msg_set(msg, AU_E_NOMEM, "global polish: out of memory");
-      goto done;
-    }
-  }
-  int since = 0, rechoose = 1;
   double lam = 1e-3, verr_hist[GP_GAIN_WINDOW], ferr_hist[GP_GAIN_WINDOW];
   int stall = 0;
   double fhist[GP_GAIN_WINDOW]; /* the face errors of the last face_window steps, by step % face_window */
@@ -661,24 +527,9 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     for (int v = 0; v < nv; v++) basis(P + 3 * v, B + 6 * v, B + 6 * v + 3);
     assemble(&g, P, B, Cs, vf_start, vf, H, grad);
     for (int i = 0; i < n; i++) rhs[i] = -grad[i];
-    /* active: the vertices whose own steps would gain nearly all there is to gain, and their rings,
-     * chosen again every active_every steps and after a step on them that gained nothing. */
-    if (o->active > 0 && o->active_max > 0 && (rechoose || since >= o->active_every)) {
-      rechoose = 0, since = 0;
-      if ((st = rechoose_active(&g, o, H, grad, &sub, gain, tmp, pos, msg)) != AU_OK) break;
-    }
-    since++;
-    gp_sys *S = sub.spd ? &sub : &full;
-    if (S == &full && !full.spd && (st = au_spd_create(n, g.colstart, g.rows, NULL, &full.spd, msg)) != AU_OK) break;
-    double c1 = INFINITY, Cs1 = 0, lam0 = lam;
-    int found = try_steps(&g, S, H, rhs, &lam, P, B, dx, Y, c0, &c1, &Cs1);
-    if (!found && S == &sub) {
-      /* Nothing to gain on the active vertices: every vertex this step, and a new choice after it. */
-      sys_free(&sub);
-      rechoose = 1, lam = lam0;
-      if (!full.spd && (st = au_spd_create(n, g.colstart, g.rows, NULL, &full.spd, msg)) != AU_OK) break;
-      found = try_steps(&g, &full, H, rhs, &lam, P, B, dx, Y, c0, &c1, &Cs1);
-    }
+    if (!spd && (st = au_spd_create(n, g.colstart, g.rows, NULL, &spd, msg)) != AU_OK) break;
+    double c1 = INFINITY, Cs1 = 0;
+    int found = try_steps(&g, spd, H, rhs, &lam, P, B, dx, Y, c0, &c1, &Cs1);
     if (!found) {
       cost(&g, P, &Cs); /* restore C, cell, orient at P */
       break;
@@ -699,9 +550,7 @@ au_status au_sphere_global_polish(const au_mesh *m, const au_topo *t, const doub
     if (o->face_window > 0) fhist[(it + 1) % o->face_window] = g.ferr;
   }
 done:
-  sys_free(&sub);
-  au_spd_free(&full.spd);
-  free(gain), free(tmp), free(pos), free(g.astart), free(g.adj);
+  au_spd_free(&spd);
   free(share), free(cshare), free(lo), free(tau), free(B), free(Y), free(grad), free(dx), free(rhs);
   free(vf_start), free(vf), free(H), free(g.C), free(g.cell), free(g.orient), free(g.Gf), free(g.colstart), free(g.rows);
   free(g.fidx), free(g.vidx_start), free(g.vidx), free((void *)g.cot);

@@ -843,65 +843,6 @@ static int refine_spherical_split_limbs8(void) {
   return 0;
 }
 
-/* au_gpolish_opts.active on limbs4's map before the global polish (the sphere map's own settings): one
- * step on the active vertices moves some vertices and leaves the others exactly where they were, fewer
- * than all, while a step on every vertex moves every one; with active_max 0 (every vertex, always) the
- * step is the same as with active 0; 200 steps on active vertices are fold-free and take the vertex error
- * down by a third or more, the per-face error not up; bad active options are refused. */
-static int global_polish_active_limbs4(void) {
-  loaded L;
-  if (load("limbs4.obj", 1, &L)) return 1;
-  au_msg msg = {{0}};
-  au_sphere_opts o = au_sphere_opts_default();
-  o.global_polish = 0;
-  au_status st = au_sphere_map(L.m, L.t, &o, L.P, NULL, NULL, &msg);
-  AU_CHECK(st == AU_OK || st == AU_W_NOT_CONVERGED);
-  const int nv = L.m->nv, nf = L.m->nf, *F = L.m->F;
-  double *P0 = malloc(sizeof(double) * 3 * (size_t)nv), *P1 = malloc(sizeof(double) * 3 * (size_t)nv);
-  AU_CHECK(P0 && P1);
-  memcpy(P0, L.P, sizeof(double) * 3 * (size_t)nv);
-  au_metrics q0, q;
-  AU_CHECK_STATUS(au_metrics_compute(nv, nf, L.m->X, L.P, F, AU_DOMAIN_SPHERE, &q0, NULL, NULL), AU_OK, (au_msg *)NULL);
-  au_gpolish_opts go = au_sphere_gpolish_settings(1, 1e-3, 0.002, NULL), bad;
-  go.barrier = 1, go.barrier_weight = 0.1;
-  int steps = -1, moved_all = 0, moved = 0;
-  memcpy(P1, P0, sizeof(double) * 3 * (size_t)nv);
-  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, P1, &go, &steps, &msg), AU_OK, &msg);
-  for (int v = 0; v < nv; v++) moved_all += memcmp(P1 + 3 * v, P0 + 3 * v, sizeof(double) * 3) != 0;
-  go.active = 0.01, go.active_rings = 2, go.active_max = 0.5, go.active_every = 5;
-  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &go, &steps, &msg), AU_OK, &msg);
-  for (int v = 0; v < nv; v++) moved += memcmp(L.P + 3 * v, P0 + 3 * v, sizeof(double) * 3) != 0;
-  fprintf(stderr, "limbs4, one step: %d of %d vertices moved on the active ones, %d on all\n", moved, nv, moved_all);
-  AU_CHECK_INT(steps, ==, 1);
-  AU_CHECK_INT(moved_all, ==, nv);
-  AU_CHECK_INT(moved, >, 0);
-  AU_CHECK_DBL((double)moved, <=, 0.5 * nv);
-  memcpy(L.P, P0, sizeof(double) * 3 * (size_t)nv);
-  go.active_max = 0;
-  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &go, &steps, &msg), AU_OK, &msg);
-  AU_CHECK(memcmp(L.P, P1, sizeof(double) * 3 * (size_t)nv) == 0);
-  memcpy(L.P, P0, sizeof(double) * 3 * (size_t)nv);
-  go.active_max = 0.5, go.max_iter = 200;
-  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &go, &steps, &msg), AU_OK, &msg);
-  AU_CHECK_STATUS(au_metrics_compute(nv, nf, L.m->X, L.P, F, AU_DOMAIN_SPHERE, &q, NULL, NULL), AU_OK, (au_msg *)NULL);
-  fprintf(stderr, "limbs4, active: %d steps; per-face %.4f -> %.4f, vertex %.4f -> %.4f\n", steps, q0.r_mean_abs_dev,
-          q.r_mean_abs_dev, q0.vertex_logr_mean_abs, q.vertex_logr_mean_abs);
-  AU_CHECK_INT(q.folds, ==, 0);
-  AU_CHECK_DBL(q.vertex_logr_mean_abs, <=, (2.0 / 3.0) * q0.vertex_logr_mean_abs);
-  AU_CHECK_DBL(q.r_mean_abs_dev, <=, q0.r_mean_abs_dev);
-  bad = go, bad.active = 1;
-  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
-  bad = go, bad.active_every = 0;
-  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
-  bad = go, bad.active_rings = -1;
-  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
-  bad = go, bad.active_max = 1.5;
-  AU_CHECK_STATUS(au_sphere_global_polish(L.m, L.t, NULL, L.P, &bad, &steps, &msg), AU_E_ARG, &msg);
-  free(P0), free(P1);
-  unload(&L);
-  return 0;
-}
-
 /* The global polish (au_sphere_global_polish) on limbs4's default map, on areas alone: fold-free with
  * every triple product at or above the least it allows, the vertex error down by a third or more (0.0436
  * -> 0.0221) and the per-face error not up; with robust residuals both mean errors lower still (0.0754 /
@@ -1411,7 +1352,7 @@ int main(int argc, char **argv) {
       {"map_bumpy", map_bumpy}, {"map_dumbbell", map_dumbbell}, {"polish_when_needed", polish_when_needed}, {"order_independent", order_independent}, {"plan_in_thread", plan_in_thread}, {"undone_steps_leave_no_trace", undone_steps_leave_no_trace}, {"phase_transitions", phase_transitions},                     {"restore_shapes", restore_shapes}, {"lantern_retry", lantern_retry}, {"lantern_skipped", lantern_skipped}, {"staged_before_lantern", staged_before_lantern}, {"vertex_polish", vertex_polish}, {"vertex_polish_spherical", vertex_polish_spherical}, {"angle_steps", angle_steps},                     {"density_half", density_half},                     {"scale_invariance", scale_invariance},
       {"folded_start_refused", folded_start_refused}, {"compressed_start_limbs8", compressed_start_limbs8},
       {"refine_mesh_limbs4", refine_mesh_limbs4}, {"refine_spherical_split_limbs8", refine_spherical_split_limbs8},
-      {"global_polish_limbs4", global_polish_limbs4}, {"global_polish_active_limbs4", global_polish_active_limbs4}, {"twisted_start", twisted_start},
+      {"global_polish_limbs4", global_polish_limbs4}, {"twisted_start", twisted_start},
       {"twist_retry_limbs4", twist_retry_limbs4}, {"strong_start_tpose", strong_start_tpose},
       {"multilevel_start_spiky", multilevel_start_spiky},
       {"multilevel_start_limbs4", multilevel_start_limbs4},
