@@ -341,7 +341,7 @@ done:
 
 /* The start: coarse-to-fine where asked (one that fails leaves the conformal start to make the map: no
  * mesh is refused for its start), else the conformal start; where every conformal attempt folds, the
- * strong twisted start; then balanced. *ml_done: the coarse-to-fine start made it; *strong: the strong
+ * strong twisted start; a conformal start then balanced (o->balance). *ml_done: the coarse-to-fine start made it; *strong: the strong
  * twisted start did, with this many sheared faces. */
 static au_status sphere_start(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
                               au_sphere_report *rep, int *ml_done, int *strong, au_msg *msg) {
@@ -392,8 +392,10 @@ static void lantern_retry(const au_mesh *m, const au_topo *t, au_advect_plan *pl
 }
 
 /* The retries, for a first flow that missed its tolerance (*st AU_W_NOT_CONVERGED, its map's vertex error
- * e0): each runs only where the map before it misses the tolerance well, and its map is kept only where it
- * is better (docs/sphere-stages.md, docs/sphere-retries.md). Pstart: the start (NULL: no lantern retry). */
+ * e0): the twisted and lantern retries only where the map before them misses the tolerance well
+ * (retry_above), the staged retry where it misses it and is squeezed; each map kept only where it is
+ * better (docs/sphere-stages.md, docs/sphere-retries.md). Pstart: the start (NULL: no lantern retry, and
+ * the staged retry starts from P). */
 static void sphere_retries(const au_mesh *m, const au_topo *t, au_advect_plan *plan, const au_advect_domain *dom,
                            const au_sphere_opts *o, const double *Pstart, int ml_done, int strong, double e0, double *P,
                            au_sphere_report *rep, au_status *st, au_msg *msg) {

@@ -476,7 +476,8 @@ static au_status write_samples_csv(const tex_args *a, int K, const double *out, 
       for (int k = 0; k < K; k++) len += (size_t)snprintf(text + len, cap - len, ",%.17g", v[k]);
       len += (size_t)snprintf(text + len, cap - len, "\n");
     }
-  au_status st = len < cap ? au_write_text(a->out, text, len, msg) : AU_E_INTERNAL;
+  au_status st = len < cap ? au_write_text(a->out, text, len, msg)
+                           : au_msg_set(msg, AU_E_INTERNAL, "samples: the CSV text outgrew its buffer");
   free(text);
   return st;
 }
