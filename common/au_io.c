@@ -211,6 +211,21 @@ static int tok_double(const char *s, const char *e, double *v) {
 
 /* A whole token as an integer in [lo, hi]. */
 static int tok_int(const char *s, const char *e, long long lo, long long hi, long long *v) {
+  /* Plain decimals of up to 18 digits (every index and count in practice) are read here: strtoll's
+   * locale and sign handling was most of the time of reading a face. The value is strtoll's, and
+   * anything else goes to strtoll. */
+  const char *d = s < e && *s == '-' ? s + 1 : s;
+  if (e > d && e - d <= 18) {
+    long long x = 0;
+    const char *c = d;
+    while (c < e && *c >= '0' && *c <= '9') x = 10 * x + (*c++ - '0');
+    if (c == e) {
+      if (d > s) x = -x;
+      if (x < lo || x > hi) return 0;
+      *v = x;
+      return 1;
+    }
+  }
   char *end;
   errno = 0;
   long long x = strtoll(s, &end, 10);
