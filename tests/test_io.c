@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "au_io.h"
+#include "au_io_internal.h"
 #include "au_test.h"
 
 #include <dirent.h>
@@ -199,6 +200,41 @@ static int t_write_precision(void) {
   AU_CHECK_INT(count_files("q.off"), ==, 0);
   au_mesh_free(&m);
   au_mesh_free(&r);
+  return 0;
+}
+
+/* The writers' own %.17g (au__fmt_g17) gives snprintf's bytes: on random bit patterns across and
+ * beyond its range, random coordinates in [-1, 1], numbers next to powers of ten (where rounding
+ * moves the exponent), and short binary fractions (whose exact decimal expansions end in a 5 near the
+ * 17th digit: the ties). */
+static int g17_same(double x) {
+  char a[40], b[40];
+  int n = au__fmt_g17(a, x);
+  snprintf(b, sizeof b, "%.17g", x);
+  if (strcmp(a, b) != 0 || n != (int)strlen(b)) {
+    fprintf(stderr, "g17: %s written as %s\n", b, a);
+    return 0;
+  }
+  return 1;
+}
+
+static int t_g17_exact(void) {
+  uint64_t s = 0x9E3779B97F4A7C15u;
+  int bad = 0;
+  for (int i = 0; i < 400000 && bad < 5; i++) {
+    s ^= s << 13, s ^= s >> 7, s ^= s << 17;
+    uint64_t bits = (s & ((UINT64_C(1) << 52) - 1)) | (uint64_t)(1003 + (int)(s >> 56) % 90) << 52 | (s >> 63) << 63;
+    double x;
+    memcpy(&x, &bits, sizeof x);
+    bad += !g17_same(x);
+    bad += !g17_same((double)(int64_t)(s >> 11) / 4503599627370496.0 - 1.0);
+    double t = pow(10, (int)(s % 12) - 6);
+    bad += !g17_same(nextafter(t, 0)) + !g17_same(nextafter(t, 1e300)) + !g17_same(-t);
+    bad += !g17_same(ldexp((double)(s >> 40), -(int)(s % 60)));
+  }
+  static const double edge[] = {1e-5, 99999.999999999985, 1e5, 0.5, 0.1, 1.0 / 3, 2.0 / 3, 12345.678, -0.0, 0.0, 1e-300, 1e300, NAN, INFINITY};
+  for (size_t i = 0; i < sizeof edge / sizeof edge[0]; i++) bad += !g17_same(edge[i]);
+  AU_CHECK_INT(bad, ==, 0);
   return 0;
 }
 
@@ -706,7 +742,7 @@ int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"roundtrip_obj", t_roundtrip_obj},   {"roundtrip_off", t_roundtrip_off},
       {"roundtrip_ply", t_roundtrip_ply},   {"obj_uv", t_obj_uv},   {"write_halves", t_write_halves},
-      {"write_precision", t_write_precision}, {"order_kept", t_order_kept},
+      {"write_precision", t_write_precision}, {"g17_exact", t_g17_exact}, {"order_kept", t_order_kept},
       {"ply_binary", t_ply_binary},         {"obj_forms", t_obj_forms},
       {"off_forms", t_off_forms},           {"nonfinite", t_nonfinite},
       {"nonmanifold_kept", t_nonmanifold_kept}, {"stl", t_stl},
