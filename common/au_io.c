@@ -204,6 +204,26 @@ static int tok_is(const char *s, const char *e, const char *word) {
  * coordinates are read here so that validation can name the vertex. The character after a
  * token is a blank, '#', or the buffer's NUL, none of which strtod would take into a number. */
 static int tok_double(const char *s, const char *e, double *v) {
+  /* Plain decimals ([-]digits[.digits], as nearly every mesh file writes its coordinates) whose
+   * digits make an integer n <= 2^53, with at most 22 of them after the point, are n / 10^k: both
+   * exact doubles, so the one correctly rounded division is strtod's value (Clinger's fast path).
+   * strtod's general conversion was most of the time of reading a vertex. Anything else (an exponent,
+   * more digits, "inf") goes to strtod. */
+  static const double p10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  const char *c = s < e && *s == '-' ? s + 1 : s;
+  uint64_t n = 0;
+  int nd = 0, frac = -1;
+  for (; c < e && nd <= 16; c++) {
+    if (*c >= '0' && *c <= '9') n = 10 * n + (uint64_t)(*c - '0'), nd++, frac += frac >= 0;
+    else if (*c == '.' && frac < 0) frac = 0;
+    else break;
+  }
+  if (c == e && nd > 0 && n <= (UINT64_C(1) << 53) && frac <= 22) {
+    double x = frac > 0 ? (double)n / p10[frac] : (double)n;
+    *v = *s == '-' ? -x : x;
+    return 1;
+  }
   char *end;
   *v = strtod(s, &end);
   return e > s && end == e;

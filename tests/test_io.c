@@ -238,6 +238,51 @@ static int t_g17_exact(void) {
   return 0;
 }
 
+/* The readers' own conversion of plain decimals (tok_double's fast path) gives strtod's values, bit
+ * for bit: an OBJ of 20,000 random decimals of 1 to 20 digits, the point anywhere, some signed,
+ * some with an exponent or a '+' (those go to strtod), read back and compared with strtod. */
+static int t_decimals_exact(void) {
+  AU_CHECK(make_dir("decimals_exact"));
+  enum { NV = 6667 };
+  char (*tok)[32] = malloc(sizeof *tok * 3 * NV);
+  AU_CHECK(tok != NULL);
+  FILE *fp = fopen(tp("d.obj"), "w");
+  AU_CHECK(fp != NULL);
+  uint64_t s = 0x2545F4914F6CDD1Du;
+  for (int i = 0; i < 3 * NV; i++) {
+    s ^= s << 13, s ^= s >> 7, s ^= s << 17;
+    int nd = 1 + (int)(s % 20), point = (int)((s >> 8) % (uint64_t)(nd + 2)), len = 0;
+    char *t = tok[i];
+    if ((s >> 16) & 1) t[len++] = '-';
+    else if ((s >> 17) % 16 == 0) t[len++] = '+';
+    uint64_t r = s;
+    for (int k = 0; k < nd; k++) {
+      if (k == point) t[len++] = '.';
+      r = r * 6364136223846793005u + 1442695040888963407u;
+      t[len++] = (char)('0' + (r >> 33) % 10);
+    }
+    if ((s >> 20) % 16 == 0) len += snprintf(t + len, 8, "e%d", (int)((s >> 24) % 41) - 20);
+    t[len] = '\0';
+    fprintf(fp, "%s%s", i % 3 == 0 ? "v " : " ", t);
+    if (i % 3 == 2) fputc('\n', fp);
+  }
+  fputs("f 1 2 3\n", fp);
+  AU_CHECK(fclose(fp) == 0);
+  au_mesh *m = NULL;
+  au_msg msg = {{0}};
+  AU_CHECK_STATUS(au_io_read(tp("d.obj"), &m, &msg), AU_OK, &msg);
+  int bad = 0;
+  for (int i = 0; i < 3 * NV; i++) {
+    double want = strtod(tok[i], NULL);
+    if (memcmp(&want, &m->X[i], sizeof want) != 0 && bad++ < 5)
+      fprintf(stderr, "decimals: '%s' read as %.17g, strtod %.17g\n", tok[i], m->X[i], want);
+  }
+  AU_CHECK_INT(bad, ==, 0);
+  au_mesh_free(&m);
+  free(tok);
+  return 0;
+}
+
 /* A file whose faces use the vertices in scrambled order, with an unreferenced vertex (index 2):
  * every reader must keep the file's vertex order and faces exactly. */
 static const double k_scr_X[15] = {0, 0, 0, 1, 0, 0, 9, 9, 9, 0, 1, 0, 0, 0, 1};
@@ -742,7 +787,7 @@ int main(int argc, char **argv) {
   static const au_test_case cases[] = {
       {"roundtrip_obj", t_roundtrip_obj},   {"roundtrip_off", t_roundtrip_off},
       {"roundtrip_ply", t_roundtrip_ply},   {"obj_uv", t_obj_uv},   {"write_halves", t_write_halves},
-      {"write_precision", t_write_precision}, {"g17_exact", t_g17_exact}, {"order_kept", t_order_kept},
+      {"write_precision", t_write_precision}, {"g17_exact", t_g17_exact}, {"decimals_exact", t_decimals_exact}, {"order_kept", t_order_kept},
       {"ply_binary", t_ply_binary},         {"obj_forms", t_obj_forms},
       {"off_forms", t_off_forms},           {"nonfinite", t_nonfinite},
       {"nonmanifold_kept", t_nonmanifold_kept}, {"stl", t_stl},
