@@ -45,24 +45,23 @@ static void print_help(void) {
 /* CHOLMOD's supernodal factorization opens an OpenMP team of a fixed size (ignoring
  * OMP_NUM_THREADS) at every supernode, and OpenBLAS starts threads of its own: on a 2-core machine
  * they spin against each other. Measured on lion_statue (100k faces): 28.6 s wall with 26.5 s of
- * system time as it comes; 20.9 s wall and 1.9 s of system time single-threaded. Both libraries read
- * their settings when they are loaded, before main, so the program restarts itself once with
- * OMP_THREAD_LIMIT=1 and OPENBLAS_NUM_THREADS=1, unless the caller set OMP_THREAD_LIMIT (a choice
- * that is respected). If the restart fails, the run goes on as it is. */
-static void single_threaded_libraries(char **argv) {
-#ifndef AU_CLI_EMBEDDED /* the fuzz harness calls main in-process: never replace that process */
-  if (getenv("OMP_THREAD_LIMIT")) return;
-  setenv("OMP_THREAD_LIMIT", "1", 1);
-  if (!getenv("OPENBLAS_NUM_THREADS")) setenv("OPENBLAS_NUM_THREADS", "1", 1);
-  execv("/proc/self/exe", argv);
-#else
-  (void)argv;
+ * system time as it comes; 20.9 s wall and 1.9 s of system time single-threaded. So CHOLMOD's regions
+ * run on their caller (cli_gomp_one_thread, as OMP_THREAD_LIMIT=1 would) unless the caller set
+ * OMP_THREAD_LIMIT (a choice that is respected), and OpenBLAS runs at one thread
+ * (cli_blas_one_thread). The program used to restart itself with OMP_THREAD_LIMIT=1 and
+ * OPENBLAS_NUM_THREADS=1 set instead (both libraries read them when loaded, before main; an
+ * environment set before main is undone by the C library's own start-up): the same settings, at the
+ * price of every library loaded and relocated twice, about 400 page faults and 20-35 ms of CPU per
+ * run (docs/overhead.md). */
+static void single_threaded_libraries(void) {
+#ifndef AU_CLI_EMBEDDED /* the fuzz harness calls main in-process: its process is not the program's */
+  if (!getenv("OMP_THREAD_LIMIT")) cli_gomp_one_thread();
 #endif
 }
 
 int main(int argc, char **argv) {
   const char *help = "authalic --help";
-  single_threaded_libraries(argv);
+  single_threaded_libraries();
   cli_blas_one_thread();
   cli_install_signal_cleanup();
   if (argc < 2) return cli_usage_error(help, "no command given");

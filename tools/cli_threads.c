@@ -13,10 +13,17 @@ void cli_blas_one_thread(void) {
   void *sym = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
   memcpy(&set, &sym, sizeof set); /* POSIX: a function's address through a data pointer */
   if (set) set(1);
+  /* The threads OpenBLAS started when it was loaded (one per core but one, unless
+   * OPENBLAS_NUM_THREADS said otherwise) would never be given work again: they are ended. A later
+   * call at one thread runs on its caller and starts none. */
+  int (*shutdown)(void) = NULL;
+  sym = dlsym(RTLD_DEFAULT, "blas_thread_shutdown_");
+  memcpy(&shutdown, &sym, sizeof shutdown);
+  if (set && shutdown) shutdown();
 }
 
 /* CHOLMOD's supernodal factorization opens an OpenMP parallel region for every supernode. The
- * program runs them with one thread (authalic.c sets OMP_THREAD_LIMIT=1), and libgomp still sets up
+ * program runs them with one thread (authalic.c: cli_gomp_one_thread, or OMP_THREAD_LIMIT=1), and libgomp still sets up
  * a team of one and ends it with a futex wake-up system call for each: about 100,000 calls per
  * factorization of a 100k-face mesh. With a limit of one thread, a region is its outlined function
  * called once on the calling thread (omp_get_num_threads() is 1 and omp_get_thread_num() 0 outside a
@@ -25,7 +32,7 @@ void cli_blas_one_thread(void) {
  * search. These statics belong to the program, which owns its process. */
 typedef void (*gomp_parallel_fn)(void (*)(void *), void *, unsigned, unsigned);
 static gomp_parallel_fn gomp_real;
-static int gomp_one_thread;
+static int gomp_one_thread, gomp_forced;
 static long gomp_inline; /* regions run here, counted for the tests */
 
 static void gomp_init(void) {
@@ -34,8 +41,10 @@ static void gomp_init(void) {
   int (*limit)(void) = NULL;
   sym = dlsym(RTLD_DEFAULT, "omp_get_thread_limit");
   memcpy(&limit, &sym, sizeof limit);
-  gomp_one_thread = limit && limit() == 1;
+  gomp_one_thread = gomp_forced || (limit && limit() == 1);
 }
+
+void cli_gomp_one_thread(void) { gomp_forced = 1; }
 
 void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags);
 void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags) {
