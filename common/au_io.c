@@ -204,26 +204,6 @@ static int tok_is(const char *s, const char *e, const char *word) {
  * coordinates are read here so that validation can name the vertex. The character after a
  * token is a blank, '#', or the buffer's NUL, none of which strtod would take into a number. */
 static int tok_double(const char *s, const char *e, double *v) {
-  /* Plain decimals ([-]digits[.digits], as nearly every mesh file writes its coordinates) whose
-   * digits make an integer n <= 2^53, with at most 22 of them after the point, are n / 10^k: both
-   * exact doubles, so the one correctly rounded division is strtod's value (Clinger's fast path).
-   * strtod's general conversion was most of the time of reading a vertex. Anything else (an exponent,
-   * more digits, "inf") goes to strtod. */
-  static const double p10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-  const char *c = s < e && *s == '-' ? s + 1 : s;
-  uint64_t n = 0;
-  int nd = 0, frac = -1;
-  for (; c < e && nd <= 16; c++) {
-    if (*c >= '0' && *c <= '9') n = 10 * n + (uint64_t)(*c - '0'), nd++, frac += frac >= 0;
-    else if (*c == '.' && frac < 0) frac = 0;
-    else break;
-  }
-  if (c == e && nd > 0 && n <= (UINT64_C(1) << 53) && frac <= 22) {
-    double x = frac > 0 ? (double)n / p10[frac] : (double)n;
-    *v = *s == '-' ? -x : x;
-    return 1;
-  }
   char *end;
   *v = strtod(s, &end);
   return e > s && end == e;
@@ -1104,114 +1084,17 @@ static void face_line(au_textbuf *b, char lead, const int *c, const int *t, int 
   b->len += (size_t)(p - p0);
 }
 
-/* x as printf's "%.17g" at p (at most 24 characters and a NUL); returns the length. printf converts
- * a double through multiple-precision arithmetic, about 3,000 instructions a number, most of a
- * mesh's write. Here, for 1e-5 <= |x| < 1e5 (the range of nearly every coordinate), the 17
- * significant digits are found exactly in 128-bit integers: |x| = m 2^e, and m 10^s >> -e rounded to
- * nearest with ties to even (the rounding printf does in the default mode), s chosen so that 17
- * digits result; then %g's layout (fixed below 1e17 and from 1e-4, otherwise an exponent, trailing
- * zeros dropped). Anything else, and a C library without 128-bit integers, goes to snprintf. The
- * same bytes as snprintf (tests/test_io.c: g17_exact). */
-int au__fmt_g17(char *p, double x) {
-#ifdef __SIZEOF_INT128__
-  double a = fabs(x);
-  if (a >= 1e-5 && a < 1e5) {
-    uint64_t bits;
-    memcpy(&bits, &x, sizeof bits);
-    const uint64_t m = (bits & ((UINT64_C(1) << 52) - 1)) | UINT64_C(1) << 52;
-    const int k = 1075 - (int)((bits >> 52) & 0x7ff); /* a = m 2^-k, 35 <= k <= 69 here */
-    static const uint64_t p10[22] = {UINT64_C(1), UINT64_C(10), UINT64_C(100), UINT64_C(1000), UINT64_C(10000),
-                                     UINT64_C(100000), UINT64_C(1000000), UINT64_C(10000000), UINT64_C(100000000),
-                                     UINT64_C(1000000000), UINT64_C(10000000000), UINT64_C(100000000000),
-                                     UINT64_C(1000000000000), UINT64_C(10000000000000), UINT64_C(100000000000000),
-                                     UINT64_C(1000000000000000), UINT64_C(10000000000000000),
-                                     UINT64_C(100000000000000000), UINT64_C(1000000000000000000),
-                                     UINT64_C(10000000000000000000), 0, 0};
-    /* s = 16 - floor(log10 a), from a guess corrected below; 10^s for s up to 21 as 10^19 10^(s-19). */
-    int s = 16 - (int)floor(log10(a));
-    uint64_t q = 0;
-    for (int tries = 0; tries < 4; tries++) {
-      if (s < 0 || s > 21) return snprintf(p, 25, "%.17g", x);
-      unsigned __int128 n = (unsigned __int128)m * (s <= 19 ? p10[s] : p10[19]);
-      if (s > 19) n *= p10[s - 19];
-      unsigned __int128 r = n & (((unsigned __int128)1 << k) - 1), half = (unsigned __int128)1 << (k - 1);
-      q = (uint64_t)(n >> k);
-      if (r > half || (r == half && (q & 1))) q++;
-      if (q >= p10[17]) s--;
-      else if (q < p10[16]) s++;
-      else break;
-    }
-    if (q < p10[16] || q >= p10[17]) return snprintf(p, 25, "%.17g", x);
-    char d[17];
-    for (int i = 16; i >= 0; i--) d[i] = (char)('0' + q % 10), q /= 10;
-    int nd = 17;
-    while (nd > 1 && d[nd - 1] == '0') nd--;
-    const int X = 16 - s; /* the decimal exponent of the first digit */
-    int len = 0;
-    if (x < 0) p[len++] = '-';
-    if (X >= -4) { /* fixed: X < 5 < 17 here */
-      if (X < 0) {
-        p[len++] = '0', p[len++] = '.';
-        for (int i = 0; i < -X - 1; i++) p[len++] = '0';
-        for (int i = 0; i < nd; i++) p[len++] = d[i];
-      } else {
-        for (int i = 0; i <= X; i++) p[len++] = d[i];
-        if (nd > X + 1) {
-          p[len++] = '.';
-          for (int i = X + 1; i < nd; i++) p[len++] = d[i];
-        }
-      }
-    } else { /* X = -5: d.ddde-05 */
-      p[len++] = d[0];
-      if (nd > 1) {
-        p[len++] = '.';
-        for (int i = 1; i < nd; i++) p[len++] = d[i];
-      }
-      p[len++] = 'e', p[len++] = '-', p[len++] = '0', p[len++] = (char)('0' - X);
-    }
-    p[len] = '\0';
-    return len;
-  }
-#endif
-  return snprintf(p, 25, "%.17g", x);
-}
-
-/* A line of n numbers (%.17g each, blank-separated) after head, as "head%.17g %.17g ...\n". */
-static void g17_line(au_textbuf *b, const char *head, const double *v, int n) {
-  size_t hl = strlen(head);
-  if (!textbuf_room(b, hl + 26 * (size_t)n + 2)) return;
-  char *p = b->s + b->len, *p0 = p;
-  memcpy(p, head, hl);
-  p += hl;
-  for (int i = 0; i < n; i++) {
-    if (i) *p++ = ' ';
-    p += au__fmt_g17(p, v[i]);
-  }
-  *p++ = '\n';
-  b->len += (size_t)(p - p0);
-}
-
 static void *format_part(void *arg) {
   mesh_part *w = arg;
   const au_mesh_out *o = w->o;
   const double *P = o->P;
   const int q = o->prec;
   const char *vfmt = o->fmt == AU_FMT_OBJ ? "v %.*g %.*g %.*g\n" : "%.*g %.*g %.*g\n";
-  const char *vhead = o->fmt == AU_FMT_OBJ ? "v " : "";
-  const int g17 = q == 17;
-  for (int i = w->v0; i < w->v1; i++)
-    if (g17) g17_line(&w->v, vhead, P + 3 * (size_t)i, 3);
-    else au_textbuf_printf(&w->v, vfmt, q, P[3 * i], q, P[3 * i + 1], q, P[3 * i + 2]);
-  if (o->fmt == AU_FMT_OBJ && o->uv) {
-    for (int i = w->v0; i < w->v1; i++)
-      if (g17) g17_line(&w->vt, "vt ", o->uv + 2 * (size_t)i, 2);
-      else au_textbuf_printf(&w->vt, "vt %.*g %.*g\n", q, o->uv[2 * i], q, o->uv[2 * i + 1]);
-  }
-  if (o->fmt == AU_FMT_OBJ && o->vt && w->v0 == 0) { /* per-corner rows: all in the first part */
-    for (int i = 0; i < o->nvt; i++)
-      if (g17) g17_line(&w->vt, "vt ", o->vt + 2 * (size_t)i, 2);
-      else au_textbuf_printf(&w->vt, "vt %.*g %.*g\n", q, o->vt[2 * i], q, o->vt[2 * i + 1]);
-  }
+  for (int i = w->v0; i < w->v1; i++) au_textbuf_printf(&w->v, vfmt, q, P[3 * i], q, P[3 * i + 1], q, P[3 * i + 2]);
+  if (o->fmt == AU_FMT_OBJ && o->uv)
+    for (int i = w->v0; i < w->v1; i++) au_textbuf_printf(&w->vt, "vt %.*g %.*g\n", q, o->uv[2 * i], q, o->uv[2 * i + 1]);
+  if (o->fmt == AU_FMT_OBJ && o->vt && w->v0 == 0) /* per-corner rows: all in the first part */
+    for (int i = 0; i < o->nvt; i++) au_textbuf_printf(&w->vt, "vt %.*g %.*g\n", q, o->vt[2 * i], q, o->vt[2 * i + 1]);
   for (int f = w->f0; f < w->f1; f++) {
     const int *c = &o->m->F[3 * f];
     if (o->fmt != AU_FMT_OBJ) face_line(&w->f, '3', c, NULL, 0);

@@ -32,10 +32,6 @@ struct au_io_meta {
   void *gii;                   /* GIfTI: a gifti_image holding the metadata (its arrays without data); NULL if none */
 };
 
-/* x as snprintf's "%.17g" into p (room for 25 bytes): the same bytes, faster for most numbers (au_io.c).
- * Returns the length. */
-int au__fmt_g17(char *p, double x);
-
 /* Read path whole into a NUL-terminated buffer (*out, *len bytes before the NUL); the caller frees
  * *out. Returns AU_OK, AU_E_IO (missing, unreadable, a directory), AU_E_NOMEM. */
 au_status au_io__slurp(const char *path, char **out, size_t *len, au_msg *msg);
