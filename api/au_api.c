@@ -201,4 +201,10 @@ void au__flow_from_expert(const au_expert *e, au_advect_opts *f) {
 #define AU_TO_FLOW(name) f->name = e->name;
   AU_EXPERT_FIELDS(AU_TO_FLOW)
 #undef AU_TO_FLOW
+  /* The sphere's shorter resolved schedule stands in for three of these where the caller left them at
+   * their defaults; one the caller set holds on that schedule too. */
+  const au_advect_opts d = au_advect_opts_default();
+  if (e->schedule_steps != d.schedule_steps) f->sphere_resolved_schedule_steps = e->schedule_steps;
+  if (e->resolved_log_step != d.resolved_log_step) f->sphere_resolved_log_step = e->resolved_log_step;
+  if (e->shear_tail != d.shear_tail) f->sphere_resolved_shear_tail = e->shear_tail;
 }

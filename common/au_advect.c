@@ -149,7 +149,7 @@ au_advect_opts au_advect_opts_default(void) {
   o.resolved_shear = 0.1;
   o.resolved_log_step = 2;
   /* bunny 9 steps and 10 factorizations instead of 10 and 11; maxplanck, ferret_brain_sim, lion_statue, brain
-   * one step fewer, armadillo 9; within 5% of their per-face and vertex errors but brain's vertex (0.0011 ->
+   * one step fewer, armadillo 9 fewer (41 -> 32); within 5% of their per-face and vertex errors but brain's vertex (0.0011 ->
    * 0.0015) and penguin_hr (docs/flow-tail.md). */
   o.sphere_resolved_schedule_steps = 3;
   o.sphere_resolved_log_step = 2.5;
@@ -160,6 +160,12 @@ au_advect_opts au_advect_opts_default(void) {
    * was undone (docs/coarse-to-fine-flow.md). */
   o.restore_gate = 1;
   return o;
+}
+
+void au_advect_plain_schedule(au_advect_opts *o) {
+  o->sphere_resolved_schedule_steps = o->schedule_steps;
+  o->sphere_resolved_log_step = o->resolved_log_step;
+  o->sphere_resolved_shear_tail = o->shear_tail;
 }
 
 static double now_s(void) {

@@ -134,9 +134,9 @@ typedef struct au_advect_opts {
   /* On the sphere the resolved schedule is shorter, until a step has been undone: past its first steps the
    * error is held by the growth cap on the most squeezed faces, not by the schedule (docs/flow-tail.md).
    * Planar domains and the torus keep the fields above. */
-  int sphere_resolved_schedule_steps; /* K of eq. 19 for the per-face targets, instead of schedule_steps (3) */
-  double sphere_resolved_log_step;    /* instead of resolved_log_step (2.5) */
-  double sphere_resolved_shear_tail;  /* the shear weight's floor, instead of shear_tail (0.007): the shorter
+  int sphere_resolved_schedule_steps; /* K of eq. 19 for the per-face targets, instead of schedule_steps (>= 1; 3) */
+  double sphere_resolved_log_step;    /* instead of resolved_log_step (> 0; 2.5) */
+  double sphere_resolved_shear_tail;  /* the shear weight's floor, instead of shear_tail (>= 0; 0.007): the shorter
                                          schedule lands its last step from further out, and a lower floor takes
                                          more of the per-face error out in each tail step */
 
@@ -164,6 +164,11 @@ typedef struct au_advect_opts {
 } au_advect_opts;
 
 au_advect_opts au_advect_opts_default(void);
+/* The sphere's shorter resolved schedule off: its three fields set to the ones they stand in for
+ * (schedule_steps, resolved_log_step, shear_tail), so the flow runs the resolved schedule of the other
+ * domains. For flows tuned with that schedule: the coarse-to-fine start's level and fine flows, the
+ * refinement's re-flows. */
+void au_advect_plain_schedule(au_advect_opts *o);
 
 typedef struct au_advect_report {
   int steps;                            /* steps taken */

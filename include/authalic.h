@@ -458,10 +458,12 @@ AU_API au_options au_options_preset(au_preset p);
 struct au_expert {
   int method;             /* 0 least-shear steps (default), 1 the paper's Poisson steps */
   double shear;           /* shear weight against the area residual while the schedule runs, >= 0 (1) */
-  double shear_tail;      /* the same after the schedule, >= 0 (0.01) */
+  double shear_tail;      /* the same after the schedule, >= 0 (0.01; on the sphere's resolved schedule 0.007 until
+                           * a step is undone, unless set: docs/flow-tail.md) */
   double face_shear_tail; /* the shear weight's floor in the per-face refinement; 0: shear_tail (0;
                              planar refine_faces: 3e-4) */
-  int schedule_steps;     /* K of the paper's eq. 19: the excess spread over K-k+1 steps (4) */
+  int schedule_steps;     /* K of the paper's eq. 19: the excess spread over K-k+1 steps (4; on the sphere's
+                           * resolved schedule 3 until a step is undone, unless set) */
   double max_log_step;    /* a cell's area changes by at most this factor's log in one step (1.2) */
   double newton_below;    /* Poisson method: exact Gauss-Newton steps below this error (0.7) */
   int face_steps;         /* Poisson method: at most this many per-face steps (30) */
@@ -495,7 +497,8 @@ struct au_expert {
                              resolved schedule (0.1; refine_faces 0: never) */
   double resolved_shear;  /* resolved schedule: first shear weight (0.1) */
   double resolved_decay;  /* resolved schedule: shear weight factor per accepted step (0.25) */
-  double resolved_log_step; /* resolved schedule: per-step area change bound, log (2) */
+  double resolved_log_step; /* resolved schedule: per-step area change bound, log (2; on the sphere, 2.5
+                              * until a step is undone, unless set) */
   double angle_faces;     /* angle steps: weight of the triangles' areas (300) */
   double angle_cells;     /* angle steps: weight of the vertex cells' areas (1e6) */
   double angle_trust;     /* angle steps: Levenberg-Marquardt term (1) */

@@ -609,6 +609,7 @@ static au_status level_flow(const ml_state *s, const au_sphere_opts *o, int step
   fo.progress = NULL, fo.max_steps = steps;
   /* The levels' flows keep their shape restoring: every level's start is sheared and near equal area. */
   fo.sphere_areas = 2, fo.shear_tail = AU_ML_SHEAR_TAIL, fo.angle_steps = 0, fo.restore_gate = 0;
+  au_advect_plain_schedule(&fo);
   au_advect_report *rep = malloc(sizeof *rep);
   if (!rep) {
     st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
@@ -833,6 +834,7 @@ static au_status coarse_conformal(const ml_state *s, const au_sphere_opts *o, do
      * twisted start is the coarse map's start. */
     co.lantern_retry = 0, co.vertex_polish = 0, co.global_polish = 0, co.staged_retry = 0;
     co.flow.sphere_areas = 2, co.flow.shear_tail = AU_ML_SHEAR_TAIL, co.flow.angle_steps = 0, co.flow.restore_gate = 0;
+    au_advect_plain_schedule(&co.flow);
     st = au_sphere_map(&sub, tc, &co, Pc, NULL, cr, msg);
     if (st == AU_W_NOT_CONVERGED) st = AU_OK;
     if (st == AU_OK) {

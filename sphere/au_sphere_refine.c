@@ -384,6 +384,8 @@ static au_status refine_with(const au_mesh *m, const double *P, const au_sphere_
    * flow's restore gate would turn it off): the refinement's bounds were met with it (without it coil's
    * refined map ends at per-face 0.0210 against 0.02). */
   fo.restore_gate = 0;
+  /* ... and the resolved schedule they were measured with (not the sphere's shorter one). */
+  au_advect_plain_schedule(&fo);
   const int rounds = floor_share > 0 ? AU_REFINE_ROUNDS : 1, share = floor_share > 0 ? AU_REFINE_SHARE : 1;
   for (int round = 0; round < rounds && st >= 0; round++) {
     au_topo *t = NULL;
