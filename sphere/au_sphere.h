@@ -119,6 +119,8 @@ typedef struct au_sphere_report {
   int global_polish;       /* au_sphere_refine: 0 none; 1 the global polish ran and was discarded; 2 kept */
   int global_polish_steps; /* with a global polish: its steps */
   double global_polish_err[4]; /* with a global polish: vertex error before and after, per-face before and after */
+  double global_polish_robust; /* with a global polish: the pseudo-Huber d its area residuals ran with (0: squares;
+                                  au_sphere_map.c says where each is used) */
   int lantern_skipped;    /* 1: the lantern retry was due (the map missed retry_above x its tolerance) but not
                              run, since its flow would have repeated the first step for step (the first
                              flow's spherical vertex error never came below 1, where the lantern acts:

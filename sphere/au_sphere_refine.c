@@ -528,6 +528,7 @@ static void take_polish(au_sphere_report *rep, const au_sphere_report *from) {
   memcpy(rep->polish_err, from->polish_err, sizeof from->polish_err);
   rep->global_polish = from->global_polish, rep->global_polish_steps = from->global_polish_steps;
   memcpy(rep->global_polish_err, from->global_polish_err, sizeof from->global_polish_err);
+  rep->global_polish_robust = from->global_polish_robust;
 }
 
 /* The global polish (sphere/au_sphere_gpolish.c), on areas alone, of a refined map (mr, Pr) or of the
@@ -563,7 +564,7 @@ static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_op
       int keep = e[1] < e[0] && e[3] <= e[2];
       if (keep) memcpy(Pr, P2, sizeof(double) * 3 * (size_t)mr->nv);
       if (rep) {
-        rep->global_polish = keep ? 2 : 1, rep->global_polish_steps = steps;
+        rep->global_polish = keep ? 2 : 1, rep->global_polish_steps = steps, rep->global_polish_robust = go.robust;
         memcpy(rep->global_polish_err, e, sizeof e);
       }
     }
