@@ -574,54 +574,68 @@ static au_status refine_global(const au_mesh *mr, double *Pr, const au_sphere_op
   return st;
 }
 
-au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,
-                           au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
-                           au_sphere_report *rep, au_msg *msg) {
-  if (!m || !P || !out || !Pout || !parent || !param || !nnew || !(max_faces >= 1))
-    return au_msg_set(msg, AU_E_ARG, "refine: bad arguments");
-  *out = NULL, *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0;
-  au_sphere_opts o = opts ? *opts : au_sphere_opts_default();
-  au_advect_report *ar = malloc(sizeof *ar);
-  if (!ar) return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+/* A refined map and its new vertices' parents: the candidate kept so far, then the result. */
+typedef struct refined {
+  au_mesh *m;
+  double *P;     /* m->nv x 3 */
+  int *parent;   /* nnew x 2 */
+  double *param; /* nnew */
+  int nnew;
+} refined;
+
+/* Frees a refined map and clears it, so that it can take another. */
+static void refined_free(refined *r) {
+  au_mesh_free(&r->m), free(r->P), free(r->parent), free(r->param);
+  r->m = NULL, r->P = NULL, r->parent = NULL, r->param = NULL, r->nnew = 0;
+}
+
+/* The input's map as the refinements' rival, with what deciding between them needs. */
+typedef struct refine_input {
+  double *Pin;           /* the input's map after the vertex polish (and maybe the global one), nv x 3 */
+  au_sphere_report prin; /* the polishes' part of its report */
+  int polish_in;         /* the vertex polish ran on it */
+  double e_in, f_in;     /* its vertex and per-face errors */
+} refine_input;
+
+/* The input's map the refinements have to beat is P with the vertex polish, which the re-flows end
+ * with too (and the longest edges' refinement starts from). On failure in->Pin is NULL. */
+static au_status refine_input_polish(const au_mesh *m, const double *P, const au_sphere_opts *o,
+                                     const au_sphere_opts *ocand, const au_sphere_report *rep, refine_input *in,
+                                     au_msg *msg) {
   au_status st = AU_OK;
-  au_advect_report flow_in;
-  memset(&flow_in, 0, sizeof flow_in);
-  if (rep) flow_in = rep->flow, rep->refine_kept_input = 0;
-  /* The input's map the refinements have to beat is P with the vertex polish, which the re-flows end
-   * with too (and the longest edges' refinement starts from). */
-  double *Pin = malloc(sizeof(double) * 3 * (size_t)m->nv);
   au_topo *tin = NULL;
-  au_sphere_report prin;
-  memset(&prin, 0, sizeof prin);
-  if (!Pin || (st = au_mesh_topology(m, &tin, msg)) != AU_OK) {
-    free(ar), free(Pin);
+  memset(&in->prin, 0, sizeof in->prin);
+  in->Pin = malloc(sizeof(double) * 3 * (size_t)m->nv);
+  if (!in->Pin || (st = au_mesh_topology(m, &tin, msg)) != AU_OK) {
+    free(in->Pin), in->Pin = NULL;
     return st != AU_OK ? st : au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
   }
-  memcpy(Pin, P, sizeof(double) * 3 * (size_t)m->nv);
-  const int polish_in = o.vertex_polish > 0 && o.flow.sphere_areas != 2 && (rep ? !rep->flow.converged : vertex_error(m, P) > o.flow.tol);
-  au_sphere_opts ocand = o;
-  ocand.global_polish = 0; /* the candidates start from the vertex polish's map; the global polish below */
-  if (polish_in) st = au_sphere_polish_map(m, tin, &ocand, Pin, &prin, msg);
+  memcpy(in->Pin, P, sizeof(double) * 3 * (size_t)m->nv);
+  in->polish_in = o->vertex_polish > 0 && o->flow.sphere_areas != 2 && (rep ? !rep->flow.converged : vertex_error(m, P) > o->flow.tol);
+  if (in->polish_in) st = au_sphere_polish_map(m, tin, ocand, in->Pin, &in->prin, msg);
   au_topo_free(&tin);
   if (st != AU_OK) {
-    free(ar), free(Pin);
+    free(in->Pin), in->Pin = NULL;
     return st;
   }
-  double best = INFINITY, e_in = vertex_error(m, Pin);
-  int any_split = 0;
+  in->e_in = vertex_error(m, in->Pin);
+  return AU_OK;
+}
+
+/* Makes the candidates (refine_floor_share) and keeps in *kept the one whose vertex cells come nearest
+ * their shares: *best is its vertex error, *any_split whether any candidate split at all, rep gets its
+ * flow's and polishes' parts. ar is the candidates' scratch flow report. Returns the kept candidate's
+ * status, AU_OK when none was kept, or the failure that stopped the search. */
+static au_status refine_candidates(const au_mesh *m, const double *P, const double *Pin, const au_sphere_opts *ocand,
+                                   double max_faces, int held, au_advect_report *ar, refined *kept, double *best,
+                                   int *any_split, au_sphere_report *rep, au_msg *msg) {
+  au_status st = AU_OK;
   const int ncand = (int)(sizeof refine_floor_share / sizeof *refine_floor_share);
-  const int held = held_faces(m, P, AU_REFINE_HELD);
-  if (held < 0) {
-    free(ar), free(Pin);
-    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
-  }
   for (int c = 0; c < ncand; c++) {
     /* The longest edges are split only where some face is held by its floor: elsewhere the refinement
      * has nothing to lift, and the input stands without a search. */
     if (refine_floor_share[c] <= 0 && !held) break;
-    au_mesh *mr = NULL;
-    double *Pr = NULL, *prm = NULL;
-    int *par = NULL, nn = 0;
+    refined r = {NULL, NULL, NULL, NULL, 0};
     memset(ar, 0, sizeof *ar);
     au_sphere_report pol;
     memset(&pol, 0, sizeof pol);
@@ -631,78 +645,130 @@ au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_op
      * 0.0560). */
     const double *from = refine_floor_share[c] > 0 ? P : Pin;
     au_status s2 = refine_floor_share[c] < 0
-                       ? refine_spherical(m, from, &ocand, max_faces, &mr, &Pr, &par, &prm, &nn, ar, &pol, msg)
-                       : refine_with(m, from, &ocand, max_faces, refine_floor_share[c], &mr, &Pr, &par, &prm, &nn, ar, &pol, msg);
+                       ? refine_spherical(m, from, ocand, max_faces, &r.m, &r.P, &r.parent, &r.param, &r.nnew, ar, &pol, msg)
+                       : refine_with(m, from, ocand, max_faces, refine_floor_share[c], &r.m, &r.P, &r.parent, &r.param,
+                                     &r.nnew, ar, &pol, msg);
     if (s2 < 0) {
-      free(par), free(prm);
+      free(r.parent), free(r.param);
       if (c > 0 && s2 != AU_E_NOMEM) continue; /* the first candidate's map stands */
       st = s2;
       break;
     }
-    double e = nn > 0 ? vertex_error(mr, Pr) : INFINITY;
-    if (nn > 0 && (!*out || e < best)) {
-      au_mesh_free(out), free(*Pout), free(*parent), free(*param);
-      *out = mr, *Pout = Pr, *parent = par, *param = prm, *nnew = nn, best = e, st = s2;
+    const int split = r.nnew > 0;
+    double e = split ? vertex_error(r.m, r.P) : INFINITY;
+    if (split && (!kept->m || e < *best)) {
+      refined_free(kept);
+      *kept = r, *best = e, st = s2;
       if (rep) {
         rep->flow = *ar;
         take_polish(rep, &pol);
       }
     } else {
-      au_mesh_free(&mr), free(Pr), free(par), free(prm);
+      refined_free(&r);
     }
-    any_split |= nn > 0;
+    *any_split |= split;
   }
+  return st;
+}
+
+/* The global polish of the kept refinement, where its vertex error still misses the tolerance; meeting
+ * it there makes the run converged. Returns st, or the polish's failure. */
+static au_status refine_kept_global(refined *kept, const au_sphere_opts *o, au_status st, double *best,
+                                    au_sphere_report *rep, au_msg *msg) {
+  if (!(st >= 0 && kept->m && o->vertex_polish > 0 && o->global_polish > 0 && *best > o->flow.tol &&
+        kept->m->nv <= AU_GPOLISH_MAX_VERTICES))
+    return st;
+  au_status sg = refine_global(kept->m, kept->P, o, rep, msg);
+  if (sg < 0) st = sg;
+  *best = vertex_error(kept->m, kept->P);
+  if (st == AU_W_NOT_CONVERGED && *best <= o->flow.tol) {
+    st = AU_OK;
+    if (rep) rep->flow.converged = 1;
+  }
+  return st;
+}
+
+/* The global polish of the input's map, skipped where it cannot win: its vertex error more than
+ * AU_REFINE_OUT_OF_REACH times the kept refinement's (best, f_out its per-face error), with its
+ * per-face error higher too. Returns st, or the polish's failure. */
+static au_status refine_input_global(const au_mesh *m, const au_sphere_opts *o, refine_input *in, const refined *kept,
+                                     double best, double f_out, au_status st, au_msg *msg) {
+  if (!(st >= 0 && in->polish_in && o->global_polish > 0 && in->e_in > o->flow.tol && m->nv <= AU_GPOLISH_MAX_VERTICES &&
+        !(kept->m && in->e_in > AU_REFINE_OUT_OF_REACH * best && in->f_in > f_out)))
+    return st;
+  au_status sg = refine_global(m, in->Pin, o, &in->prin, msg);
+  if (sg < 0) st = sg;
+  in->e_in = vertex_error(m, in->Pin), in->f_in = face_error(m, in->Pin);
+  return st;
+}
+
+/* The input's mesh and its (polished) map in place of the kept refinement (in->Pin handed over), with
+ * the input map's own status: its flow's (flow_in), when the caller passed its report, or met by its
+ * polish. */
+static au_status refine_keep_input(const au_mesh *m, const au_sphere_opts *o, refine_input *in,
+                                   const au_advect_report *flow_in, int any_split, refined *kept,
+                                   au_sphere_report *rep, au_msg *msg) {
+  au_mesh *mc = NULL;
+  if (au_mesh_copy(m, &mc) != AU_OK) return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  refined_free(kept);
+  kept->m = mc, kept->P = in->Pin;
+  in->Pin = NULL;
+  au_status st = rep ? (flow_in->converged ? AU_OK : AU_W_NOT_CONVERGED) : in->e_in > o->flow.tol ? AU_W_NOT_CONVERGED : AU_OK;
+  if ((in->prin.polish == 2 && in->prin.polish_err[1] <= o->flow.tol) ||
+      (in->prin.global_polish == 2 && in->prin.global_polish_err[1] <= o->flow.tol))
+    st = AU_OK;
+  if (rep) {
+    rep->flow = *flow_in, rep->flow.converged = st == AU_OK, rep->refine_kept_input = any_split;
+    take_polish(rep, &in->prin);
+  }
+  return st;
+}
+
+au_status au_sphere_refine(const au_mesh *m, const double *P, const au_sphere_opts *opts, double max_faces,
+                           au_mesh **out, double **Pout, int **parent, double **param, int *nnew,
+                           au_sphere_report *rep, au_msg *msg) {
+  if (!m || !P || !out || !Pout || !parent || !param || !nnew || !(max_faces >= 1))
+    return au_msg_set(msg, AU_E_ARG, "refine: bad arguments");
+  *out = NULL, *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0;
+  au_sphere_opts o = opts ? *opts : au_sphere_opts_default();
+  au_advect_report *ar = malloc(sizeof *ar);
+  if (!ar) return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  au_advect_report flow_in;
+  memset(&flow_in, 0, sizeof flow_in);
+  if (rep) flow_in = rep->flow, rep->refine_kept_input = 0;
+  au_sphere_opts ocand = o;
+  ocand.global_polish = 0; /* the candidates start from the vertex polish's map; the global polish below */
+  refine_input in;
+  au_status st = refine_input_polish(m, P, &o, &ocand, rep, &in, msg);
+  if (st != AU_OK) {
+    free(ar);
+    return st;
+  }
+  refined kept = {NULL, NULL, NULL, NULL, 0};
+  double best = INFINITY;
+  int any_split = 0;
+  const int held = held_faces(m, P, AU_REFINE_HELD);
+  if (held < 0) {
+    free(ar), free(in.Pin);
+    return au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
+  }
+  st = refine_candidates(m, P, in.Pin, &ocand, max_faces, held, ar, &kept, &best, &any_split, rep, msg);
   free(ar);
   /* The global polish of the kept refinement and of the input's map, which it has to beat. The candidates
    * go without: it costs a second or more each, and from the input's globally polished map the two that
    * start from the polished one do worse (limbs4 0.0236 / 0.0047 against 0.0189 / 0.0038). */
-  if (st >= 0 && *out && o.vertex_polish > 0 && o.global_polish > 0 && best > o.flow.tol &&
-      (*out)->nv <= AU_GPOLISH_MAX_VERTICES) {
-    au_status sg = refine_global(*out, *Pout, &o, rep, msg);
-    if (sg < 0) st = sg;
-    best = vertex_error(*out, *Pout);
-    if (st == AU_W_NOT_CONVERGED && best <= o.flow.tol) {
-      st = AU_OK;
-      if (rep) rep->flow.converged = 1;
-    }
-  }
-  /* The input's global polish is skipped where it cannot win: its vertex error more than
-   * AU_REFINE_OUT_OF_REACH times the kept refinement's, with its per-face error higher too. */
-  const double f_out = *out ? face_error(*out, *Pout) : INFINITY;
-  double f_in = face_error(m, Pin);
-  if (st >= 0 && polish_in && o.global_polish > 0 && e_in > o.flow.tol && m->nv <= AU_GPOLISH_MAX_VERTICES &&
-      !(*out && e_in > AU_REFINE_OUT_OF_REACH * best && f_in > f_out)) {
-    au_status sg = refine_global(m, Pin, &o, &prin, msg);
-    if (sg < 0) st = sg;
-    e_in = vertex_error(m, Pin), f_in = face_error(m, Pin);
-  }
+  st = refine_kept_global(&kept, &o, st, &best, rep, msg);
+  const double f_out = kept.m ? face_error(kept.m, kept.P) : INFINITY;
+  in.f_in = face_error(m, in.Pin);
+  st = refine_input_global(m, &o, &in, &kept, best, f_out, st, msg);
   /* The input's mesh and its (polished) map stand when nothing was split, when neither refinement beat
    * it (a refined band can hold the flow back more than the floor it lifts), or when the better one's
    * vertex cells came at the faces' expense (tpose: vertex 7.09 -> 4.23 but per-face 1.68 -> 28). */
-  if (st >= 0 && (!*out || e_in < best || f_out > f_in)) {
-    au_mesh *mc = NULL;
-    if (au_mesh_copy(m, &mc) != AU_OK) {
-      st = au_msg_set(msg, AU_E_NOMEM, "refine: out of memory");
-    } else {
-      au_mesh_free(out), free(*Pout), free(*parent), free(*param);
-      *out = mc, *Pout = Pin, *parent = NULL, *param = NULL, *nnew = 0;
-      Pin = NULL;
-      /* The input map's own status: its flow's, when the caller passed its report, or met by its polish. */
-      st = rep ? (flow_in.converged ? AU_OK : AU_W_NOT_CONVERGED) : e_in > o.flow.tol ? AU_W_NOT_CONVERGED : AU_OK;
-      if ((prin.polish == 2 && prin.polish_err[1] <= o.flow.tol) ||
-          (prin.global_polish == 2 && prin.global_polish_err[1] <= o.flow.tol))
-        st = AU_OK;
-      if (rep) {
-        rep->flow = flow_in, rep->flow.converged = st == AU_OK, rep->refine_kept_input = any_split;
-        take_polish(rep, &prin);
-      }
-    }
-  }
-  free(Pin);
-  if (st < 0) {
-    au_mesh_free(out), free(*Pout), free(*parent), free(*param);
-    *Pout = NULL, *parent = NULL, *param = NULL, *nnew = 0;
-  }
+  if (st >= 0 && (!kept.m || in.e_in < best || f_out > in.f_in))
+    st = refine_keep_input(m, &o, &in, &flow_in, any_split, &kept, rep, msg);
+  free(in.Pin);
+  if (st < 0) refined_free(&kept);
+  *out = kept.m, *Pout = kept.P, *parent = kept.parent, *param = kept.param, *nnew = kept.nnew;
   return st;
 }
 

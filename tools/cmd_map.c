@@ -327,107 +327,132 @@ static int write_refined(const char *surf, const char *parents, const char *surf
   return -1;
 }
 
-/* The command after parsing: read, map, write. */
-static int run_map(const cli_args *a, au_options *o) {
-  double t_start = cli_now();
-  const char *in = a->pos[0], *out = a->pos[1], *report = a->val[OPT_REPORT];
-  const int quiet = a->val[OPT_QUIET] != NULL;
-  au_target t = cli_cmd_target(a->cmd);
-  au_report_extra extra = {NULL, NULL, NULL, -1, -1, -1, NULL, 0};
-  extra.input = in, extra.output = out, extra.tool = "authalic " AU_VERSION;
-  au_mesh *m = NULL;
-  au_result *r = NULL;
-  au_io_meta *meta = NULL;
-  const char *distortion = a->val[OPT_DISTORTION], *surf = a->val[OPT_REFINE_MESH], *preview = a->val[OPT_PREVIEW];
-  char parents[4200];
-  parents_name(surf, parents, sizeof parents);
-  /* The outputs besides OUT and the report (the refined surface and its parents, the distortion, the
-   * preview) wait under temporary names beside the files they replace until OUT is published: a run
-   * that fails later leaves a user's earlier files, and the links to them, as they were. */
-  enum { P_SURF, P_PARENTS, P_DISTORTION, P_PREVIEW, P_HTML, NPENDING };
-  const char *names[NPENDING] = {surf, surf ? parents : NULL, distortion, preview, a->val[OPT_HTML]};
-  char *dest[NPENDING] = {NULL}, *tmp[NPENDING] = {NULL};
-  int written[NPENDING] = {0};
-  double *density = NULL;
-  au_msg msg = {{0}};
-  cli_progress_state prog;
-  cli_progress_init(&prog, quiet);
-  cli_expect_output(out);
-  cli_expect_output(report);
+/* The outputs besides OUT and the report (the refined surface and its parents, the distortion, the
+ * preview, the page) wait under temporary names beside the files they replace until OUT is published:
+ * a run that fails later leaves a user's earlier files, and the links to them, as they were. */
+enum { P_SURF, P_PARENTS, P_DISTORTION, P_PREVIEW, P_HTML, NPENDING };
+typedef struct pending {
+  const char *name[NPENDING]; /* as given; NULL where not asked for */
+  char *dest[NPENDING], *tmp[NPENDING];
+  int written[NPENDING]; /* the temporary holds the output, to be renamed or removed */
+} pending;
 
-  /* The check's warning (unreferenced vertices) is the result's too: not kept twice. */
-  int rc = cli_load(in, (au_target)-1, &m, &meta, NULL, &extra.t_read, &extra.t_validate);
-  if (rc >= 0) goto done;
-  au_io_format ofmt = AU_IO_FORMAT_OBJ;
-  if (t != AU_TARGET_TORUS && (rc = cli_output_format(a->help, out, au_io_format_parse(a->val[OPT_FORMAT]), meta, &ofmt)))
-    goto done;
-  au_io_format sfmt = surf ? au_io_format_of_name(surf) : AU_IO_FORMAT_OBJ;
-  if (sfmt == AU_IO_FORMAT_AUTO) sfmt = au_io_meta_format(meta);
-  if (sfmt == AU_IO_FORMAT_AUTO || sfmt == AU_IO_FORMAT_STL) {
-    rc = cli_usage_error(a->help, "--refine-mesh '%s': no extension of a format that can be written and the input is %s "
-                                  "(use .obj, .off, .ply or .gii)", surf, au_io_format_name(sfmt));
-    goto done;
-  }
+/* The formats of OUT (torus: OBJ) and of --refine-mesh's SURF, settled only once the input is read: a
+ * name without an extension takes the input's format. -1 to go on, else the exit code. */
+static int output_formats(const cli_args *a, au_target t, const au_io_meta *meta, au_io_format *ofmt,
+                          au_io_format *sfmt) {
+  const char *surf = a->val[OPT_REFINE_MESH];
+  int rc;
+  *ofmt = AU_IO_FORMAT_OBJ;
+  if (t != AU_TARGET_TORUS && (rc = cli_output_format(a->help, a->pos[1], au_io_format_parse(a->val[OPT_FORMAT]), meta, ofmt)))
+    return rc;
+  *sfmt = surf ? au_io_format_of_name(surf) : AU_IO_FORMAT_OBJ;
+  if (*sfmt == AU_IO_FORMAT_AUTO) *sfmt = au_io_meta_format(meta);
+  if (*sfmt == AU_IO_FORMAT_AUTO || *sfmt == AU_IO_FORMAT_STL)
+    return cli_usage_error(a->help, "--refine-mesh '%s': no extension of a format that can be written and the input is %s "
+                                    "(use .obj, .off, .ply or .gii)", surf, au_io_format_name(*sfmt));
+  return -1;
+}
+
+/* Names every pending output's temporary up front, so that a fatal signal can remove it. -1 to go on,
+ * else the exit code. */
+static int pending_open(pending *p) {
   for (int k = 0; k < NPENDING; k++) {
-    if (!names[k]) continue;
-    if (!(dest[k] = au_output_target(names[k])) || !(tmp[k] = cli_temp_name(dest[k]))) {
-      rc = cli_fail(names[k], AU_E_NOMEM, NULL);
-      goto done;
+    if (!p->name[k]) continue;
+    if (!(p->dest[k] = au_output_target(p->name[k])) || !(p->tmp[k] = cli_temp_name(p->dest[k])))
+      return cli_fail(p->name[k], AU_E_NOMEM, NULL);
+    cli_expect_output(p->tmp[k]), cli_expect_temp(p->tmp[k]);
+  }
+  return -1;
+}
+
+/* Renames the written temporaries into place once OUT is published; EXIT_OK, else EXIT_INTERNAL. */
+static int pending_publish(pending *p) {
+  int rc = EXIT_OK;
+  for (int k = 0; rc == EXIT_OK && k < NPENDING; k++)
+    if (p->written[k]) {
+      if (rename(p->tmp[k], p->dest[k]) != 0) {
+        fprintf(stderr, "authalic: error: %s: cannot rename it into place: %s\n", p->name[k], strerror(errno));
+        rc = EXIT_INTERNAL;
+      }
+      p->written[k] = 0;
     }
-    cli_expect_output(tmp[k]), cli_expect_temp(tmp[k]);
+  return rc;
+}
+
+/* Removes the temporaries not renamed (a failure anywhere after they were written) and frees the names. */
+static void pending_close(pending *p) {
+  for (int k = 0; k < NPENDING; k++) {
+    if (p->written[k]) unlink(p->tmp[k]);
+    free(p->tmp[k]), au_free(p->dest[k]);
   }
-  if (a->val[OPT_DENSITY]) {
-    int nval = 0;
-    rc = read_density(a->val[OPT_DENSITY], m->nv, m->nf, &density, &nval);
-    if (rc >= 0) goto done;
-    if (nval == m->nv) o->vertex_density = density;
-    else o->face_density = density;
-  }
+}
+
+/* Gives --density's values to the options as per-vertex or per-face by their count; *density (the
+ * caller frees it) holds them. -1 to go on, else the exit code. */
+static int apply_density(const cli_args *a, const au_mesh *m, au_options *o, double **density) {
+  int nval = 0, rc;
+  if (!a->val[OPT_DENSITY]) return -1;
+  if ((rc = read_density(a->val[OPT_DENSITY], m->nv, m->nf, density, &nval)) >= 0) return rc;
+  if (nval == m->nv) o->vertex_density = *density;
+  else o->face_density = *density;
+  return -1;
+}
+
+/* Runs the map with the command line's last options and reports its warnings, or its failure, the
+ * program's way. -1 to go on (*r set), else the exit code. */
+static int map_mesh(const cli_args *a, const au_mesh *m, au_target t, au_options *o, cli_progress_state *prog,
+                    au_result **r) {
+  const char *in = a->pos[0];
+  au_msg msg = {{0}};
   /* --spherical-areas: the map the texture command computes for itself (cmd_texture.c, get_map). */
   o->spherical_areas = a->val[OPT_SPHERICAL_AREAS] != NULL;
-  if (!quiet) o->progress = cli_progress, o->user = &prog;
-  o->measure_start = report != NULL; /* only the report shows the start's metrics */
-  au_status st = au_map(m->X, m->nv, m->F, m->nf, t, o, &r, &msg);
-  cli_progress_end(&prog);
-  if (st < 0) {
-    /* A bad corner or outer-loop vertex is the user's to fix, like bad input; the library names the
-     * option by its field (outer_loop), the program by its flag (--outer-loop). */
-    if (st == AU_E_ARG) {
-      char *colon = strchr(msg.text, ':');
-      for (char *c = msg.text; colon && c < colon; c++)
-        if (*c == '_') *c = '-';
-      fprintf(stderr, "authalic: error: %s: --%s\n", in, msg.text);
-      rc = EXIT_USAGE;
-    } else {
-      rc = cli_fail(in, st, &msg);
-    }
-    goto done;
+  if (a->val[OPT_QUIET] == NULL) o->progress = cli_progress, o->user = prog;
+  o->measure_start = a->val[OPT_REPORT] != NULL; /* only the report shows the start's metrics */
+  au_status st = au_map(m->X, m->nv, m->F, m->nf, t, o, r, &msg);
+  cli_progress_end(prog);
+  if (st >= 0) {
+    for (int k = 0; k < (*r)->nwarnings; k++) fprintf(stderr, "authalic: warning: %s: %s\n", in, (*r)->warnings[k]);
+    return -1;
   }
-  for (int k = 0; k < r->nwarnings; k++) fprintf(stderr, "authalic: warning: %s: %s\n", in, r->warnings[k]);
-  au_write_opts w = au_write_opts_default();
-  w.uv = r->uv;
-  /* The torus keeps the surface in `v` and puts the map in the per-corner `vt`. */
-  if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
-  w.format = ofmt, w.meta = meta, w.geometric_type = t == AU_TARGET_SPHERE ? "Spherical" : "Flat";
-  if (a->val[OPT_RADIUS]) cli_parse_nonneg(a->val[OPT_RADIUS], &w.radius); /* checked when parsed */
-  if (surf && (rc = write_refined(tmp[P_SURF], tmp[P_PARENTS], surf, parents, r, sfmt, meta)) >= 0) goto done;
-  written[P_SURF] = written[P_PARENTS] = surf != NULL;
-  if (distortion) {
+  /* A bad corner or outer-loop vertex is the user's to fix, like bad input; the library names the
+   * option by its field (outer_loop), the program by its flag (--outer-loop). */
+  if (st == AU_E_ARG) {
+    char *colon = strchr(msg.text, ':');
+    for (char *c = msg.text; colon && c < colon; c++)
+      if (*c == '_') *c = '-';
+    fprintf(stderr, "authalic: error: %s: --%s\n", in, msg.text);
+    return EXIT_USAGE;
+  }
+  return cli_fail(in, st, &msg);
+}
+
+/* Writes the outputs besides OUT and the report to their temporaries, each marked written in p. -1 to
+ * go on, else the exit code. */
+static int write_pending(const cli_args *a, const au_result *r, au_target t, au_io_format sfmt, const au_io_meta *meta,
+                         double t_start, pending *p) {
+  const char *in = a->pos[0];
+  int rc;
+  if (p->name[P_SURF]) {
+    if ((rc = write_refined(p->tmp[P_SURF], p->tmp[P_PARENTS], p->name[P_SURF], p->name[P_PARENTS], r, sfmt, meta)) >= 0)
+      return rc;
+    p->written[P_SURF] = p->written[P_PARENTS] = 1;
+  }
+  if (p->name[P_DISTORTION]) {
     au_mesh mm = {r->nv, r->nf, r->X, r->F};
-    rc = cli_write_distortion(tmp[P_DISTORTION], distortion, &mm, r->P, t == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE,
-                              r->nvt, t == AU_TARGET_TORUS ? r->vt : NULL, r->Ft, meta);
-    if (rc >= 0) goto done;
-    written[P_DISTORTION] = 1;
+    rc = cli_write_distortion(p->tmp[P_DISTORTION], p->name[P_DISTORTION], &mm, r->P,
+                              t == AU_TARGET_SPHERE ? AU_DOMAIN_SPHERE : AU_DOMAIN_PLANE, r->nvt,
+                              t == AU_TARGET_TORUS ? r->vt : NULL, r->Ft, meta);
+    if (rc >= 0) return rc;
+    p->written[P_DISTORTION] = 1;
   }
-  if (preview) {
-    st = au_torus_preview(tmp[P_PREVIEW], r, 1024, 0, &msg);
-    if (st < 0) {
-      rc = cli_fail(preview, st, &msg);
-      goto done;
-    }
-    written[P_PREVIEW] = 1;
+  if (p->name[P_PREVIEW]) {
+    au_msg msg = {{0}};
+    au_status st = au_torus_preview(p->tmp[P_PREVIEW], r, 1024, 0, &msg);
+    if (st < 0) return cli_fail(p->name[P_PREVIEW], st, &msg);
+    p->written[P_PREVIEW] = 1;
   }
-  if (names[P_HTML]) {
+  if (p->name[P_HTML]) {
     au_view_input v = au_view_input_default();
     v.nv = r->nv, v.nf = r->nf, v.X = r->X, v.F = r->F;
     if (t == AU_TARGET_TORUS) v.nvt = r->nvt, v.vt = r->vt, v.Ft = r->Ft;
@@ -435,25 +460,56 @@ static int run_map(const cli_args *a, au_options *o) {
     v.steps = r->conv.steps, v.seconds = cli_now() - t_start;
     const char *slash = strrchr(in, '/');
     v.title = slash ? slash + 1 : in;
-    if ((rc = cli_write_view(tmp[P_HTML], names[P_HTML], &v, 1)) >= 0) goto done;
-    written[P_HTML] = 1;
+    if ((rc = cli_write_view(p->tmp[P_HTML], p->name[P_HTML], &v, 1)) >= 0) return rc;
+    p->written[P_HTML] = 1;
   }
-  rc = cli_publish(out, r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, report, r, &extra);
-  for (int k = 0; rc == EXIT_OK && k < NPENDING; k++)
-    if (written[k]) {
-      if (rename(tmp[k], dest[k]) != 0) {
-        fprintf(stderr, "authalic: error: %s: cannot rename it into place: %s\n", names[k], strerror(errno));
-        rc = EXIT_INTERNAL;
-      }
-      written[k] = 0;
-    }
-  if (rc == EXIT_OK && !quiet) summary(a->cmd, r, a->val[OPT_SPHERICAL_AREAS] != NULL, cli_now() - t_start);
-done:
-  /* Temporaries not renamed (a failure anywhere after they were written) go. */
-  for (int k = 0; k < NPENDING; k++) {
-    if (written[k]) unlink(tmp[k]);
-    free(tmp[k]), au_free(dest[k]);
-  }
+  return -1;
+}
+
+/* Publishes OUT (and the report), then the pending outputs; the exit code. */
+static int publish(const cli_args *a, const au_result *r, au_target t, au_io_format ofmt, const au_io_meta *meta,
+                   au_report_extra *extra, pending *p) {
+  au_write_opts w = au_write_opts_default();
+  w.uv = r->uv;
+  /* The torus keeps the surface in `v` and puts the map in the per-corner `vt`. */
+  if (t == AU_TARGET_TORUS) w.nvt = r->nvt, w.vt = r->vt, w.Ft = r->Ft;
+  w.format = ofmt, w.meta = meta, w.geometric_type = t == AU_TARGET_SPHERE ? "Spherical" : "Flat";
+  if (a->val[OPT_RADIUS]) cli_parse_nonneg(a->val[OPT_RADIUS], &w.radius); /* checked when parsed */
+  int rc = cli_publish(a->pos[1], r->nv, t == AU_TARGET_TORUS ? r->X : r->P, r->nf, r->F, &w, a->val[OPT_REPORT], r, extra);
+  return rc == EXIT_OK ? pending_publish(p) : rc;
+}
+
+/* The command after parsing: read, map, write the pending outputs, publish, summarize. */
+static int run_map(const cli_args *a, au_options *o) {
+  double t_start = cli_now();
+  const char *in = a->pos[0], *out = a->pos[1], *report = a->val[OPT_REPORT], *surf = a->val[OPT_REFINE_MESH];
+  const int quiet = a->val[OPT_QUIET] != NULL;
+  au_target t = cli_cmd_target(a->cmd);
+  au_report_extra extra = {NULL, NULL, NULL, -1, -1, -1, NULL, 0};
+  extra.input = in, extra.output = out, extra.tool = "authalic " AU_VERSION;
+  au_mesh *m = NULL;
+  au_result *r = NULL;
+  au_io_meta *meta = NULL;
+  double *density = NULL;
+  char parents[4200];
+  parents_name(surf, parents, sizeof parents);
+  pending p = {{surf, surf ? parents : NULL, a->val[OPT_DISTORTION], a->val[OPT_PREVIEW], a->val[OPT_HTML]}, {NULL}, {NULL}, {0}};
+  au_io_format ofmt = AU_IO_FORMAT_OBJ, sfmt = AU_IO_FORMAT_OBJ;
+  cli_progress_state prog;
+  cli_progress_init(&prog, quiet);
+  cli_expect_output(out);
+  cli_expect_output(report);
+
+  /* The check's warning (unreferenced vertices) is the result's too: not kept twice. */
+  int rc = cli_load(in, (au_target)-1, &m, &meta, NULL, &extra.t_read, &extra.t_validate);
+  if (rc < 0) rc = output_formats(a, t, meta, &ofmt, &sfmt);
+  if (rc < 0) rc = pending_open(&p);
+  if (rc < 0) rc = apply_density(a, m, o, &density);
+  if (rc < 0) rc = map_mesh(a, m, t, o, &prog, &r);
+  if (rc < 0) rc = write_pending(a, r, t, sfmt, meta, t_start, &p);
+  if (rc < 0 && (rc = publish(a, r, t, ofmt, meta, &extra, &p)) == EXIT_OK && !quiet)
+    summary(a->cmd, r, a->val[OPT_SPHERICAL_AREAS] != NULL, cli_now() - t_start);
+  pending_close(&p);
   cli_progress_end(&prog);
   au_result_free(&r);
   au_io_meta_free(&meta);

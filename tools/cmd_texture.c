@@ -323,132 +323,159 @@ static char *image_ref(const char *out, const char *image) {
   return s;
 }
 
-static int run_texture(const tex_args *a) {
-  double t_start = cli_now();
-  double t_read = 0, t_check = 0;
-  int rc;
+/* What a texture run makes and frees, handed from step to step. */
+typedef struct tex_run {
+  au_mesh *m;
+  au_io_meta *meta;
+  double *P;           /* the sphere map, nv x 3 */
+  au_metrics met;      /* the sphere map's metrics */
+  au_tex_mesh *t;      /* the texture coordinates */
+  au_locator *loc;     /* NULL without --bake */
+  unsigned char *rgb;  /* the baked texture, 3 x W x H; NULL without --bake */
+  double range[2];     /* the baked scalar file's range; {0, 0} otherwise */
+  char *mtl;           /* the material file beside OUT; NULL without --bake */
   cli_warnings warn;
-  warn.n = 0;
-  au_mesh *m = NULL;
-  au_tex_mesh *t = NULL;
-  au_locator *loc = NULL;
-  double *P = NULL;
-  unsigned char *rgb = NULL;
-  char *mtl = NULL, *mtlbuf = NULL, *ref = NULL, *ll = NULL;
-  au_msg msg = {{0}};
-  au_status st;
-  au_metrics met;
-  au_io_meta *meta = NULL;
-  written w = {{0}, 0};
-  double range[2] = {0, 0};
+  written w;
+} tex_run;
 
-  rc = cli_load(a->in, AU_TARGET_SPHERE, &m, &meta, &warn, &t_read, &t_check);
-  if (rc >= 0) goto done;
-  P = malloc(3 * (size_t)m->nv * sizeof *P);
-  if (!P) {
-    rc = cli_fail(a->in, AU_E_NOMEM, NULL);
-    goto done;
-  }
-  rc = get_map(a, m, P, &warn, &met);
-  if (rc >= 0) goto done;
-  st = au_tex_coords_opts(m, P, &a->topts, &t, &msg);
-  if (st != AU_OK) {
-    rc = cli_fail(a->map ? a->map : a->in, st, &msg);
-    goto done;
-  }
+/* Reads IN and gets its sphere map before anything is made of it. -1 to go on, else the exit code. */
+static int texture_load(const tex_args *a, tex_run *s) {
+  double t_read = 0, t_check = 0;
+  int rc = cli_load(a->in, AU_TARGET_SPHERE, &s->m, &s->meta, &s->warn, &t_read, &t_check);
+  if (rc >= 0) return rc;
+  s->P = malloc(3 * (size_t)s->m->nv * sizeof *s->P);
+  if (!s->P) return cli_fail(a->in, AU_E_NOMEM, NULL);
+  return get_map(a, s->m, s->P, &s->warn, &s->met);
+}
+
+/* Makes the texture coordinates and warns when --area-target could not be met. -1 to go on, else the
+ * exit code. */
+static int texture_coords(const tex_args *a, tex_run *s) {
+  au_msg msg = {{0}};
+  au_status st = au_tex_coords_opts(s->m, s->P, &a->topts, &s->t, &msg);
+  if (st != AU_OK) return cli_fail(a->map ? a->map : a->in, st, &msg);
+  const au_tex_mesh *t = s->t;
   if (t->area_target > 0 && !t->area_target_met)
-    cli_warn(&warn, a->in,
+    cli_warn(&s->warn, a->in,
              "the texture's per-face error %.4g misses the target %.4g; the map's spherical per-face error %.4g "
              "is a floor%s",
-             t->vt_err_mean, t->area_target, met.sph_r_mean_abs_dev,
-             a->map && met.sph_r_mean_abs_dev > met.r_mean_abs_dev ? " (`authalic sphere --spherical-areas`, or texture without --map, makes a map with a lower one)" : "");
-  if (a->bake) {
-    rgb = malloc(3 * (size_t)a->W * a->H);
-    st = rgb ? au_locator_build(m->nv, P, m->nf, m->F, &loc, &msg) : AU_E_NOMEM;
-    if (st != AU_OK) {
-      rc = cli_fail(a->in, st, &msg);
-      goto done;
-    }
-    rc = bake(a, m, &t->layout, loc, rgb, range);
-    if (rc >= 0) goto done;
-  }
+             t->vt_err_mean, t->area_target, s->met.sph_r_mean_abs_dev,
+             a->map && s->met.sph_r_mean_abs_dev > s->met.r_mean_abs_dev ? " (`authalic sphere --spherical-areas`, or texture without --map, makes a map with a lower one)" : "");
+  return -1;
+}
 
-  /* Writing: the image and its material first, the OBJ that names them, then the extras. */
-  if (a->bake) {
-    rc = write_done(&w, a->image, au_png_write(a->image, a->W, a->H, rgb, &msg), &msg);
-    if (rc >= 0) goto done;
-    mtl = mtl_path(a->out);
-    ref = image_ref(a->out, a->image);
-    size_t len = ref ? strlen(ref) + strlen(a->bake) + 256 : 0; /* both names, any length */
-    mtlbuf = ref ? malloc(len) : NULL;
-    if (!mtl || !mtlbuf) {
-      rc = write_done(&w, a->out, AU_E_NOMEM, NULL);
-      goto done;
-    }
+/* --bake: locates the texels on the sphere map and colours them. -1 to go on, else the exit code. */
+static int texture_bake(const tex_args *a, tex_run *s) {
+  au_msg msg = {{0}};
+  s->rgb = malloc(3 * (size_t)a->W * a->H);
+  au_status st = s->rgb ? au_locator_build(s->m->nv, s->P, s->m->nf, s->m->F, &s->loc, &msg) : AU_E_NOMEM;
+  if (st != AU_OK) return cli_fail(a->in, st, &msg);
+  return bake(a, s->m, &s->t->layout, s->loc, s->rgb, s->range);
+}
+
+/* --bake: the image, then the material file naming it, both before the OBJ that names the material.
+ * -1 to go on, else the exit code (the outputs written so far removed). */
+static int write_material(const tex_args *a, tex_run *s) {
+  au_msg msg = {{0}};
+  int rc = write_done(&s->w, a->image, au_png_write(a->image, a->W, a->H, s->rgb, &msg), &msg);
+  if (rc >= 0) return rc;
+  s->mtl = mtl_path(a->out);
+  char *ref = image_ref(a->out, a->image);
+  size_t len = ref ? strlen(ref) + strlen(a->bake) + 256 : 0; /* both names, any length */
+  char *mtlbuf = ref ? malloc(len) : NULL;
+  if (!s->mtl || !mtlbuf) {
+    rc = write_done(&s->w, a->out, AU_E_NOMEM, NULL);
+  } else {
     int k = snprintf(mtlbuf, len, "# authalic texture: material of the baked attribute '%s'\nnewmtl authalic\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd %s\n",
                      a->bake, ref);
-    rc = write_done(&w, mtl, k >= 0 && (size_t)k < len ? au_write_text(mtl, mtlbuf, (size_t)k, &msg) : AU_E_INTERNAL, &msg);
-    if (rc >= 0) goto done;
+    rc = write_done(&s->w, s->mtl, k >= 0 && (size_t)k < len ? au_write_text(s->mtl, mtlbuf, (size_t)k, &msg) : AU_E_INTERNAL, &msg);
   }
+  free(mtlbuf), free(ref);
+  return rc;
+}
+
+/* --lonlat: each vertex's longitude and latitude as text. -1 to go on, else the exit code. */
+static int write_lonlat(const tex_args *a, tex_run *s) {
+  au_msg msg = {{0}};
+  const au_tex_mesh *t = s->t;
+  /* The header names OUT (any length); a vertex's line is at most 2 x 19 + 2 characters. */
+  size_t cap = 64 + strlen(a->out) + 48 * (size_t)t->nv, len = 0;
+  char *ll = malloc(cap);
+  if (!ll) return write_done(&s->w, a->lonlat, AU_E_NOMEM, NULL);
+  len += (size_t)snprintf(ll, cap, "# longitude latitude (degrees) of each vertex of %s\n", a->out);
+  for (int i = 0; i < t->nv && len < cap; i++)
+    len += (size_t)snprintf(ll + len, cap - len, "%.12g %.12g\n", t->lonlat[2 * i], t->lonlat[2 * i + 1]);
+  int rc = write_done(&s->w, a->lonlat, len < cap ? au_write_text(a->lonlat, ll, len, &msg) : AU_E_INTERNAL, &msg);
+  free(ll);
+  return rc;
+}
+
+/* Writing: the image and its material first, the OBJ that names them, then the extras. -1 when all
+ * are written, else the exit code (the outputs written so far removed). */
+static int texture_write(const tex_args *a, tex_run *s) {
+  au_msg msg = {{0}};
+  int rc;
+  if (a->bake && (rc = write_material(a, s)) >= 0) return rc;
   const char *mtl_base = NULL;
-  if (mtl) mtl_base = strrchr(mtl, '/') ? strrchr(mtl, '/') + 1 : mtl;
-  rc = write_done(&w, a->out, au_tex_write_obj(a->out, t, mtl_base, &msg), &msg);
-  if (rc >= 0) goto done;
-  if (a->lonlat) {
-    /* The header names OUT (any length); a vertex's line is at most 2 x 19 + 2 characters. */
-    size_t cap = 64 + strlen(a->out) + 48 * (size_t)t->nv, len = 0;
-    ll = malloc(cap);
-    if (!ll) {
-      rc = write_done(&w, a->lonlat, AU_E_NOMEM, NULL);
-      goto done;
-    }
-    len += (size_t)snprintf(ll, cap, "# longitude latitude (degrees) of each vertex of %s\n", a->out);
-    for (int i = 0; i < t->nv && len < cap; i++)
-      len += (size_t)snprintf(ll + len, cap - len, "%.12g %.12g\n", t->lonlat[2 * i], t->lonlat[2 * i + 1]);
-    rc = write_done(&w, a->lonlat, len < cap ? au_write_text(a->lonlat, ll, len, &msg) : AU_E_INTERNAL, &msg);
-    if (rc >= 0) goto done;
-  }
-  if (a->preview) {
-    rc = write_done(&w, a->preview, au_tex_preview(a->preview, m, P, 1024, 0, &msg), &msg);
-    if (rc >= 0) goto done;
-  }
+  if (s->mtl) mtl_base = strrchr(s->mtl, '/') ? strrchr(s->mtl, '/') + 1 : s->mtl;
+  if ((rc = write_done(&s->w, a->out, au_tex_write_obj(a->out, s->t, mtl_base, &msg), &msg)) >= 0) return rc;
+  if (a->lonlat && (rc = write_lonlat(a, s)) >= 0) return rc;
+  if (a->preview && (rc = write_done(&s->w, a->preview, au_tex_preview(a->preview, s->m, s->P, 1024, 0, &msg), &msg)) >= 0)
+    return rc;
   if (a->distortion) {
-    rc = cli_write_distortion(a->distortion, a->distortion, m, P, AU_DOMAIN_SPHERE, 0, NULL, NULL, meta);
+    rc = cli_write_distortion(a->distortion, a->distortion, s->m, s->P, AU_DOMAIN_SPHERE, 0, NULL, NULL, s->meta);
     if (rc >= 0) {
-      for (int k = 0; k < w.n; k++) cli_remove_output(w.path[k]);
-      goto done;
+      for (int k = 0; k < s->w.n; k++) cli_remove_output(s->w.path[k]);
+      return rc;
     }
-    w.path[w.n++] = a->distortion;
+    s->w.path[s->w.n++] = a->distortion;
   }
   if (a->render) {
     double view[3];
-    au_tex_seam_view(t, view);
-    rc = write_done(&w, a->render, au_tex_render(a->render, t, rgb, a->W, a->H, view, 512, a->mark_seam, &msg), &msg);
-    if (rc >= 0) goto done;
+    au_tex_seam_view(s->t, view);
+    rc = write_done(&s->w, a->render, au_tex_render(a->render, s->t, s->rgb, a->W, a->H, view, 512, a->mark_seam, &msg), &msg);
+    if (rc >= 0) return rc;
   }
-  if (!a->quiet) {
-    const double *R = t->layout.R;
-    char target[64] = "";
-    if (t->area_target > 0)
-      snprintf(target, sizeof target, ", target %.4g %s", t->area_target, t->area_target_met ? "met" : "missed");
-    fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d edge splits=%d "
-            "(split for folding=%d for area=%d%s, tol %.3g%s%s) out V=%d F=%d mean|r-1|=%.3g sph|r-1|=%.4g vt|r-1|=%.4g "
-            "axis=%.6f,%.6f,%.6f",
-            m->nv, m->nf, a->proj == AU_TEX_CEA ? "cea" : a->proj == AU_TEX_LAEA ? "laea" : "oct", t->nvt, t->seam_faces,
-            t->pole_splits, t->edge_splits, t->fold_splits, t->area_splits, t->area_worst_first ? " worst first" : "",
-            t->area_tol, target, !t->area_dropped ? "" : t->area_target_met ? ", none needed" : t->area_tries_failed == t->area_tries ? ", dropped: splits left folds" : ", dropped: no lower error",
-            t->nv, t->nf, met.r_mean_abs_dev, met.sph_r_mean_abs_dev, t->vt_err_mean, R[6], R[7], R[8]);
-    if (a->bake) fprintf(stderr, " baked=%s %dx%d", a->bake, a->W, a->H);
-    if (range[1] > range[0]) fprintf(stderr, " range=[%g, %g]", range[0], range[1]);
-    fprintf(stderr, " time=%.2fs\n", cli_now() - t_start);
+  return -1;
+}
+
+/* The one summary line on stderr. */
+static void texture_summary(const tex_args *a, const tex_run *s, double seconds) {
+  const au_tex_mesh *t = s->t;
+  const double *R = t->layout.R;
+  char target[64] = "";
+  if (t->area_target > 0)
+    snprintf(target, sizeof target, ", target %.4g %s", t->area_target, t->area_target_met ? "met" : "missed");
+  fprintf(stderr, "authalic: texture: V=%d F=%d projection=%s vt=%d seam faces=%d pole splits=%d edge splits=%d "
+          "(split for folding=%d for area=%d%s, tol %.3g%s%s) out V=%d F=%d mean|r-1|=%.3g sph|r-1|=%.4g vt|r-1|=%.4g "
+          "axis=%.6f,%.6f,%.6f",
+          s->m->nv, s->m->nf, a->proj == AU_TEX_CEA ? "cea" : a->proj == AU_TEX_LAEA ? "laea" : "oct", t->nvt, t->seam_faces,
+          t->pole_splits, t->edge_splits, t->fold_splits, t->area_splits, t->area_worst_first ? " worst first" : "",
+          t->area_tol, target, !t->area_dropped ? "" : t->area_target_met ? ", none needed" : t->area_tries_failed == t->area_tries ? ", dropped: splits left folds" : ", dropped: no lower error",
+          t->nv, t->nf, s->met.r_mean_abs_dev, s->met.sph_r_mean_abs_dev, t->vt_err_mean, R[6], R[7], R[8]);
+  if (a->bake) fprintf(stderr, " baked=%s %dx%d", a->bake, a->W, a->H);
+  if (s->range[1] > s->range[0]) fprintf(stderr, " range=[%g, %g]", s->range[0], s->range[1]);
+  fprintf(stderr, " time=%.2fs\n", seconds);
+}
+
+/* The texture command after parsing: read and map, texture coordinates, bake, write, summarize. */
+static int run_texture(const tex_args *a) {
+  double t_start = cli_now();
+  tex_run s;
+  memset(&s, 0, sizeof s);
+  int rc = texture_load(a, &s);
+  if (rc < 0) rc = texture_coords(a, &s);
+  if (rc < 0 && a->bake) rc = texture_bake(a, &s);
+  if (rc < 0) rc = texture_write(a, &s);
+  if (rc < 0) {
+    if (!a->quiet) texture_summary(a, &s, cli_now() - t_start);
+    rc = EXIT_OK;
   }
-  rc = EXIT_OK;
-done:
-  au_tex_mesh_free(&t);
-  au_locator_free(&loc);
-  au_io_meta_free(&meta);
-  au_mesh_free(&m);
-  free(P), free(rgb), free(mtl), free(mtlbuf), free(ref), free(ll);
+  au_tex_mesh_free(&s.t);
+  au_locator_free(&s.loc);
+  au_io_meta_free(&s.meta);
+  au_mesh_free(&s.m);
+  free(s.P), free(s.rgb), free(s.mtl);
   return rc;
 }
 
@@ -482,136 +509,178 @@ static au_status write_samples_csv(const tex_args *a, int K, const double *out, 
   return st;
 }
 
+/* What a sample run makes and frees, handed from step to step. */
+typedef struct sample_run {
+  au_mesh *m;
+  double *P;       /* the sphere map, nv x 3 */
+  au_metrics met;  /* the sphere map's metrics */
+  au_locator *loc;
+  size_t n;        /* grid cells, W x H */
+  int K;           /* columns a cell: x y z, the normal, the attributes */
+  int *face;       /* each cell centre's face, n */
+  double *bary;    /* and its barycentric coordinates there, 3 n */
+  double *A;       /* the vertex normals, 3 nv */
+  double *tmp;     /* one interpolated quantity, 3 n */
+  double *out;     /* the samples, n x K */
+  double *attrs;   /* the attributes, nattr x nv; NULL without --attr */
+  double amean, astd, amin, amax; /* the cells' preimage areas (--report) */
+  cli_warnings warn;
+  written w;
+} sample_run;
+
+/* Reads IN and takes all of the grid's memory before the (possibly long) map computation, so that a
+ * grid too large fails at once. -1 to go on, else the exit code. */
+static int sample_load(const tex_args *a, sample_run *s) {
+  double t_read = 0, t_check = 0;
+  int rc = cli_load(a->in, AU_TARGET_SPHERE, &s->m, NULL, &s->warn, &t_read, &t_check);
+  if (rc >= 0) return rc;
+  size_t n = s->n = (size_t)a->W * a->H;
+  int K = s->K = 3 + (a->normals ? 3 : 0) + a->nattr;
+  s->P = malloc(3 * (size_t)s->m->nv * sizeof *s->P);
+  s->A = malloc(3 * (size_t)s->m->nv * sizeof *s->A);
+  s->face = malloc(n * sizeof *s->face);
+  s->bary = malloc(3 * n * sizeof *s->bary);
+  s->out = malloc(n * K * sizeof *s->out);
+  s->tmp = malloc(3 * n * sizeof *s->tmp);
+  if (!s->P || !s->A || !s->face || !s->bary || !s->out || !s->tmp) return cli_fail(a->in, AU_E_NOMEM, NULL);
+  return -1;
+}
+
+/* The attribute files are read before the (possibly long) map computation, so that a bad one fails at
+ * once. -1 to go on, else the exit code. */
+static int sample_read_attrs(const tex_args *a, sample_run *s) {
+  au_msg msg = {{0}};
+  if (!a->nattr) return -1;
+  const int nv = s->m->nv;
+  s->attrs = malloc((size_t)a->nattr * nv * sizeof *s->attrs);
+  if (!s->attrs) return cli_fail(a->in, AU_E_NOMEM, NULL);
+  for (int k = 0; k < a->nattr; k++) {
+    au_status st = au_read_scalars(a->attr[k], nv, s->attrs + (size_t)k * nv, &msg);
+    if (st != AU_OK) return cli_fail(a->attr[k], st, &msg);
+  }
+  return -1;
+}
+
+/* Finds every cell centre's preimage and interpolates the columns there: x y z, then normals, then the
+ * scalars. -1 to go on, else the exit code. */
+static int sample_grid(const tex_args *a, sample_run *s) {
+  au_msg msg = {{0}};
+  const au_mesh *m = s->m;
+  const size_t n = s->n;
+  const int K = s->K;
+  au_status st = au_locator_build(m->nv, s->P, m->nf, m->F, &s->loc, &msg);
+  au_tex_layout lay = au_tex_layout_default(AU_TEX_CEA);
+  if (st == AU_OK) st = au_tex_locate_texels(&lay, s->loc, a->W, a->H, s->face, s->bary, &msg);
+  size_t miss = 0;
+  for (size_t i = 0; st == AU_OK && i < n; i++) miss += s->face[i] < 0;
+  if (st == AU_OK && miss)
+    st = au_msg_set(&msg, AU_E_FOLD, "%zu grid cells have no preimage (the map does not cover the sphere)", miss);
+  int col = 0;
+  if (st == AU_OK) st = au_tex_interpolate((int)n, s->face, s->bary, m->F, 3, m->X, s->tmp);
+  for (size_t i = 0; st == AU_OK && i < n; i++) memcpy(s->out + i * K, s->tmp + 3 * i, 3 * sizeof *s->tmp);
+  col = 3;
+  if (st == AU_OK && a->normals) {
+    au_tex_vertex_normals(m, s->A);
+    st = au_tex_interpolate((int)n, s->face, s->bary, m->F, 3, s->A, s->tmp);
+    for (size_t i = 0; st == AU_OK && i < n; i++) {
+      double *v = s->tmp + 3 * i, r = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      for (int j = 0; j < 3; j++) s->out[i * K + col + j] = r > 0 ? v[j] / r : 0;
+    }
+    col += 3;
+  }
+  for (int k = 0; st == AU_OK && k < a->nattr; k++, col++) {
+    st = au_tex_interpolate((int)n, s->face, s->bary, m->F, 1, s->attrs + (size_t)k * m->nv, s->tmp);
+    for (size_t i = 0; st == AU_OK && i < n; i++) s->out[i * K + col] = s->tmp[i];
+  }
+  return st != AU_OK ? cli_fail(a->in, st, &msg) : -1;
+}
+
+/* --report: the surface area of every cell's preimage, as mean, std, min and max. -1 to go on, else
+ * the exit code. */
+static int sample_cell_areas(const tex_args *a, sample_run *s) {
+  au_msg msg = {{0}};
+  const size_t n = s->n;
+  double *area = malloc(n * sizeof *area);
+  au_status st = area ? au_tex_cell_areas(s->m, s->P, s->loc, a->W, a->H, 4, area, &msg) : AU_E_NOMEM;
+  if (st != AU_OK) {
+    free(area);
+    return cli_fail(a->in, st, &msg);
+  }
+  for (size_t i = 0; i < n; i++) s->amean += area[i] / n, s->amin = fmin(s->amin, area[i]), s->amax = fmax(s->amax, area[i]);
+  for (size_t i = 0; i < n; i++) s->astd += (area[i] - s->amean) * (area[i] - s->amean) / n;
+  s->astd = sqrt(s->astd);
+  free(area);
+  return -1;
+}
+
+/* --report as JSON: the grid, the cells' preimage areas relative to their mean, the map's distortion.
+ * -1 to go on, else the exit code. */
+static int write_sample_report(const tex_args *a, sample_run *s, double seconds) {
+  au_msg msg = {{0}};
+  const double amean = s->amean;
+  char b[6][32];
+  json_num(b[0], 32, amean), json_num(b[1], 32, amean > 0 ? s->astd / amean : NAN);
+  json_num(b[2], 32, amean > 0 ? s->amin / amean : NAN), json_num(b[3], 32, amean > 0 ? s->amax / amean : NAN);
+  json_num(b[4], 32, s->met.r_cv), json_num(b[5], 32, s->met.upsilon_mean_abs);
+  char rep[2048];
+  int k = snprintf(rep, sizeof rep,
+                   "{\n  \"tool_version\": \"%s\",\n  \"command\": \"sample\",\n  \"nv\": %d,\n  \"nf\": %d,\n"
+                   "  \"grid\": [%d, %d],\n  \"columns\": %d,\n  \"cell_sphere_area\": %.17g,\n"
+                   "  \"cell_area_subsamples\": 16,\n  \"cell_area_mean\": %s,\n  \"cell_area_cv\": %s,\n"
+                   "  \"cell_area_min_rel\": %s,\n  \"cell_area_max_rel\": %s,\n  \"map_r_cv\": %s,\n"
+                   "  \"map_upsilon_mean_abs\": %s,\n  \"map_folds\": %d,\n  \"seconds\": %.3f\n}\n",
+                   AU_VERSION, s->m->nv, s->m->nf, a->W, a->H, s->K, 4 * M_PI / s->n, b[0], b[1], b[2], b[3], b[4], b[5],
+                   s->met.folds, seconds);
+  return write_done(&s->w, a->report, au_write_text(a->report, rep, (size_t)k, &msg), &msg);
+}
+
+/* Writing: the samples, then the extras. -1 when all are written, else the exit code (the outputs
+ * written so far removed). */
+static int sample_write(const tex_args *a, sample_run *s, double t_start) {
+  au_msg msg = {{0}};
+  int rc;
+  if (cli_has_ext(a->out, ".npy")) {
+    long shape[3] = {a->H, a->W, s->K};
+    rc = write_done(&s->w, a->out, au_npy_write(a->out, 3, shape, s->out, &msg), &msg);
+  } else {
+    rc = write_done(&s->w, a->out, write_samples_csv(a, s->K, s->out, &msg), &msg);
+  }
+  if (rc >= 0) return rc;
+  if (a->report && (rc = write_sample_report(a, s, cli_now() - t_start)) >= 0) return rc;
+  if (a->preview && (rc = write_done(&s->w, a->preview, au_tex_preview(a->preview, s->m, s->P, 1024, 0, &msg), &msg)) >= 0)
+    return rc;
+  return -1;
+}
+
+/* The one summary line on stderr. */
+static void sample_summary(const tex_args *a, const sample_run *s, double t_start) {
+  fprintf(stderr, "authalic: sample: V=%d F=%d grid=%dx%d columns=%d", s->m->nv, s->m->nf, a->W, a->H, s->K);
+  if (a->report)
+    fprintf(stderr, " cell area std/mean=%.4f min/mean=%.3f max/mean=%.3f", s->astd / s->amean, s->amin / s->amean,
+            s->amax / s->amean);
+  fprintf(stderr, " time=%.2fs\n", cli_now() - t_start);
+}
+
+/* The sample command after parsing: read, attributes, map, grid, cell areas, write, summarize. */
 static int run_sample(const tex_args *a) {
   double t_start = cli_now();
-  double t_read = 0, t_check = 0;
-  int rc;
-  cli_warnings warn;
-  warn.n = 0;
-  au_mesh *m = NULL;
-  au_locator *loc = NULL;
-  double *P = NULL, *bary = NULL, *out = NULL, *A = NULL, *tmp = NULL, *area = NULL;
-  int *face = NULL;
-  au_msg msg = {{0}};
-  au_status st;
-  au_metrics met;
-  written w = {{0}, 0};
-
-  rc = cli_load(a->in, AU_TARGET_SPHERE, &m, NULL, &warn, &t_read, &t_check);
-  if (rc >= 0) goto done;
-  size_t n = (size_t)a->W * a->H;
-  int K = 3 + (a->normals ? 3 : 0) + a->nattr;
-  P = malloc(3 * (size_t)m->nv * sizeof *P);
-  A = malloc(3 * (size_t)m->nv * sizeof *A);
-  face = malloc(n * sizeof *face);
-  bary = malloc(3 * n * sizeof *bary);
-  out = malloc(n * K * sizeof *out);
-  tmp = malloc(3 * n * sizeof *tmp);
-  if (!P || !A || !face || !bary || !out || !tmp) {
-    rc = cli_fail(a->in, AU_E_NOMEM, NULL);
-    goto done;
-  }
-  /* The attribute files are read before the (possibly long) map computation. */
-  double *attrs = NULL;
-  if (a->nattr) {
-    attrs = malloc((size_t)a->nattr * m->nv * sizeof *attrs);
-    if (!attrs) {
-      rc = cli_fail(a->in, AU_E_NOMEM, NULL);
-      goto done;
-    }
-    for (int k = 0; k < a->nattr; k++) {
-      st = au_read_scalars(a->attr[k], m->nv, attrs + (size_t)k * m->nv, &msg);
-      if (st != AU_OK) {
-        free(attrs);
-        rc = cli_fail(a->attr[k], st, &msg);
-        goto done;
-      }
-    }
-  }
-  rc = get_map(a, m, P, &warn, &met);
+  sample_run s;
+  memset(&s, 0, sizeof s);
+  s.amin = INFINITY;
+  int rc = sample_load(a, &s);
+  if (rc < 0) rc = sample_read_attrs(a, &s);
+  if (rc < 0) rc = get_map(a, s.m, s.P, &s.warn, &s.met);
+  if (rc < 0) rc = sample_grid(a, &s);
+  free(s.attrs), s.attrs = NULL; /* interpolated into the samples: not kept through the writing */
+  if (rc < 0 && a->report) rc = sample_cell_areas(a, &s);
+  if (rc < 0) rc = sample_write(a, &s, t_start);
   if (rc < 0) {
-    st = au_locator_build(m->nv, P, m->nf, m->F, &loc, &msg);
-    au_tex_layout lay = au_tex_layout_default(AU_TEX_CEA);
-    if (st == AU_OK) st = au_tex_locate_texels(&lay, loc, a->W, a->H, face, bary, &msg);
-    size_t miss = 0;
-    for (size_t i = 0; st == AU_OK && i < n; i++) miss += face[i] < 0;
-    if (st == AU_OK && miss)
-      st = au_msg_set(&msg, AU_E_FOLD, "%zu grid cells have no preimage (the map does not cover the sphere)", miss);
-    /* Columns: x y z, then normals, then the scalars. */
-    int col = 0;
-    if (st == AU_OK) st = au_tex_interpolate((int)n, face, bary, m->F, 3, m->X, tmp);
-    for (size_t i = 0; st == AU_OK && i < n; i++) memcpy(out + i * K, tmp + 3 * i, 3 * sizeof *tmp);
-    col = 3;
-    if (st == AU_OK && a->normals) {
-      au_tex_vertex_normals(m, A);
-      st = au_tex_interpolate((int)n, face, bary, m->F, 3, A, tmp);
-      for (size_t i = 0; st == AU_OK && i < n; i++) {
-        double *v = tmp + 3 * i, r = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        for (int j = 0; j < 3; j++) out[i * K + col + j] = r > 0 ? v[j] / r : 0;
-      }
-      col += 3;
-    }
-    for (int k = 0; st == AU_OK && k < a->nattr; k++, col++) {
-      st = au_tex_interpolate((int)n, face, bary, m->F, 1, attrs + (size_t)k * m->nv, tmp);
-      for (size_t i = 0; st == AU_OK && i < n; i++) out[i * K + col] = tmp[i];
-    }
-    if (st != AU_OK) rc = cli_fail(a->in, st, &msg);
+    if (!a->quiet) sample_summary(a, &s, t_start);
+    rc = EXIT_OK;
   }
-  free(attrs);
-  if (rc >= 0) goto done;
-
-  double amean = 0, astd = 0, amin = INFINITY, amax = 0;
-  if (a->report) {
-    area = malloc(n * sizeof *area);
-    st = area ? au_tex_cell_areas(m, P, loc, a->W, a->H, 4, area, &msg) : AU_E_NOMEM;
-    if (st != AU_OK) {
-      rc = cli_fail(a->in, st, &msg);
-      goto done;
-    }
-    for (size_t i = 0; i < n; i++) amean += area[i] / n, amin = fmin(amin, area[i]), amax = fmax(amax, area[i]);
-    for (size_t i = 0; i < n; i++) astd += (area[i] - amean) * (area[i] - amean) / n;
-    astd = sqrt(astd);
-  }
-
-  /* Writing: the samples, then the extras. */
-  if (cli_has_ext(a->out, ".npy")) {
-    long shape[3] = {a->H, a->W, K};
-    rc = write_done(&w, a->out, au_npy_write(a->out, 3, shape, out, &msg), &msg);
-  } else {
-    rc = write_done(&w, a->out, write_samples_csv(a, K, out, &msg), &msg);
-  }
-  if (rc >= 0) goto done;
-  if (a->report) {
-    char b[6][32];
-    json_num(b[0], 32, amean), json_num(b[1], 32, amean > 0 ? astd / amean : NAN);
-    json_num(b[2], 32, amean > 0 ? amin / amean : NAN), json_num(b[3], 32, amean > 0 ? amax / amean : NAN);
-    json_num(b[4], 32, met.r_cv), json_num(b[5], 32, met.upsilon_mean_abs);
-    char rep[2048];
-    int k = snprintf(rep, sizeof rep,
-                     "{\n  \"tool_version\": \"%s\",\n  \"command\": \"sample\",\n  \"nv\": %d,\n  \"nf\": %d,\n"
-                     "  \"grid\": [%d, %d],\n  \"columns\": %d,\n  \"cell_sphere_area\": %.17g,\n"
-                     "  \"cell_area_subsamples\": 16,\n  \"cell_area_mean\": %s,\n  \"cell_area_cv\": %s,\n"
-                     "  \"cell_area_min_rel\": %s,\n  \"cell_area_max_rel\": %s,\n  \"map_r_cv\": %s,\n"
-                     "  \"map_upsilon_mean_abs\": %s,\n  \"map_folds\": %d,\n  \"seconds\": %.3f\n}\n",
-                     AU_VERSION, m->nv, m->nf, a->W, a->H, K, 4 * M_PI / n, b[0], b[1], b[2], b[3], b[4], b[5],
-                     met.folds, cli_now() - t_start);
-    rc = write_done(&w, a->report, au_write_text(a->report, rep, (size_t)k, &msg), &msg);
-    if (rc >= 0) goto done;
-  }
-  if (a->preview) {
-    rc = write_done(&w, a->preview, au_tex_preview(a->preview, m, P, 1024, 0, &msg), &msg);
-    if (rc >= 0) goto done;
-  }
-  if (!a->quiet) {
-    fprintf(stderr, "authalic: sample: V=%d F=%d grid=%dx%d columns=%d", m->nv, m->nf, a->W, a->H, K);
-    if (a->report) fprintf(stderr, " cell area std/mean=%.4f min/mean=%.3f max/mean=%.3f", astd / amean, amin / amean, amax / amean);
-    fprintf(stderr, " time=%.2fs\n", cli_now() - t_start);
-  }
-  rc = EXIT_OK;
-done:
-  au_locator_free(&loc);
-  au_mesh_free(&m);
-  free(P), free(A), free(face), free(bary), free(out), free(tmp), free(area);
+  au_locator_free(&s.loc);
+  au_mesh_free(&s.m);
+  free(s.P), free(s.A), free(s.face), free(s.bary), free(s.out), free(s.tmp);
   return rc;
 }
 
