@@ -215,7 +215,7 @@ au_gpolish_opts au_sphere_gpolish_settings(int max_iter, double angle_weight, do
  * (the spherical triangles' for flow.sphere_areas 2, else the chord ones'; au_sphere_map runs it on a
  * map that misses its tolerance). rep->polish, polish_sweeps and polish_err tell what happened. Then,
  * for a chord map still short of it, the global polish (o->global_polish steps at most), on the same
- * terms: rep->global_polish, global_polish_steps, global_polish_err.
+ * terms: rep->global_polish, global_polish_steps, global_polish_err, global_polish_robust.
  * o->flow.cancel is honoured between sweeps and steps. Returns AU_OK, AU_E_ARG, AU_E_NOMEM,
  * AU_E_CANCELLED (P unchanged, or with the vertex polish only). */
 au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,

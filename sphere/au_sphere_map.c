@@ -181,7 +181,23 @@ static double map_face_error(const au_mesh *m, const au_advect_opts *fo, const d
   return err;
 }
 
-static double chord_floor_excess(const au_mesh *m, const double *P);
+/* The chord floor's excess (au_metrics.chord_floor_excess): the area by which faces' least chord areas
+ * (au_dec_sphere_chord_floor) exceed their shares, as a fraction of the chord triangles' total; the
+ * shares weighted by w (per face, NULL: equal area). NAN out of memory: both gates that read it (the
+ * twisted retry's and the global polish's loss) then keep their default way. */
+static double chord_floor_excess(const au_mesh *m, const double *w, const double *P) {
+  const int nf = m->nf, *F = m->F;
+  double *as = malloc(sizeof(double) * (size_t)nf), *ad = malloc(sizeof(double) * (size_t)nf), excess = NAN;
+  if (as && ad) {
+    au_dec_face_areas(nf, F, m->X, as);
+    au_dec_face_areas(nf, F, P, ad);
+    double ss = 0, sd = 0;
+    for (int f = 0; f < nf; f++) as[f] *= w ? w[f] : 1.0, ss += as[f], sd += ad[f];
+    excess = au_dec_sphere_floor_excess((size_t)nf, F, P, as, ss, sd, NULL);
+  }
+  free(as), free(ad);
+  return excess;
+}
 
 au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphere_opts *o, double *P,
                                au_sphere_report *rep, au_msg *msg) {
@@ -213,15 +229,14 @@ au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphe
     au_gpolish_opts go = au_sphere_gpolish_settings(o->global_polish, AU_GPOLISH_ANGLE, o->flow.tol, o->flow.cancel);
     go.min_gain = AU_GPOLISH_MIN_GAIN;
     go.barrier = AU_GPOLISH_BARRIER, go.barrier_weight = AU_GPOLISH_BARRIER_WEIGHT;
-    if (chord_floor_excess(m, P) <= AU_GPOLISH_ROBUST_BELOW) go.robust = AU_GPOLISH_ROBUST;
-    rep->global_polish_robust = go.robust;
+    if (chord_floor_excess(m, w, P) <= AU_GPOLISH_ROBUST_BELOW) go.robust = AU_GPOLISH_ROBUST;
     go.face_window = AU_GPOLISH_FACE_WINDOW, go.face_gain = AU_GPOLISH_FACE_GAIN, go.face_target = AU_GPOLISH_FACE_TARGET;
     st = au_sphere_global_polish(m, t, w, P2, &go, &rep->global_polish_steps, msg);
     if (st == AU_OK) {
       double *g = rep->global_polish_err;
       g[0] = e, g[1] = map_vertex_error(m, t, &o->flow, P2);
       g[2] = rep->polish == 2 ? rep->polish_err[3] : rep->polish_err[2], g[3] = map_face_error(m, &o->flow, w, P2);
-      rep->global_polish = 1;
+      rep->global_polish = 1, rep->global_polish_robust = go.robust;
       if (g[1] < g[0] && g[3] <= g[2]) {
         memcpy(P, P2, sizeof(double) * 3 * (size_t)m->nv);
         rep->global_polish = 2;
@@ -230,22 +245,6 @@ au_status au_sphere_polish_map(const au_mesh *m, const au_topo *t, const au_sphe
   }
   free(P2), free(w);
   return st;
-}
-
-/* The chord floor's excess (au_metrics.chord_floor_excess): the area by which faces' least chord areas
- * (au_dec_sphere_chord_floor) exceed their shares, as a fraction of the chord triangles' total. */
-static double chord_floor_excess(const au_mesh *m, const double *P) {
-  const int nf = m->nf, *F = m->F;
-  double *as = malloc(sizeof(double) * (size_t)nf), *ad = malloc(sizeof(double) * (size_t)nf), excess = 0;
-  if (as && ad) {
-    au_dec_face_areas(nf, F, m->X, as);
-    au_dec_face_areas(nf, F, P, ad);
-    double ss = 0, sd = 0;
-    for (int f = 0; f < nf; f++) ss += as[f], sd += ad[f];
-    excess = au_dec_sphere_floor_excess((size_t)nf, F, P, as, ss, sd, NULL);
-  }
-  free(as), free(ad);
-  return excess;
 }
 
 /* 1 if a flow with the lantern (au_advect_opts.lantern > 0) from the same start could differ from the flow
@@ -423,7 +422,7 @@ static void sphere_retries(const au_mesh *m, const au_topo *t, au_advect_plan *p
    * lantern's map was discarded and the twisted one kept (limbs4, limbs8, coil, hammer), so the lantern's
    * flow was spent for nothing there (docs/sphere-stages.md). */
   const int twist_gate = !strong && o->twist_retry > 0 && e0 > well;
-  if (twist_gate && chord_floor_excess(m, P) > o->twist_retry) twisted_retry(m, t, plan, dom, o, e0, P, rep, st, msg);
+  if (twist_gate && chord_floor_excess(m, NULL, P) > o->twist_retry) twisted_retry(m, t, plan, dom, o, e0, P, rep, st, msg);
   /* The lantern retry: only for a map that misses its tolerance well, and not from the coarse-to-fine
    * start, which squeezes no protrusion for the lantern to open: from it the retry returned the same map
    * (spot, cow, screwdriver, hand_closed) or a worse one (bunny), and its one better map (penguin_hr) was
@@ -446,7 +445,7 @@ static void sphere_retries(const au_mesh *m, const au_topo *t, au_advect_plan *p
   }
   if (lantern_due) lantern_retry(m, t, plan, dom, o, Pstart, P, &ek, rep, st, msg);
   /* A map the lantern did not bring within the gate may still have its floor excess past it. */
-  if (twist_gate && !rep->twist && *st == AU_W_NOT_CONVERGED && ek > well && chord_floor_excess(m, P) > o->twist_retry)
+  if (twist_gate && !rep->twist && *st == AU_W_NOT_CONVERGED && ek > well && chord_floor_excess(m, NULL, P) > o->twist_retry)
     twisted_retry(m, t, plan, dom, o, ek, P, rep, st, msg);
   if (*st == AU_W_NOT_CONVERGED && staged_allowed && !staged_done &&
       au__metrics_squeezed(m->nv, m->nf, m->X, P, m->F, &nsq) >= AU_STAGED_SQUEEZED)

@@ -20,6 +20,14 @@ foreach(c missing_input dir_input missing_outdir out_is_dir keep_existing interr
   au_cli_test(${c} files.sh ${c})
 endforeach()
 
+# An output that cannot be renamed into place (tests/cli/fail_rename.c, preloaded): no temporaries, no
+# report without its map. The preload library is built without the sanitizers, which it does not need.
+add_library(au_fail_rename MODULE cli/fail_rename.c)
+target_compile_options(au_fail_rename PRIVATE -fno-sanitize=all)
+target_link_options(au_fail_rename PRIVATE -fno-sanitize=all)
+target_link_libraries(au_fail_rename PRIVATE ${CMAKE_DL_LIBS})
+au_cli_test(rename_fault rename_fault.sh $<TARGET_FILE:au_fail_rename>)
+
 # The bad-input corpus (tests/cli/bad/, described in its README.md): file, then a regular expression
 # the one error line must match (grep -Ei). Every case exits 2 and leaves no output (bad_input.sh);
 # the test is named after the file, e.g. cli.bad.truncated.off.

@@ -1106,9 +1106,6 @@ static int near_start_bunny(void) {
   return 0;
 }
 
-/* bunny's map on the sphere's shorter resolved schedule (docs/flow-tail.md): 9 steps and 10 factorizations,
- * per-face 0.0061 and vertex 0.0016 by param-eval (measured), where the resolved schedule with the fields
- * it replaces took 10 steps and 11 factorizations to per-face 0.0065, vertex 0.0016. ../shared only. */
 /* The sphere map with default options of the mesh at path (L loaded, P the map), its report and metrics.
  * Returns 0, or 1 after a failed check. */
 static int map_default(const char *path, loaded *L, au_sphere_report *rep, au_metrics *q) {
@@ -1126,6 +1123,9 @@ static int map_default(const char *path, loaded *L, au_sphere_report *rep, au_me
   return 0;
 }
 
+/* bunny's map on the sphere's shorter resolved schedule (docs/flow-tail.md): 9 steps and 10 factorizations,
+ * per-face 0.0061 and vertex 0.0016 by param-eval (measured), where the resolved schedule with the fields
+ * it replaces took 10 steps and 11 factorizations to per-face 0.0065, vertex 0.0016. ../shared only. */
 static int resolved_bunny(void) {
   char path[1024];
   if (!au_test_shared_mesh("bunny.obj", path, sizeof path)) {

@@ -491,6 +491,7 @@ int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, 
   struct stat old;
   if (stat(dest, &old) == 0 && S_ISREG(old.st_mode)) chmod(tmp, old.st_mode & 07777);
   if (extra) extra->t_write = cli_now() - t0;
+  int report_written = 0;
   if (report && r) {
     st = au_result_json(r, extra, &json, &msg);
     if (st == AU_OK) st = au_write_text(report, json, strlen(json), &msg);
@@ -498,9 +499,12 @@ int cli_publish(const char *out, int nv, const double *P, int nf, const int *F, 
       rc = cli_fail(report, st, &msg);
       goto done;
     }
+    report_written = 1;
   }
   if (rename(tmp, dest) != 0) {
     fprintf(stderr, "authalic: error: %s: cannot rename the finished output into place: %s\n", out, strerror(errno));
+    /* No map, so no report of it either. */
+    if (report_written) unlink(report);
     rc = EXIT_USAGE;
     goto done;
   }

@@ -373,9 +373,10 @@ static int pending_publish(pending *p) {
     if (p->written[k]) {
       if (rename(p->tmp[k], p->dest[k]) != 0) {
         fprintf(stderr, "authalic: error: %s: cannot rename it into place: %s\n", p->name[k], strerror(errno));
-        rc = EXIT_INTERNAL;
+        rc = EXIT_INTERNAL; /* its temporary stays written: pending_close removes it */
+      } else {
+        p->written[k] = 0;
       }
-      p->written[k] = 0;
     }
   return rc;
 }
@@ -399,8 +400,8 @@ static int apply_density(const cli_args *a, const au_mesh *m, au_options *o, dou
   return -1;
 }
 
-/* Runs the map with the command line's last options and reports its warnings, or its failure, the
- * program's way. -1 to go on (*r set), else the exit code. */
+/* Runs the map with the options the command line set (the density already given to them) and reports
+ * its warnings, or its failure, the program's way. -1 to go on (*r set), else the exit code. */
 static int map_mesh(const cli_args *a, const au_mesh *m, au_target t, au_options *o, cli_progress_state *prog,
                     au_result **r) {
   const char *in = a->pos[0];
