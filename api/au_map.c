@@ -338,6 +338,7 @@ static au_status run_sphere(map_run *x, au_msg *msg) {
     r->conv.staged_err[0] = rep->staged_err[0], r->conv.staged_err[1] = rep->staged_err[1];
     r->conv.global_polish = rep->global_polish, r->conv.global_polish_steps = rep->global_polish_steps;
     memcpy(r->conv.global_polish_err, rep->global_polish_err, sizeof rep->global_polish_err);
+    r->conv.global_polish_robust = rep->global_polish_robust;
     if (s2 != AU_OK) st = s2;
   }
   free(rep);
@@ -777,7 +778,7 @@ au_status au_result_json(const au_result *r, const au_report_extra *extra, char 
   info.polish = r->conv.vertex_polish, info.polish_sweeps = r->conv.polish_sweeps, info.polish_err = r->conv.polish_err;
   info.staged = r->conv.staged_retry, info.staged_stages = r->conv.staged_stages, info.staged_err = r->conv.staged_err;
   info.global_polish = r->conv.global_polish, info.global_polish_steps = r->conv.global_polish_steps;
-  info.global_polish_err = r->conv.global_polish_err;
+  info.global_polish_err = r->conv.global_polish_err, info.global_polish_robust = r->conv.global_polish_robust;
   info.angle_from = flow ? r->conv.angle_from : 0;
   if (r->target == AU_TARGET_TORUS)
     info.lattice = (const double(*)[2])r->lattice, info.conformal_lattice = (const double(*)[2])r->conformal_lattice;

@@ -139,7 +139,8 @@ au_status au_report_json(const au_report_info *info, char **json, au_msg *msg) {
   if (ok && info->polish > 0 && info->polish_err)
     ok = put_polish(conv, "vertex_polish", info->polish, "sweeps", info->polish_sweeps, info->polish_err);
   if (ok && info->global_polish > 0 && info->global_polish_err)
-    ok = put_polish(conv, "global_polish", info->global_polish, "steps", info->global_polish_steps, info->global_polish_err);
+    ok = put_polish(conv, "global_polish", info->global_polish, "steps", info->global_polish_steps, info->global_polish_err) &&
+         put(cJSON_GetObjectItemCaseSensitive(conv, "global_polish"), "robust", num(info->global_polish_robust));
   if (ok && info->staged > 0 && info->staged_err) {
     cJSON *sr = cJSON_CreateObject();
     ok = put(conv, "staged_retry", sr) && put(sr, "kept", cJSON_CreateBool(info->staged == 2)) &&

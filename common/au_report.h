@@ -54,6 +54,7 @@ typedef struct au_report_info {
                                   (nothing written), 1 discarded, 2 kept. Written as convergence.global_polish */
   int global_polish_steps;     /* its steps */
   const double *global_polish_err; /* [4]: as polish_err */
+  double global_polish_robust;  /* its loss's d, 0 for squares. Written as convergence.global_polish.robust */
   int staged;                  /* sphere's staged retry (au_sphere_report.staged): 0 none (nothing written),
                                   1 discarded, 2 kept. Written as convergence.staged_retry */
   int staged_stages;           /* its stages */

@@ -607,10 +607,12 @@ typedef struct au_convergence {
                         start, in stages) ran and was discarded; 2 its map was kept */
   int staged_stages; /* with a staged retry: its stages (the last run, to the shares, not counted) */
   double staged_err[2]; /* with a staged retry: the vertex error (as retry_err) before it and of its map */
-  int global_polish; /* sphere with refine_mesh: 0 none; 1 the global polish of the refined map (every
-                        vertex at once, after the vertex polish) ran and was discarded; 2 it was kept */
+  int global_polish; /* sphere: 0 none; 1 the global polish (every vertex at once, after the vertex polish;
+                        of the refined map with refine_mesh) ran and was discarded; 2 it was kept */
   int global_polish_steps; /* with a global polish: its steps */
   double global_polish_err[4]; /* with a global polish: as polish_err (chord triangles) */
+  double global_polish_robust; /* with a global polish: the pseudo-Huber d its area residuals ran with, 0 for
+                                  squares (docs/sphere-polish-speed.md says where each is used) */
 } au_convergence;
 
 #define AU_MAX_WARNINGS 8

@@ -87,7 +87,7 @@ class Convergence(ctypes.Structure):
                 ("twist_err", c_double), ("vertex_polish", c_int), ("polish_sweeps", c_int),
                 ("polish_err", c_double * 4), ("staged_retry", c_int), ("staged_stages", c_int),
                 ("staged_err", c_double * 2), ("global_polish", c_int), ("global_polish_steps", c_int),
-                ("global_polish_err", c_double * 4)]
+                ("global_polish_err", c_double * 4), ("global_polish_robust", c_double)]
 
 
 class Result(ctypes.Structure):

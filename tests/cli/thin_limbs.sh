@@ -20,6 +20,8 @@ print("per-face %.4f, vertex %.4f, folds %d; vertex polish %s; global polish %s"
 ok = d["folds"] == 0 and d["r_mean_abs_dev"] <= 0.03 and d["vertex_logr_mean_abs"] <= 0.01
 last = gp if gp and gp["kept"] else vp
 ok = ok and vp is not None and vp["kept"] and abs(last["vertex_err_after"] - d["vertex_logr_mean_abs"]) <= 1e-6
+# The global polish's loss: these meshes' chord floor is a few outliers (docs/sphere-polish-speed.md).
+ok = ok and (gp is None or gp["robust"] == 0.03)
 sys.exit(0 if ok else 1)
 PYEOF
 exit 0
