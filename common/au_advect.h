@@ -96,6 +96,10 @@ typedef struct au_advect_opts {
   double polish_gap;    /* the chord polish runs only if the chord triangles' per-face error exceeds the
                            spherical ones' by more than this fraction (0.1; 0: whenever it is larger):
                            elsewhere it costs steps for nothing */
+  int polish_steps;     /* where stages after the flow polish its map (au_sphere_map's vertex and global
+                           polish): the chord polish ends after this many steps if its vertex error is
+                           between 1.5 tol and 0.1; 0: no such end (0). Its first steps make most of
+                           its gain */
   double restore;       /* in the spherical part, each step's shear aims this fraction of the way back to
                            triangles similar to the surface's, fading out as the vertex error falls below
                            0.1 (0..1; 0.1; 0: off): fewer long, thin triangles. Not in the polish nor on
