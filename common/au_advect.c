@@ -58,8 +58,8 @@
  * steps the chord polish gains 1-3% a factorization where the vertex polish after it gains 3x in a few
  * sweeps (docs/chord-polish.md). Closer to tol it goes on, and may reach it (spot: 0.0026 after two
  * steps, 0.0019 after eleven, with no polish after). Further off, the map is still far from its areas
- * and the "polish" is the flow's main work: limbs4 with a density of 0.05 on half its faces enters it at
- * vertex error 2.3, and cut there it kept triangles too small to tell from folds. */
+ * and the "polish" is the flow's main work: limbs4 with a density of 0.05 on half its faces runs it at
+ * vertex errors of 2.3 and more, and cut there it kept triangles too small to tell from folds. */
 #define AU_POLISH_CUT_ABOVE 1.5
 #define AU_POLISH_CUT_BELOW 0.1
 

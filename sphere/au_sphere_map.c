@@ -68,9 +68,10 @@
 #define AU_GPOLISH_ROBUST_BELOW 0.01
 
 /* Where the vertex polish follows the flow, the flow's chord polish takes at most this many steps while
- * its vertex cells miss twice the tolerance (au_advect_opts.polish_steps): the polishes after it do the
- * rest for fewer factorizations. hand_closed 109 -> 67 factorizations, cheburashka 122 -> 94, airplane
- * 147 -> 114, armadillo 41 -> 28 (docs/sphere-polish-speed.md has the table; 1 step and 3 lost more). */
+ * its vertex error is between 1.5 tol and 0.1 (au_advect_opts.polish_steps): the polishes after it do
+ * the rest for fewer factorizations. hand_closed 109 -> 67 factorizations, cheburashka 122 -> 94,
+ * airplane 147 -> 114, armadillo 41 -> 28; 1 step cost screwdriver and armadillo more, 3 gained less
+ * (docs/chord-polish.md). */
 #define AU_SPHERE_POLISH_STEPS 2
 
 au_sphere_opts au_sphere_opts_default(void) {
