@@ -162,8 +162,11 @@ void au__flow_defaults(au_target t, int refine_faces, au_advect_opts *flow, au_s
     *sphere = au_sphere_opts_default();
     *flow = sphere->flow;
     /* For accuracy, not speed: the ordinary schedule (on the resolved one the chord polish stalled on
-     * undone steps), the polish whenever the chord error is larger, the angle steps after it all. */
-    if (refine_faces) flow->face_gain = AU_REFINE_FACE_GAIN, flow->polish_gap = 0, flow->resolved_jump = 0, flow->angle_switch = 0;
+     * undone steps), the polish whenever the chord error is larger and to its own end (not cut short
+     * where the vertex polish follows), the angle steps after it all. */
+    if (refine_faces)
+      flow->face_gain = AU_REFINE_FACE_GAIN, flow->polish_gap = 0, flow->resolved_jump = 0, flow->angle_switch = 0,
+      flow->polish_steps = AU_ADVECT_MAX_STEPS;
   } else {
     au_disk_opts d = au_disk_opts_default();
     *flow = d.flow;

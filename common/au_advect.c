@@ -524,6 +524,19 @@ typedef struct flow_state {
   int face_steps;   /* per-face refinement steps taken (Poisson method) */
 } flow_state;
 
+/* What the rest of a flow reads at the start of a round, besides what measure_map recomputes from P:
+ * the machine's fields of flow_state, the report so far, the map and the map before the last step (an
+ * undo at this round goes back to it). */
+struct au_advect_fork {
+  int ready; /* recorded at the round where a lantern would first act; no more recording */
+  int nv;
+  double *P, *Pold;
+  au_advect_report rep;
+  flow_phase phase;
+  int k, phase_start, retry, restored, restore_off, near_start, measured_jump, exhausted, ang_left, face_steps;
+  double alpha, prev_err, prev_ferr, prev_flog, ang_prev;
+};
+
 static void flow_state_free(flow_state *s) {
   au_solver_free(&s->solver);
   au__gn_free(&s->gn);
@@ -757,7 +770,7 @@ static int least_shear_stalled(flow_state *s) {
   int stalled = s->exhausted || (k >= o->schedule_steps + AU_STALL_WINDOW && k >= s->phase_start + AU_STALL_WINDOW &&
                                  ferr > keep * rep->face_err[k - AU_STALL_WINDOW] && err > keep * rep->err[k - AU_STALL_WINDOW]);
   s->exhausted = 0;
-  if (polish && o->polish_steps > 0 && k >= s->phase_start + o->polish_steps && err > AU_POLISH_CUT_ABOVE * o->tol &&
+  if (polish && o->polish_steps > 0 && k - s->phase_start >= o->polish_steps && err > AU_POLISH_CUT_ABOVE * o->tol &&
       err < AU_POLISH_CUT_BELOW)
     stalled = 1;
   if (polish && err <= o->tol && k >= s->phase_start + 1 && ferr > (1 - AU_POLISH_STEP_SHARE * o->face_gain) * rep->face_err[k - 1])
@@ -914,6 +927,8 @@ static au_status solve_least_shear(flow_state *s, flow_solved *out) {
   s->retry = 0;
   const int lantern_on = restore > 0 && s->err < AU_LANTERN_BELOW;
   if (lantern_on) s->rep->lantern_steps++;
+  /* The state recorded at this round's start is where a flow with the lantern parts from this one. */
+  if (lantern_on && o->fork_record && o->fork_record->P) o->fork_record->ready = 1;
   const double lantern = lantern_on ? o->lantern : 0;
   st = au__lm_step(*s->lmp, s->dom, s->P, s->dA_f, s->Gf, s->alpha, AU_ROTATION_EPS, sph_areas, restore, lantern, s->D, s->msg);
   if (st != AU_E_NOT_SPD) return st;
@@ -1109,6 +1124,53 @@ static void take_step(flow_state *s) {
   }
 }
 
+/* ---- a flow's recorded state (au_advect_fork) ---- */
+
+au_advect_fork *au_advect_fork_new(void) { return calloc(1, sizeof(au_advect_fork)); }
+
+void au_advect_fork_free(au_advect_fork **fp) {
+  if (!fp || !*fp) return;
+  free((*fp)->P), free((*fp)->Pold);
+  free(*fp);
+  *fp = NULL;
+}
+
+int au_advect_fork_ready(const au_advect_fork *f) { return f && f->ready; }
+
+/* Record s at the start of a round (until the fork is ready). Out of memory the fork stays unready, and
+ * a flow that would resume from it runs from its start. */
+static void fork_save(au_advect_fork *f, const flow_state *s) {
+  const size_t bytes = sizeof(double) * 3 * (size_t)s->nv;
+  if (!f->P || f->nv != s->nv) {
+    free(f->P), free(f->Pold);
+    f->P = malloc(bytes), f->Pold = malloc(bytes), f->nv = s->nv;
+    if (!f->P || !f->Pold) {
+      free(f->P), free(f->Pold);
+      f->P = f->Pold = NULL, f->nv = 0;
+      return;
+    }
+  }
+  memcpy(f->P, s->P, bytes), memcpy(f->Pold, s->Pold, bytes);
+  f->rep = *s->rep;
+  f->phase = s->phase, f->k = s->k, f->phase_start = s->phase_start, f->retry = s->retry, f->restored = s->restored;
+  f->restore_off = s->restore_off, f->near_start = s->near_start, f->measured_jump = s->measured_jump;
+  f->exhausted = s->exhausted, f->ang_left = s->ang_left, f->face_steps = s->face_steps;
+  f->alpha = s->alpha, f->prev_err = s->prev_err, f->prev_ferr = s->prev_ferr, f->prev_flog = s->prev_flog;
+  f->ang_prev = s->ang_prev;
+}
+
+/* Start s from the recorded state f (ready, of a flow on the same mesh). */
+static void fork_load(const au_advect_fork *f, flow_state *s) {
+  const size_t bytes = sizeof(double) * 3 * (size_t)s->nv;
+  memcpy(s->P, f->P, bytes), memcpy(s->Pold, f->Pold, bytes);
+  *s->rep = f->rep;
+  s->phase = f->phase, s->k = f->k, s->phase_start = f->phase_start, s->retry = f->retry, s->restored = f->restored;
+  s->restore_off = f->restore_off, s->near_start = f->near_start, s->measured_jump = f->measured_jump;
+  s->exhausted = f->exhausted, s->ang_left = f->ang_left, s->face_steps = f->face_steps;
+  s->alpha = f->alpha, s->prev_err = f->prev_err, s->prev_ferr = f->prev_ferr, s->prev_flog = f->prev_flog;
+  s->ang_prev = f->ang_prev;
+}
+
 /* ---- the run ---- */
 
 /* Set the run up: scratch, targets, the fold check of the entry map, the pinned vertex, the first phase. */
@@ -1118,6 +1180,7 @@ static au_status flow_begin(flow_state *s) {
   if (st != AU_OK) return st;
   int folds = count_folds(s->P, s->F, s->dom->shift, s->nf, s->sph);
   if (folds) return au_msg_set(s->msg, AU_E_FOLD, "advect: the initial map has %d folded triangles", folds);
+  memcpy(s->Pold, s->P, sizeof(double) * 3 * (size_t)s->nv); /* no step yet: a recorded state reads it */
   /* The Poisson problem is a pure Neumann problem (closed sphere, or a boundary that only slides): pin
    * the first referenced vertex; unreferenced vertices have empty rows and are fixed too. */
   int pinned = -1;
@@ -1166,7 +1229,12 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   s.m = m, s.t = t, s.dom = dom, s.o = opts, s.rep = rep, s.msg = msg, s.P = P, s.lmp = lmp;
   s.nv = m->nv, s.nf = m->nf, s.F = m->F, s.sph = dom->spherical, s.ls = opts->method == AU_ADVECT_LEAST_SHEAR;
   au_status st = flow_begin(&s);
-  for (s.k = 0; st == AU_OK;) {
+  s.k = 0;
+  /* A flow resumed from another's recorded state starts at that state's round (au_advect_fork). */
+  const au_advect_fork *from = opts->fork_resume;
+  if (st == AU_OK && from && from->ready && from->nv == s.nv) fork_load(from, &s);
+  while (st == AU_OK) {
+    if (opts->fork_record && !opts->fork_record->ready) fork_save(opts->fork_record, &s);
     flow_verdict v = FLOW_STEP;
     st = flow_round(&s, &v);
     if (st != AU_OK || v == FLOW_STOP) break;

@@ -53,6 +53,17 @@ typedef enum au_advect_method {
 
 /* The flow's options. Defaults (au_advect_opts_default) are in parentheses; the measurements behind
  * them are in docs/flow.md. Fields are grouped by the part of the flow that reads them. */
+/* A flow's state, recorded by one flow to resume another from: a flow with the lantern (au_advect_opts.
+ * lantern > 0) is the same as one without, step for step, up to the first step where the lantern acts
+ * (au_advect_report.lantern_steps), so au_sphere_map's lantern retry starts from the first flow's state
+ * there instead of repeating those steps. The two flows must run on the same plan's mesh with the same
+ * options but the lantern. */
+typedef struct au_advect_fork au_advect_fork;
+au_advect_fork *au_advect_fork_new(void);
+void au_advect_fork_free(au_advect_fork **fp);
+/* 1 if a state was recorded (the recording flow reached a step where a lantern would act). */
+int au_advect_fork_ready(const au_advect_fork *f);
+
 typedef struct au_advect_opts {
   /* ---- all methods and domains ---- */
   au_advect_method method; /* (AU_ADVECT_LEAST_SHEAR) */
@@ -96,10 +107,10 @@ typedef struct au_advect_opts {
   double polish_gap;    /* the chord polish runs only if the chord triangles' per-face error exceeds the
                            spherical ones' by more than this fraction (0.1; 0: whenever it is larger):
                            elsewhere it costs steps for nothing */
-  int polish_steps;     /* where stages after the flow polish its map (au_sphere_map's vertex and global
-                           polish): the chord polish ends after this many steps if its vertex error is
-                           between 1.5 tol and 0.1; 0: no such end (0). Its first steps make most of
-                           its gain */
+  int polish_steps;     /* >= 0: the chord polish ends after this many steps if its vertex error is
+                           between 1.5 tol and 0.1; 0: no such end (0). For flows whose map later stages
+                           polish: its first steps make most of its gain (au_sphere_map sets 2 where its
+                           vertex polish follows and no angle steps do; docs/chord-polish.md) */
   double restore;       /* in the spherical part, each step's shear aims this fraction of the way back to
                            triangles similar to the surface's, fading out as the vertex error falls below
                            0.1 (0..1; 0.1; 0: off): fewer long, thin triangles. Not in the polish nor on
@@ -156,6 +167,12 @@ typedef struct au_advect_opts {
                            polish and per-face refinement included; au_disk_opts_default and
                            --refine-faces set 0). Early hand-over gives better angles on most meshes, but
                            worse areas on those whose long chord edges hold the faces back (cow) */
+
+  /* ---- a flow resumed from another's state (au_advect_fork) ---- */
+  au_advect_fork *fork_record;       /* this flow records its state at the start of the round of its first
+                                        step where a lantern would act (NULL: none) */
+  const au_advect_fork *fork_resume; /* this flow starts from such a recorded state instead of from P,
+                                        where one was recorded (au_advect_fork_ready), else as usual */
 
   /* ---- progress and cancellation ---- */
   /* Progress: called once per step with the step number, max_steps and the current error. May be NULL. */

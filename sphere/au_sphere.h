@@ -47,7 +47,9 @@ typedef struct au_sphere_opts {
                            polish (au_sphere_vertex_polish), kept if its vertex error falls and its
                            per-face error does not rise (default 200; 0 off); both of the chord
                            triangles, or with flow.sphere_areas 2 (a map of the spherical triangles) of
-                           the spherical ones, for the polish's steps as for the comparison */
+                           the spherical ones, for the polish's steps as for the comparison. With it
+                           (and no flow.angle_steps), flow.polish_steps 0 means 2: the flow's chord
+                           polish is cut short, the vertex polish doing the rest (docs/chord-polish.md) */
   double polish_cells;  /* the polish's weight of the vertex cells against the faces (default 1) */
   int global_polish;    /* > 0: a chord map that still misses its tolerance after the vertex polish gets at
                            most this many steps of the global polish (au_sphere_global_polish, with

@@ -390,17 +390,20 @@ static au_status sphere_start(const au_mesh *m, const au_topo *t, const au_spher
   return st;
 }
 
-/* The lantern retry (au_sphere_opts.lantern_retry): the flow again from the start with the lantern on;
- * the better map kept. *ek: the kept map's vertex error. */
+/* The lantern retry (au_sphere_opts.lantern_retry): the flow again from the start with the lantern on,
+ * resumed from the first flow's state where the lantern first acts (fork, if recorded); the better map
+ * kept. *ek: the kept map's vertex error. */
 static void lantern_retry(const au_mesh *m, const au_topo *t, au_advect_plan *plan, const au_advect_domain *dom,
-                          const au_sphere_opts *o, const double *Pstart, double *P, double *ek, au_sphere_report *rep,
-                          au_status *st, au_msg *msg) {
+                          const au_sphere_opts *o, const double *Pstart, const au_advect_fork *fork, double *P, double *ek,
+                          au_sphere_report *rep, au_status *st, au_msg *msg) {
   au_advect_report *r2 = malloc(sizeof *r2);
   double *P2 = malloc(sizeof(double) * 3 * (size_t)m->nv);
   au_msg msg2 = {0};
   if (r2 && P2) {
     au_advect_opts o2 = o->flow;
     o2.lantern = o->lantern_retry;
+    /* The steps before the lantern first acts are the first flow's: the retry starts where they end. */
+    o2.fork_resume = fork;
     memcpy(P2, Pstart, sizeof(double) * 3 * (size_t)m->nv);
     au_status st2 = au_advect_run_plan(plan, dom, &o2, P2, r2, &msg2);
     double e1 = st2 == AU_OK || st2 == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o->flow, P2) : INFINITY;
@@ -418,8 +421,8 @@ static void lantern_retry(const au_mesh *m, const au_topo *t, au_advect_plan *pl
  * better (docs/sphere-stages.md, docs/sphere-retries.md). Pstart: the start (NULL: no lantern retry, and
  * the staged retry starts from P). */
 static void sphere_retries(const au_mesh *m, const au_topo *t, au_advect_plan *plan, const au_advect_domain *dom,
-                           const au_sphere_opts *o, const double *Pstart, int ml_done, int strong, double e0, double *P,
-                           au_sphere_report *rep, au_status *st, au_msg *msg) {
+                           const au_sphere_opts *o, const double *Pstart, const au_advect_fork *fork, int ml_done, int strong,
+                           double e0, double *P, au_sphere_report *rep, au_status *st, au_msg *msg) {
   const double well = o->retry_above * o->flow.tol;
   /* The twisted retry (au_sphere_opts.twist_retry): from the twisted start, for a map that misses its
    * tolerance well with much of its chord area on the floor (the floor excess is the gate: nearly every
@@ -450,7 +453,7 @@ static void sphere_retries(const au_mesh *m, const au_topo *t, au_advect_plan *p
     if (rep->staged == 2) ek = rep->staged_err[1], lantern_due = 0;
     if (*st != AU_W_NOT_CONVERGED) lantern_due = 0;
   }
-  if (lantern_due) lantern_retry(m, t, plan, dom, o, Pstart, P, &ek, rep, st, msg);
+  if (lantern_due) lantern_retry(m, t, plan, dom, o, Pstart, fork, P, &ek, rep, st, msg);
   /* A map the lantern did not bring within the gate may still have its floor excess past it. */
   if (twist_gate && !rep->twist && *st == AU_W_NOT_CONVERGED && ek > well && chord_floor_excess(m, NULL, P) > o->twist_retry)
     twisted_retry(m, t, plan, dom, o, ek, P, rep, st, msg);
@@ -476,7 +479,9 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
   /* The flows from the coarse-to-fine start keep the resolved schedule they were tuned with: the
    * sphere's shorter one took cow's map from per-face 0.0140 to 0.0190 there (docs/flow-tail.md). */
   if (ml_done) au_advect_plain_schedule(&o.flow);
-  if (o.vertex_polish > 0 && o.flow.polish_steps == 0) o.flow.polish_steps = AU_SPHERE_POLISH_STEPS;
+  /* The chord polish cut short where the vertex polish follows, unless angle steps do (they start from
+   * the flow's end). */
+  if (o.vertex_polish > 0 && o.flow.angle_steps == 0 && o.flow.polish_steps == 0) o.flow.polish_steps = AU_SPHERE_POLISH_STEPS;
   rep->t_init = now_s() - t0;
   if (st == AU_OK) {
     if (P0) memcpy(P0, P, bytes);
@@ -486,10 +491,16 @@ au_status au_sphere_map(const au_mesh *m, const au_topo *t, const au_sphere_opts
     double *Pstart = NULL;
     if (o.lantern_retry > 0 && o.flow.lantern == 0 && !(Pstart = malloc(bytes))) st = au_msg_set(msg, AU_E_NOMEM, "sphere: out of memory");
     if (Pstart) memcpy(Pstart, P, bytes);
-    if (st == AU_OK) st = au_advect_run_plan(plan, &dom, &o.flow, P, &rep->flow, msg);
+    /* The first flow records its state where a lantern would first act, for the lantern retry to
+     * resume from (without it, that retry repeats those steps from the start). */
+    au_advect_fork *fork = Pstart ? au_advect_fork_new() : NULL;
+    au_advect_opts first = o.flow;
+    first.fork_record = fork;
+    if (st == AU_OK) st = au_advect_run_plan(plan, &dom, &first, P, &rep->flow, msg);
     double e0 = st == AU_W_NOT_CONVERGED ? map_vertex_error(m, t, &o.flow, P) : 0;
     if (strong && (st == AU_OK || st == AU_W_NOT_CONVERGED)) rep->twist = 3, rep->twist_faces = strong, rep->twist_err = e0;
-    if (st == AU_W_NOT_CONVERGED) sphere_retries(m, t, plan, &dom, &o, Pstart, ml_done, strong, e0, P, rep, &st, msg);
+    if (st == AU_W_NOT_CONVERGED) sphere_retries(m, t, plan, &dom, &o, Pstart, fork, ml_done, strong, e0, P, rep, &st, msg);
+    au_advect_fork_free(&fork);
     free(Pstart);
     if (st == AU_W_NOT_CONVERGED && o.vertex_polish > 0) {
       au_status sp = au_sphere_polish_map(m, t, &o, P, rep, msg);
