@@ -34,7 +34,8 @@ typedef struct au_sphere_opts {
   int balance;         /* 1: Moebius-balance the conformal map before the flow (default 1) */
   double lantern_retry; /* > 0: if the flow ends with its vertex error above retry_above x its tolerance,
                            it runs again from the same start with flow.lantern = lantern_retry (shape
-                           restoring raised on the faces a long chord edge keeps from shrinking), and
+                           restoring raised on the faces a long chord edge keeps from shrinking;
+                           resumed from the first flow's state where the lantern first acts), and
                            the map with the smaller vertex error of the chord triangles is kept (default
                            2; 0: off). It helps the meshes whose long chord edges keep faces from
                            shrinking; where it does worse, the first map stays (docs/flow.md) */
