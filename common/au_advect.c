@@ -525,12 +525,13 @@ typedef struct flow_state {
 } flow_state;
 
 /* What the rest of a flow reads at the start of a round, besides what measure_map recomputes from P:
- * the machine's fields of flow_state, the report so far, the map and the map before the last step (an
- * undo at this round goes back to it). */
+ * the machine's fields of flow_state, the report so far and the map. (Not the map before the last step:
+ * the recorded round went on to its solve, so it undid nothing, and the resumed round decides the same.) */
 struct au_advect_fork {
-  int ready; /* recorded at the round where a lantern would first act; no more recording */
+  int ready;          /* recorded at the round where a lantern would first act; no more recording */
+  const au_mesh *m;   /* the mesh the recording flow ran on (the plan's, reordered or not) */
   int nv;
-  double *P, *Pold;
+  double *P;
   au_advect_report rep;
   flow_phase phase;
   int k, phase_start, retry, restored, restore_off, near_start, measured_jump, exhausted, ang_left, face_steps;
@@ -1130,7 +1131,7 @@ au_advect_fork *au_advect_fork_new(void) { return calloc(1, sizeof(au_advect_for
 
 void au_advect_fork_free(au_advect_fork **fp) {
   if (!fp || !*fp) return;
-  free((*fp)->P), free((*fp)->Pold);
+  free((*fp)->P);
   free(*fp);
   *fp = NULL;
 }
@@ -1141,16 +1142,15 @@ int au_advect_fork_ready(const au_advect_fork *f) { return f && f->ready; }
  * a flow that would resume from it runs from its start. */
 static void fork_save(au_advect_fork *f, const flow_state *s) {
   const size_t bytes = sizeof(double) * 3 * (size_t)s->nv;
-  if (!f->P || f->nv != s->nv) {
-    free(f->P), free(f->Pold);
-    f->P = malloc(bytes), f->Pold = malloc(bytes), f->nv = s->nv;
-    if (!f->P || !f->Pold) {
-      free(f->P), free(f->Pold);
-      f->P = f->Pold = NULL, f->nv = 0;
+  if (!f->P || f->m != s->m) {
+    free(f->P);
+    f->m = s->m, f->nv = s->nv;
+    if (!(f->P = malloc(bytes))) {
+      f->m = NULL, f->nv = 0;
       return;
     }
   }
-  memcpy(f->P, s->P, bytes), memcpy(f->Pold, s->Pold, bytes);
+  memcpy(f->P, s->P, bytes);
   f->rep = *s->rep;
   f->phase = s->phase, f->k = s->k, f->phase_start = s->phase_start, f->retry = s->retry, f->restored = s->restored;
   f->restore_off = s->restore_off, f->near_start = s->near_start, f->measured_jump = s->measured_jump;
@@ -1161,8 +1161,7 @@ static void fork_save(au_advect_fork *f, const flow_state *s) {
 
 /* Start s from the recorded state f (ready, of a flow on the same mesh). */
 static void fork_load(const au_advect_fork *f, flow_state *s) {
-  const size_t bytes = sizeof(double) * 3 * (size_t)s->nv;
-  memcpy(s->P, f->P, bytes), memcpy(s->Pold, f->Pold, bytes);
+  memcpy(s->P, f->P, sizeof(double) * 3 * (size_t)s->nv);
   *s->rep = f->rep;
   s->phase = f->phase, s->k = f->k, s->phase_start = f->phase_start, s->retry = f->retry, s->restored = f->restored;
   s->restore_off = f->restore_off, s->near_start = f->near_start, s->measured_jump = f->measured_jump;
@@ -1180,7 +1179,6 @@ static au_status flow_begin(flow_state *s) {
   if (st != AU_OK) return st;
   int folds = count_folds(s->P, s->F, s->dom->shift, s->nf, s->sph);
   if (folds) return au_msg_set(s->msg, AU_E_FOLD, "advect: the initial map has %d folded triangles", folds);
-  memcpy(s->Pold, s->P, sizeof(double) * 3 * (size_t)s->nv); /* no step yet: a recorded state reads it */
   /* The Poisson problem is a pure Neumann problem (closed sphere, or a boundary that only slides): pin
    * the first referenced vertex; unreferenced vertices have empty rows and are fixed too. */
   int pinned = -1;
@@ -1232,7 +1230,7 @@ static au_status advect_core(const au_mesh *m, const au_topo *t, const au_advect
   s.k = 0;
   /* A flow resumed from another's recorded state starts at that state's round (au_advect_fork). */
   const au_advect_fork *from = opts->fork_resume;
-  if (st == AU_OK && from && from->ready && from->nv == s.nv) fork_load(from, &s);
+  if (st == AU_OK && from && from->ready && from->m == m && from->nv == s.nv) fork_load(from, &s);
   while (st == AU_OK) {
     if (opts->fork_record && !opts->fork_record->ready) fork_save(opts->fork_record, &s);
     flow_verdict v = FLOW_STEP;

@@ -51,19 +51,19 @@ typedef enum au_advect_method {
                                 exact Gauss-Newton polish and per-face refinement */
 } au_advect_method;
 
-/* The flow's options. Defaults (au_advect_opts_default) are in parentheses; the measurements behind
- * them are in docs/flow.md. Fields are grouped by the part of the flow that reads them. */
 /* A flow's state, recorded by one flow to resume another from: a flow with the lantern (au_advect_opts.
  * lantern > 0) is the same as one without, step for step, up to the first step where the lantern acts
  * (au_advect_report.lantern_steps), so au_sphere_map's lantern retry starts from the first flow's state
- * there instead of repeating those steps. The two flows must run on the same plan's mesh with the same
- * options but the lantern. */
+ * there instead of repeating those steps. The two flows must run on the same plan with the same options
+ * but the lantern; a state recorded on another mesh is not loaded (the flow then runs from its start). */
 typedef struct au_advect_fork au_advect_fork;
 au_advect_fork *au_advect_fork_new(void);
 void au_advect_fork_free(au_advect_fork **fp);
 /* 1 if a state was recorded (the recording flow reached a step where a lantern would act). */
 int au_advect_fork_ready(const au_advect_fork *f);
 
+/* The flow's options. Defaults (au_advect_opts_default) are in parentheses; the measurements behind
+ * them are in docs/flow.md. Fields are grouped by the part of the flow that reads them. */
 typedef struct au_advect_opts {
   /* ---- all methods and domains ---- */
   au_advect_method method; /* (AU_ADVECT_LEAST_SHEAR) */

@@ -5,9 +5,10 @@ au_test_module(test_sphere test_sphere.c conformal_ellipsoid balance_centroid ma
 set_tests_properties(test_sphere.chord_polish_cut test_sphere.refine_spherical_split_limbs8 test_sphere.refine_mesh_limbs4 test_sphere.global_polish_limbs4 test_sphere.multilevel_start_spiky test_sphere.multilevel_start_limbs4 test_sphere.robust_polish_gate_limbs4 PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_THREAD_LIMIT=1")
 # The plain build only, one BLAS thread: the staged retry before the lantern's on octopus (7316 faces,
 # about 10 s of CPU); ../shared's bunny from the coarse-to-fine start (about 10 s) and on the sphere's
-# shorter resolved schedule (about 4 s); ../shared's cow with the global polish's robust loss (about 2 s).
+# shorter resolved schedule (about 4 s); ../shared's cow with the global polish's robust loss (about 2 s);
+# ../shared's hand_closed's lantern retry resumed (about 4 s).
 if(NOT AU_SANITIZE)
-  foreach(c staged_before_lantern near_start_bunny resolved_bunny robust_polish_cow)
+  foreach(c staged_before_lantern near_start_bunny resolved_bunny robust_polish_cow lantern_resumed_hand_closed)
     add_test(NAME test_sphere.${c} COMMAND test_sphere ${c})
     set_tests_properties(test_sphere.${c} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
                          ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_THREAD_LIMIT=1")
